@@ -1,0 +1,50 @@
+#pragma once
+
+#include "vessel/pins.h"
+
+#include <string>
+
+namespace vessel {
+
+//! Which minimizer runs the ARAP energy.
+enum class ArapSolver
+{
+    Ceres,        //!< Ceres nonlinear least squares over (u, v) and one rotation angle per face
+    LocalGlobal,  //!< Liu et al. 2008 local/global iterations on a prefactored Cholesky
+};
+
+struct ArapOptions
+{
+    ArapSolver solver = ArapSolver::Ceres;
+    int max_iterations = 50;   //!< Ceres iterations, or local/global sweeps
+    double tolerance = 1e-6;   //!< stop when the relative energy decrease falls below this
+    int threads = 2;           //!< threads Ceres may use for residual evaluation
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+struct ArapSummary
+{
+    int iterations = 0;
+    double initial_energy = 0.0;
+    double final_energy = 0.0;
+    bool converged = false;
+    std::string report;  //!< the solver's own one-line report
+};
+
+//! \brief ARAP energy E = sum_t area_t * ||J_t - R_t||_F^2 with R_t the closest rotation to the
+//! Jacobian J_t of the map on face t.
+//! \param uv |V| x 2, row `v.idx()`.
+double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! \brief Refine a disk parameterization with the as-rigid-as-possible energy
+//! \cite liu_2008_local; pinned vertices stay at their targets.
+//! \param mesh Disk-topology triangle mesh (not modified).
+//! \param uv |V| x 2 initial (u, v), row `v.idx()`, updated in place; should have no flips.
+//! \param pins Vertices held fixed (at least one; the pipeline pins the inlet loop).
+//! \throw InvalidInputError if sizes disagree or options are invalid.
+//! \throw SolverError if the solver reports an unusable solution.
+ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                 const ArapOptions& options = {});
+
+}  // namespace vessel

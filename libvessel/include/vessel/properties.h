@@ -1,0 +1,20 @@
+#pragma once
+
+//! Names of the durable mesh properties libvessel stores. Vertex properties are copied to the
+//! duplicates created when the mesh is cut (see cut.h), so values computed before cutting stay
+//! available afterwards.
+
+namespace vessel::prop {
+
+//! `int` per vertex: index of the input vertex a (possibly duplicated) vertex came from.
+inline constexpr const char* origin = "vessel:origin";
+//! `double` per vertex: heat-method geodesic distance from the inlet.
+inline constexpr const char* geodesic = "vessel:geodesic";
+//! `OpenMesh::Vec3d` per vertex: unit vessel direction z, pointing toward the root (inlet).
+inline constexpr const char* direction = "vessel:direction";
+//! `double` per vertex: maximal principal curvature magnitude (1 / local vessel radius).
+inline constexpr const char* kmax = "vessel:kmax";
+//! `OpenMesh::Vec2d` per vertex: flattened (u, v) coordinates.
+inline constexpr const char* uv = "vessel:uv";
+
+}  // namespace vessel::prop
