@@ -1,1 +1,323 @@
-// stub: implemented by its stage owner
+#include "vessel/validation.h"
+
+#include "vessel/boundary.h"
+#include "vessel/errors.h"
+#include "vessel/properties.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <sstream>
+
+namespace vessel {
+
+namespace {
+
+using Triangle = std::array<int, 3>;
+
+class UnionFind
+{
+public:
+    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
+    int find(int x)
+    {
+        while (parent_[x] != x)
+            x = parent_[x] = parent_[parent_[x]];
+        return x;
+    }
+    void unite(int a, int b) { parent_[find(a)] = find(b); }
+
+private:
+    std::vector<int> parent_;
+};
+
+[[noreturn]] void refuse(const std::string& what)
+{
+    throw InvalidInputError("not a valid vessel tree surface: " + what);
+}
+
+std::string plural(std::size_t n, const std::string& word)
+{
+    if (n == 1)
+        return "1 " + word;
+    if (word == "vertex")
+        return std::to_string(n) + " vertices";
+    return std::to_string(n) + " " + word + "s";
+}
+
+// One directed edge of a triangle; sorting by key groups the faces of each undirected edge.
+struct Corner
+{
+    std::uint64_t key;  // min * n + max of the two vertex indices
+    int triangle;
+    int local;     // the edge runs from corner `local` to corner `local + 1`
+    bool forward;  // from < to
+};
+
+struct Triangulated
+{
+    std::vector<Triangle> triangles;
+    std::vector<int> source_face;  // input face of each triangle
+    std::size_t polygons = 0;
+};
+
+Triangulated triangulate(const RawMesh& raw, const TreeSurfaceOptions& options)
+{
+    Triangulated out;
+    out.triangles.reserve(raw.faces.size());
+    const int n = static_cast<int>(raw.points.size());
+    for (std::size_t f = 0; f < raw.faces.size(); ++f)
+    {
+        const auto& face = raw.faces[f];
+        if (face.size() < 3)
+            refuse("face " + std::to_string(f) + " has only " + plural(face.size(), "corner") +
+                   "; remove it");
+        for (std::size_t i = 0; i < face.size(); ++i)
+        {
+            if (face[i] < 0 || face[i] >= n)
+                refuse("face " + std::to_string(f) + " refers to vertex " +
+                       std::to_string(face[i]) + " but the file has " + plural(n, "vertex") +
+                       "; the file is corrupt");
+            for (std::size_t j = i + 1; j < face.size(); ++j)
+                if (face[i] == face[j])
+                    refuse("face " + std::to_string(f) + " uses vertex " +
+                           std::to_string(face[i]) +
+                           " twice (degenerate face); remove degenerate faces first");
+        }
+        if (face.size() > 3)
+        {
+            if (!options.triangulate_polygons)
+                refuse("face " + std::to_string(f) + " has " + plural(face.size(), "corner") +
+                       "; triangulate the surface or allow triangulation");
+            ++out.polygons;
+        }
+        for (std::size_t i = 1; i + 1 < face.size(); ++i)
+        {
+            out.triangles.push_back({face[0], face[i], face[i + 1]});
+            out.source_face.push_back(static_cast<int>(f));
+        }
+    }
+    return out;
+}
+
+void check_coordinates(const RawMesh& raw)
+{
+    for (std::size_t i = 0; i < raw.points.size(); ++i)
+        if (!raw.points[i].allFinite())
+            refuse("vertex " + std::to_string(i) +
+                   " has a NaN or infinite coordinate; fix or remove it in the source");
+}
+
+void check_degenerate(const RawMesh& raw, const Triangulated& tri,
+                      const TreeSurfaceOptions& options)
+{
+    double edge_sum = 0.0;
+    for (const auto& t : tri.triangles)
+        for (int k = 0; k < 3; ++k)
+            edge_sum += (raw.points[t[k]] - raw.points[t[(k + 1) % 3]]).norm();
+    const double h = edge_sum / (3.0 * static_cast<double>(tri.triangles.size()));
+    const double min_area = options.degenerate_area_factor * h * h;
+    std::size_t count = 0;
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < tri.triangles.size(); ++i)
+    {
+        const auto& t = tri.triangles[i];
+        const double area = 0.5 * (raw.points[t[1]] - raw.points[t[0]])
+                                       .cross(raw.points[t[2]] - raw.points[t[0]])
+                                       .norm();
+        if (area <= min_area && count++ == 0)
+            first = i;
+    }
+    if (count > 0)
+        refuse(plural(count, "degenerate (zero-area) face") + ", first is face " +
+               std::to_string(tri.source_face[first]) +
+               "; remove degenerate faces (e.g. MeshLab 'Remove Zero Area Faces')");
+}
+
+// Checks edges and vertices for 2-manifoldness and consistent orientation, and counts the
+// edge-connected components. Returns the number of components.
+std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
+{
+    const auto& T = tri.triangles;
+    const std::uint64_t n = raw.points.size();
+    std::vector<Corner> corners;
+    corners.reserve(3 * T.size());
+    for (std::size_t t = 0; t < T.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+        {
+            const std::uint64_t a = T[t][k], b = T[t][(k + 1) % 3];
+            corners.push_back({std::min(a, b) * n + std::max(a, b), static_cast<int>(t), k, a < b});
+        }
+    std::sort(corners.begin(), corners.end(),
+              [](const Corner& x, const Corner& y) { return x.key < y.key; });
+
+    UnionFind faces(T.size());
+    UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
+    for (std::size_t i = 0; i < corners.size();)
+    {
+        std::size_t j = i;
+        while (j < corners.size() && corners[j].key == corners[i].key)
+            ++j;
+        const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
+        const std::string edge = "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
+        if (j - i > 2)
+            refuse("non-manifold edge " + edge + " is shared by " + plural(j - i, "face") +
+                   " (faces " + std::to_string(tri.source_face[corners[i].triangle]) + ", " +
+                   std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
+                   std::to_string(tri.source_face[corners[i + 2].triangle]) +
+                   "); repair the surface so each edge has at most two faces");
+        if (j - i == 2)
+        {
+            const Corner& c0 = corners[i];
+            const Corner& c1 = corners[i + 1];
+            if (c0.forward == c1.forward)
+                refuse("inconsistent orientation: faces " +
+                       std::to_string(tri.source_face[c0.triangle]) + " and " +
+                       std::to_string(tri.source_face[c1.triangle]) +
+                       " run the same way along edge " + edge +
+                       "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
+                       "coherently')");
+            faces.unite(c0.triangle, c1.triangle);
+            // Opposite runs: corner `local` of c0 and corner `local + 1` of c1 are the same vertex.
+            fans.unite(3 * c0.triangle + c0.local, 3 * c1.triangle + (c1.local + 1) % 3);
+            fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
+        }
+        i = j;
+    }
+
+    std::vector<int> first_fan(n, -1);
+    for (std::size_t t = 0; t < T.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+        {
+            const int root = fans.find(static_cast<int>(3 * t + k));
+            int& seen = first_fan[T[t][k]];
+            if (seen < 0)
+                seen = root;
+            else if (seen != root)
+                refuse("non-manifold vertex " + std::to_string(T[t][k]) +
+                       ": its faces form several fans that touch only at this vertex; split or "
+                       "remove the pinched part");
+        }
+
+    std::vector<std::size_t> sizes;
+    std::vector<int> slot(T.size(), -1);
+    for (std::size_t t = 0; t < T.size(); ++t)
+    {
+        const int root = faces.find(static_cast<int>(t));
+        if (slot[root] < 0)
+        {
+            slot[root] = static_cast<int>(sizes.size());
+            sizes.push_back(0);
+        }
+        ++sizes[slot[root]];
+    }
+    if (sizes.size() > 1)
+    {
+        std::sort(sizes.rbegin(), sizes.rend());
+        std::ostringstream list;
+        for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 4); ++i)
+            list << (i ? ", " : "") << sizes[i];
+        if (sizes.size() > 4)
+            list << ", ...";
+        refuse(plural(sizes.size(), "connected component") + " (faces per component: " +
+               list.str() + "); keep only the vessel surface (one piece)");
+    }
+    return sizes.size();
+}
+
+Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
+{
+    Mesh mesh;
+    auto origin = OpenMesh::VProp<int>(mesh, prop::origin);
+    std::vector<int> handle(raw.points.size(), -1);
+    for (const auto& t : T)
+        for (int k = 0; k < 3; ++k)
+            if (handle[t[k]] < 0)
+            {
+                auto v = mesh.add_vertex(to_openmesh(raw.points[t[k]]));
+                handle[t[k]] = v.idx();
+                origin[v] = t[k];
+            }
+    mesh.reserve(mesh.n_vertices(), 3 * T.size() / 2, T.size());
+    for (const auto& t : T)
+    {
+        VertexHandle a(handle[t[0]]), b(handle[t[1]]), c(handle[t[2]]);
+        if (reverse)
+            std::swap(b, c);
+        if (!mesh.add_face(a, b, c).is_valid())
+            throw TopologyError("make_tree_surface: OpenMesh refused a face that passed the "
+                                "manifold checks; please report this mesh");
+    }
+    return mesh;
+}
+
+// Volume enclosed after closing every boundary loop with a fan around its centroid; positive
+// when the faces are wound so that normals point out of the lumen.
+double closed_volume(const Mesh& mesh, const std::vector<BoundaryLoop>& loops)
+{
+    double six_volume = 0.0;
+    for (auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        six_volume += to_eigen(mesh.point(h.from()))
+                          .dot(to_eigen(mesh.point(h.to())).cross(to_eigen(mesh.point(h.next().to()))));
+    }
+    for (const auto& loop : loops)
+        for (auto h : loop.halfedges)
+            six_volume += to_eigen(mesh.point(mesh.from_vertex_handle(h)))
+                              .dot(to_eigen(mesh.point(mesh.to_vertex_handle(h))).cross(loop.centroid));
+    return six_volume / 6.0;
+}
+
+}  // namespace
+
+TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options)
+{
+    if (raw.faces.empty())
+        refuse("the mesh has no faces; expected a triangulated vessel wall");
+    check_coordinates(raw);
+    Triangulated tri = triangulate(raw, options);
+    check_degenerate(raw, tri, options);
+    check_manifold(raw, tri);
+
+    TreeSurface out;
+    out.input_vertices = static_cast<int>(raw.points.size());
+    out.mesh = build(raw, tri.triangles, false);
+    const auto loops = boundary_loops(out.mesh);
+    if (loops.empty())
+        refuse("the surface is closed (no open ends); remove the caps at the inlet and outlets "
+               "so each vessel end is an open boundary loop");
+    const long chi = static_cast<long>(out.mesh.n_vertices()) -
+                     static_cast<long>(out.mesh.n_edges()) +
+                     static_cast<long>(out.mesh.n_faces());
+    const long genus = (2 - chi - static_cast<long>(loops.size())) / 2;
+    if (genus > 0)
+        refuse("genus " + std::to_string(genus) + " (Euler characteristic " +
+               std::to_string(chi) + " with " + plural(loops.size(), "boundary loop") +
+               "): the surface has handles (e.g. touching branches fused together); remove them");
+    if (loops.size() < 2)
+        refuse("only one open end; a vessel tree needs an inlet and at least one outlet");
+
+    if (tri.polygons > 0)
+        out.notes.push_back("triangulated " + plural(tri.polygons, "polygon") +
+                            " with more than 3 corners");
+    const std::size_t unused = raw.points.size() - out.mesh.n_vertices();
+    if (unused > 0)
+        out.notes.push_back("ignored " + plural(unused, "vertex") + " not used by any face");
+    if (options.orient_outward && closed_volume(out.mesh, loops) < 0.0)
+    {
+        out.mesh = build(raw, tri.triangles, true);
+        out.notes.push_back("the surface was wound inward (normals into the lumen); reversed the "
+                            "winding of all faces");
+    }
+    return out;
+}
+
+TreeSurface load_tree_surface(const std::string& path, const TreeSurfaceOptions& options)
+{
+    return make_tree_surface(read_raw_mesh(path), options);
+}
+
+}  // namespace vessel

@@ -1,7 +1,9 @@
 #pragma once
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/Utils/PropertyManager.hh>
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <vector>
 

@@ -1,0 +1,28 @@
+#pragma once
+
+#include "vessel/mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+//! A mesh exactly as stored in a file: positions and polygon corner lists, nothing repaired.
+struct RawMesh
+{
+    std::vector<Eigen::Vector3d> points;  //!< input vertex positions, in file order
+    std::vector<std::vector<int>> faces;  //!< corner indices into `points`, in file order
+};
+
+//! \brief Read OBJ, OFF, PLY (ascii/binary) or STL (ascii/binary) through OpenMesh's readers.
+//! STL corners at identical positions are merged by OpenMesh's STL reader, so a segmentation
+//! STL becomes a connected mesh. Faces are recorded before OpenMesh sees them, so non-manifold,
+//! mis-oriented and degenerate faces reach the validation instead of being silently altered.
+//! \throw IoError if the file is missing, unreadable, empty or of an unknown format.
+RawMesh read_raw_mesh(const std::string& path);
+
+//! \brief Write a mesh with OpenMesh (format from the extension; PLY is written binary).
+//! \throw IoError if writing fails.
+void write_mesh(const Mesh& mesh, const std::string& path);
+
+}  // namespace vessel
