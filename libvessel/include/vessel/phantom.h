@@ -25,16 +25,45 @@ Mesh plane_grid(double size, int n);
 struct HelicalTubeOptions
 {
     double tube_radius = 1.0;    //!< radius of the vessel
-    double helix_radius = 4.0;   //!< radius of the helical centerline
-    double pitch = 12.0;         //!< rise of the centerline per full turn
+    double helix_radius = 4.0;   //!< radius of the helical centerline (0 = straight tube)
+    double pitch = 12.0;         //!< rise of the centerline per full turn (along +z)
     double turns = 1.0;          //!< number of turns of the centerline
-    int n_around = 24;           //!< vertices around the tube
-    double edge_length = 0.0;    //!< along-tube spacing; 0 = match the spacing around
+    int n_around = 24;           //!< vertices around the tube (per ring)
+    //! Length of the slanted edges between consecutive rings; 0 = equal to the spacing around,
+    //! 2 pi tube_radius / n_around (equilateral triangles). Must exceed half the spacing around.
+    double edge_length = 0.0;
+    //! \throw InvalidInputError naming the bad field (non-positive sizes, n_around < 3, a tube
+    //! radius not below the centerline's radius of curvature, or coils that would touch).
+    void validate() const;
 };
 
-//! Open tube swept along a helix with a rotation-minimizing frame; rings are staggered by half a
-//! step so that no edge is parallel to the axis (the regular mesh on which E_c ties).
+//! \brief Open tube swept along a helix with a rotation-minimizing (parallel-transport) frame.
+//!
+//! The centerline is c(t) = (R cos t, R sin t, pitch t / 2 pi), t in [0, 2 pi turns], so the
+//! tube starts at (R, 0, 0) heading along +y (+z). Ring j (j = 0..n_rings) holds n_around
+//! vertices at frame angles 2 pi (i + j / 2) / n_around, i.e. consecutive rings are rotated by
+//! half an angular step, so that no edge is parallel to the centerline (the regular mesh on
+//! which a length-only cut cost ties). Vertex `j * n_around + i` is vertex i of ring j; angles
+//! are those returned by helical_tube_angle(). Faces are wound so that normals point outward;
+//! the two end rings are the boundary loops.
+//! \throw InvalidInputError if `options.validate()` fails.
 Mesh helical_tube(const HelicalTubeOptions& options = {});
+
+//! \brief Point of the helical tube's surface (or, with \p radius != tube_radius, of a coaxial
+//! tube) at centerline fraction \p u in [0, 1] and frame angle \p angle (radians).
+//!
+//! The frame is the rotation-minimizing frame used by helical_tube(); a curve of constant
+//! \p angle is a parallel-transported line along the tube.
+Eigen::Vector3d helical_tube_point(const HelicalTubeOptions& options, double u, double angle,
+                                   double radius);
+
+//! \brief Angle (radians, in (-pi, pi]) of \p p around the helical centerline, measured in the
+//! same rotation-minimizing frame as helical_tube() and helical_tube_point().
+//!
+//! The centerline parameter is the closest point of the (extended) helix to \p p, so \p p
+//! should lie within the tube's radius of curvature of the centerline. Unwrapping consecutive
+//! values along a cut measures how far it winds around the tube.
+double helical_tube_angle(const HelicalTubeOptions& options, const Eigen::Vector3d& p);
 
 struct CarotidPhantomOptions
 {
