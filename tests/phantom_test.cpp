@@ -227,3 +227,82 @@ TEST_CASE("phantom: helical tube options are validated")
     options.edge_length = 0.01;
     CHECK_THROWS_AS(helical_tube(options), InvalidInputError);
 }
+
+TEST_CASE("phantom: carotid bifurcation is a valid open tree surface")
+{
+    for (double stenosis : {0.5, 0.7, 0.0})
+    {
+        CAPTURE(stenosis);
+        CarotidPhantomOptions options;
+        options.stenosis = stenosis;
+        const Mesh mesh = carotid_phantom(options);
+        check_vessel_surface(mesh, 3, options.edge_length);
+        CHECK(fraction_below(mesh, 10.0) < 0.01);
+        CHECK(mean_edge_length(mesh) > 0.6 * options.edge_length);
+        CHECK(mean_edge_length(mesh) < 1.3 * options.edge_length);
+
+        // Loops: the CCA inlet is the longest; each is planar and perpendicular to its vessel.
+        const auto loops = boundary_loops(mesh);
+        REQUIRE(loops.size() == 3);
+        CHECK(loops[0].centroid.isApprox(Eigen::Vector3d(0, 0, -options.cca_length), 1e-2));
+        for (const auto& loop : loops)
+        {
+            const double a = options.branch_angle_deg * M_PI / 180;
+            const Eigen::Vector3d axis =
+                loop.centroid.z() < 0 ? Eigen::Vector3d(0, 0, -1)
+                                      : Eigen::Vector3d(std::copysign(std::sin(a), loop.centroid.x()),
+                                                        0, std::cos(a));
+            for (auto v : loop.vertices)
+                CHECK(std::abs((to_eigen(mesh.point(v)) - loop.centroid).dot(axis)) < 1e-6);
+        }
+    }
+}
+
+TEST_CASE("phantom: carotid stenosis narrows the internal carotid")
+{
+    // Narrowest cross-section of the ICA: smallest distance of ICA vertices to the ICA axis
+    // between the bulb and the end.
+    auto throat = [](double stenosis) {
+        CarotidPhantomOptions options;
+        options.stenosis = stenosis;
+        const Mesh mesh = carotid_phantom(options);
+        const double a = options.branch_angle_deg * M_PI / 180;
+        const Eigen::Vector3d axis(std::sin(a), 0, std::cos(a));
+        double r = 1e9;
+        for (auto v : mesh.vertices())
+        {
+            const Eigen::Vector3d p = to_eigen(mesh.point(v));
+            const double s = p.dot(axis);
+            if (s > 0.3 * options.ica_length && s < 0.9 * options.ica_length)
+                r = std::min(r, (p - s * axis).norm());
+        }
+        return r;
+    };
+    const double r0 = throat(0.0), r7 = throat(0.7);
+    CHECK(r0 == doctest::Approx(2.2).epsilon(0.05));
+    CHECK(r7 == doctest::Approx(0.3 * 2.2).epsilon(0.1));
+}
+
+TEST_CASE("phantom: carotid is deterministic and validates its options")
+{
+    CHECK(same_mesh(carotid_phantom(), carotid_phantom()));
+    CarotidPhantomOptions options;
+    options.stenosis = 0.95;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    options = {};
+    options.edge_length = 0.0;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    options = {};
+    options.edge_length = 5.0;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    options = {};
+    options.ica_radius = -1.0;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    options = {};
+    options.branch_angle_deg = 90.0;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    options = {};
+    options.eca_length = 2.0;
+    CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
+    CHECK_NOTHROW(CarotidPhantomOptions{}.validate());
+}
