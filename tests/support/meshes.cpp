@@ -1,0 +1,96 @@
+#include "support/meshes.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vessel::test {
+
+namespace {
+
+// Lays out a (cols x rows) vertex grid and adds two counter-clockwise triangles per quad.
+void add_grid_faces(Mesh& mesh, const std::vector<VertexHandle>& v, int cols, int rows)
+{
+    for (int j = 0; j + 1 < rows; ++j)
+        for (int i = 0; i + 1 < cols; ++i)
+        {
+            const VertexHandle a = v[j * cols + i], b = v[j * cols + i + 1];
+            const VertexHandle c = v[(j + 1) * cols + i + 1], d = v[(j + 1) * cols + i];
+            mesh.add_face(a, b, c);
+            mesh.add_face(a, c, d);
+        }
+}
+
+}  // namespace
+
+Mesh cut_cylinder(double radius, double length, int n_around, int n_along)
+{
+    Mesh mesh;
+    const int cols = n_around + 1, rows = n_along + 1;
+    std::vector<VertexHandle> v(cols * rows);
+    for (int j = 0; j < rows; ++j)
+        for (int i = 0; i < cols; ++i)
+        {
+            // i = n_around lands exactly on i = 0: use the same angle, not 2 pi.
+            const double t = 2.0 * M_PI * (i % n_around) / n_around;
+            v[j * cols + i] = mesh.add_vertex(
+                {radius * std::cos(t), radius * std::sin(t), length * j / n_along});
+        }
+    add_grid_faces(mesh, v, cols, rows);
+    return mesh;
+}
+
+Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose)
+{
+    Mesh mesh;
+    std::vector<VertexHandle> v((n + 1) * (n + 1));
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+        {
+            const Eigen::Vector3d p = pose * Eigen::Vector3d(size * i / n, size * j / n, 0.0);
+            v[j * (n + 1) + i] = mesh.add_vertex(to_openmesh(p));
+        }
+    add_grid_faces(mesh, v, n + 1, n + 1);
+    return mesh;
+}
+
+Eigen::VectorXd uv_signed_areas(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    Eigen::VectorXd areas(mesh.n_faces());
+    for (auto f : mesh.faces())
+    {
+        const auto h = f.halfedge();
+        const Eigen::RowVector2d a = uv.row(h.from().idx());
+        const Eigen::RowVector2d b = uv.row(h.to().idx()) - a;
+        const Eigen::RowVector2d c = uv.row(h.next().to().idx()) - a;
+        areas[f.idx()] = 0.5 * (b[0] * c[1] - b[1] * c[0]);
+    }
+    return areas;
+}
+
+int count_flips(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    return static_cast<int>((uv_signed_areas(mesh, uv).array() <= 0.0).count());
+}
+
+double max_edge_length_error(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    double worst = 0.0;
+    for (auto e : mesh.edges())
+    {
+        const int i = e.v0().idx(), j = e.v1().idx();
+        const double l2 = (uv.row(i) - uv.row(j)).norm();
+        worst = std::max(worst, std::abs(l2 / mesh.calc_edge_length(e) - 1.0));
+    }
+    return worst;
+}
+
+std::vector<VertexHandle> boundary_vertices(const Mesh& mesh)
+{
+    std::vector<VertexHandle> out;
+    for (auto v : mesh.vertices())
+        if (v.is_boundary())
+            out.push_back(v);
+    return out;
+}
+
+}  // namespace vessel::test

@@ -1,0 +1,35 @@
+#pragma once
+
+#include "vessel/mesh.h"
+
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace vessel::test {
+
+//! \brief Open cylinder of radius \p radius along +z, cut open along the x-z seam into a disk.
+//! (n_around + 1) x (n_along + 1) vertices; vertex (i, j), i around and j along, has index
+//! j * (n_around + 1) + i. Columns i = 0 and i = n_around coincide in 3D but are distinct
+//! vertices, so the mesh has a single boundary loop. Faces are counter-clockwise seen from outside.
+Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
+
+//! \brief Flat n x n quad grid of side \p size split into triangles, mapped into 3D by \p pose
+//! (a rigid motion). Vertex (i, j) has index j * (n + 1) + i and planar position
+//! (size * i / n, size * j / n) before the motion.
+Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose);
+
+//! Signed area of every face of the map \p uv (|V| x 2, row `v.idx()`), indexed by `f.idx()`;
+//! negative means the triangle is flipped.
+Eigen::VectorXd uv_signed_areas(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! Number of faces with non-positive signed area in \p uv.
+int count_flips(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! Largest |l_2D / l_3D - 1| over all edges.
+double max_edge_length_error(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! Vertices on a boundary loop, in index order.
+std::vector<VertexHandle> boundary_vertices(const Mesh& mesh);
+
+}  // namespace vessel::test
