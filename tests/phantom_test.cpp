@@ -306,3 +306,45 @@ TEST_CASE("phantom: carotid is deterministic and validates its options")
     CHECK_THROWS_AS(carotid_phantom(options), InvalidInputError);
     CHECK_NOTHROW(CarotidPhantomOptions{}.validate());
 }
+
+TEST_CASE("phantom: random trees are valid open tree surfaces")
+{
+    for (int outlets : {1, 3, 10, 30})
+    {
+        CAPTURE(outlets);
+        TreePhantomOptions options;
+        options.outlets = outlets;
+        options.seed = 7;
+        const Mesh mesh = tree_phantom(options);
+        check_vessel_surface(mesh, outlets + 1, options.edge_length);
+        CHECK(fraction_below(mesh, 10.0) < 0.01);
+        // The inlet is the widest loop, at the root radius.
+        const auto loops = boundary_loops(mesh);
+        REQUIRE(!loops.empty());
+        CHECK(loops[0].arc_length ==
+              doctest::Approx(2 * M_PI * options.root_radius).epsilon(0.05));
+    }
+}
+
+TEST_CASE("phantom: tree is deterministic per seed and validates its options")
+{
+    TreePhantomOptions options;
+    options.outlets = 10;
+    options.seed = 3;
+    const Mesh a = tree_phantom(options);
+    CHECK(same_mesh(a, tree_phantom(options)));
+    options.seed = 4;
+    CHECK_FALSE(same_mesh(a, tree_phantom(options)));
+
+    options = {};
+    options.outlets = 0;
+    CHECK_THROWS_AS(tree_phantom(options), InvalidInputError);
+    options.outlets = 31;
+    CHECK_THROWS_AS(tree_phantom(options), InvalidInputError);
+    options = {};
+    options.edge_length = 2.0;
+    CHECK_THROWS_AS(tree_phantom(options), InvalidInputError);
+    options = {};
+    options.root_radius = 0.0;
+    CHECK_THROWS_AS(tree_phantom(options), InvalidInputError);
+}
