@@ -1,5 +1,5 @@
-#include "vessel/errors.h"
 #include "vessel/lscm.h"
+#include "vessel/errors.h"
 #include "vessel/phantom.h"
 
 #include "support/meshes.h"
@@ -14,7 +14,10 @@ namespace {
 
 using Complex = std::complex<double>;
 
-Complex at(const Eigen::MatrixX2d& uv, int i) { return {uv(i, 0), uv(i, 1)}; }
+Complex at(const Eigen::MatrixX2d& uv, int i)
+{
+    return {uv(i, 0), uv(i, 1)};
+}
 
 // Planar position of grid vertex i before posed_grid's rigid motion.
 Complex grid_position(double size, int n, int i)
@@ -68,8 +71,8 @@ TEST_CASE("lscm: pinning every boundary vertex of a flat grid reproduces the int
     const Eigen::MatrixX2d uv = lscm(mesh, pins);
     double worst = 0.0;
     for (auto v : mesh.vertices())
-        worst = std::max(worst,
-                         std::abs(at(uv, v.idx()) - (a * grid_position(size, n, v.idx()) + b)));
+        worst =
+            std::max(worst, std::abs(at(uv, v.idx()) - (a * grid_position(size, n, v.idx()) + b)));
     CHECK(worst < 1e-10);
 }
 

@@ -1,1 +1,274 @@
-// stub: implemented by its stage owner
+#include "vessel/arap.h"
+
+#include "detail/arap_ceres.h"
+#include "vessel/errors.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace vessel {
+
+namespace detail {
+
+std::vector<ArapFace> arap_faces(const Mesh& mesh, const char* caller)
+{
+    std::vector<ArapFace> faces(mesh.n_faces());
+    for (auto f : mesh.faces())
+    {
+        ArapFace& face = faces[f.idx()];
+        const auto h = f.halfedge();
+        face.v[0] = h.from().idx();
+        face.v[1] = h.to().idx();
+        face.v[2] = h.next().to().idx();
+        const Eigen::Vector3d p0 = to_eigen(mesh.point(h.from()));
+        const Eigen::Vector3d e1 = to_eigen(mesh.point(h.to())) - p0;
+        const Eigen::Vector3d e2 = to_eigen(mesh.point(h.next().to())) - p0;
+        const double l1 = e1.norm();
+        const double twice_area = e1.cross(e2).norm();
+        if (!(l1 > 0.0) || !(twice_area > 1e-14 * e2.squaredNorm()) || !std::isfinite(twice_area))
+            throw InvalidInputError(std::string(caller) + ": face " + std::to_string(f.idx()) +
+                                    " is degenerate (area " + std::to_string(0.5 * twice_area) +
+                                    "); remove degenerate triangles before parameterizing");
+        face.x[0] = Eigen::Vector2d::Zero();
+        face.x[1] = Eigen::Vector2d(l1, 0.0);
+        face.x[2] = Eigen::Vector2d(e1.dot(e2) / l1, twice_area / l1);
+        Eigen::Matrix2d X;
+        X << face.x[1], face.x[2];
+        face.X_inv = X.inverse();
+        face.area = 0.5 * twice_area;
+        for (int k = 0; k < 3; ++k)
+        {
+            const Eigen::Vector2d a = face.x[(k + 1) % 3] - face.x[k];
+            const Eigen::Vector2d b = face.x[(k + 2) % 3] - face.x[k];
+            face.cot[k] = a.dot(b) / twice_area;
+        }
+    }
+    return faces;
+}
+
+Eigen::Matrix2d arap_jacobian(const ArapFace& face, const Eigen::MatrixX2d& uv)
+{
+    Eigen::Matrix2d D;
+    D.col(0) = (uv.row(face.v[1]) - uv.row(face.v[0])).transpose();
+    D.col(1) = (uv.row(face.v[2]) - uv.row(face.v[0])).transpose();
+    return D * face.X_inv;
+}
+
+double closest_rotation_angle(const Eigen::Matrix2d& J)
+{
+    // tr(R(t)^T J) = cos t (J00 + J11) + sin t (J10 - J01); its maximiser is a proper rotation
+    // even when J is a reflection, which is what the 2x2 SVD with det-correction would return.
+    return std::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
+}
+
+double arap_energy(const std::vector<ArapFace>& faces, const Eigen::MatrixX2d& uv)
+{
+    double energy = 0.0;
+    for (const ArapFace& face : faces)
+    {
+        const Eigen::Matrix2d J = arap_jacobian(face, uv);
+        const double t = closest_rotation_angle(J);
+        Eigen::Matrix2d R;
+        R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+        energy += face.area * (J - R).squaredNorm();
+    }
+    return energy;
+}
+
+}  // namespace detail
+
+namespace {
+
+void check_uv(const Mesh& mesh, const Eigen::MatrixX2d& uv, const char* caller)
+{
+    if (uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
+        throw InvalidInputError(std::string(caller) + ": uv has " + std::to_string(uv.rows()) +
+                                " rows but the mesh has " + std::to_string(mesh.n_vertices()) +
+                                " vertices; pass one (u, v) row per vertex, e.g. from lscm()");
+    if (!uv.allFinite())
+        throw InvalidInputError(
+            std::string(caller) +
+            ": uv has non-finite entries; start from a valid map such as lscm()");
+}
+
+// Validates the pins and writes their targets into uv; returns one flag per vertex.
+std::vector<bool> apply_pins(const Mesh& mesh, const Pins& pins, Eigen::MatrixX2d& uv)
+{
+    const int n = static_cast<int>(mesh.n_vertices());
+    if (pins.empty())
+        throw InvalidInputError(
+            "arap: no pins; pin at least one vertex (e.g. the inlet loop) to "
+            "fix the translation");
+    std::vector<bool> is_pinned(n, false);
+    for (std::size_t p = 0; p < pins.size(); ++p)
+    {
+        const VertexHandle v = pins[p].vertex;
+        if (!v.is_valid() || v.idx() >= n)
+            throw InvalidInputError("arap: pin " + std::to_string(p) + " has vertex index " +
+                                    std::to_string(v.idx()) + " but the mesh has " +
+                                    std::to_string(n) + " vertices; pass handles of this mesh");
+        if (!pins[p].uv.allFinite())
+            throw InvalidInputError("arap: pin " + std::to_string(p) + " (vertex " +
+                                    std::to_string(v.idx()) +
+                                    ") has a non-finite target; give finite (u, v)");
+        if (is_pinned[v.idx()])
+            throw InvalidInputError("arap: vertex " + std::to_string(v.idx()) +
+                                    " is pinned twice; pin each vertex once");
+        is_pinned[v.idx()] = true;
+        uv.row(v.idx()) = pins[p].uv.transpose();
+    }
+    return is_pinned;
+}
+
+ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFace>& faces,
+                              Eigen::MatrixX2d& uv, const std::vector<bool>& is_pinned,
+                              const ArapOptions& options)
+{
+    const int n = static_cast<int>(mesh.n_vertices());
+    std::vector<int> dof(n, -1);
+    int n_free = 0;
+    for (auto v : mesh.vertices())
+        if (!is_pinned[v.idx()] && !mesh.is_isolated(v))
+            dof[v.idx()] = n_free++;
+
+    ArapSummary summary;
+    summary.initial_energy = summary.final_energy = detail::arap_energy(faces, uv);
+    if (n_free == 0)
+    {
+        summary.converged = true;
+        summary.report = "LocalGlobal: every vertex is pinned";
+        return summary;
+    }
+
+    // Global step: minimising sum_t sum_k cot_k / 2 ||u_j - u_l - R_t (x_j - x_l)||^2 (which
+    // equals the documented energy) over the free u gives K_ff u_f = b(R) - K_fp u_p with K the
+    // cotan Laplacian (weights cot a + cot b). K does not depend on R: factor it once.
+    std::vector<Eigen::Triplet<double>> triplets;
+    triplets.reserve(9 * faces.size());
+    Eigen::MatrixX2d b_pinned = Eigen::MatrixX2d::Zero(n_free, 2);
+    for (const auto& face : faces)
+        for (int k = 0; k < 3; ++k)
+        {
+            const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
+            const double w = face.cot[k];
+            const int fj = dof[j], fl = dof[l];
+            if (fj >= 0)
+            {
+                triplets.emplace_back(fj, fj, w);
+                if (fl >= 0)
+                    triplets.emplace_back(std::max(fj, fl), std::min(fj, fl), -w);
+                else
+                    b_pinned.row(fj) += w * uv.row(l);
+            }
+            if (fl >= 0)
+            {
+                triplets.emplace_back(fl, fl, w);
+                if (fj < 0)
+                    b_pinned.row(fl) += w * uv.row(j);
+            }
+        }
+    Eigen::SparseMatrix<double> K(n_free, n_free);
+    K.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    solver.compute(K);
+    if (solver.info() != Eigen::Success)
+        throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
+                          std::to_string(n_free) +
+                          " free vertices); every connected component needs a pin");
+
+    double energy = summary.initial_energy;
+    Eigen::MatrixX2d b(n_free, 2);
+    for (int it = 1; it <= options.max_iterations; ++it)
+    {
+        // Local step: the closest rotation per face, folded straight into the right-hand side.
+        b = b_pinned;
+        for (const auto& face : faces)
+        {
+            const double t = detail::closest_rotation_angle(detail::arap_jacobian(face, uv));
+            Eigen::Matrix2d R;
+            R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+            for (int k = 0; k < 3; ++k)
+            {
+                const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
+                const Eigen::RowVector2d r =
+                    face.cot[k] * (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
+                if (dof[j] >= 0)
+                    b.row(dof[j]) += r;
+                if (dof[l] >= 0)
+                    b.row(dof[l]) -= r;
+            }
+        }
+        const Eigen::MatrixX2d x = solver.solve(b);
+        if (solver.info() != Eigen::Success || !x.allFinite())
+            throw SolverError("arap: CHOLMOD solve failed in local/global iteration " +
+                              std::to_string(it));
+        for (int i = 0; i < n; ++i)
+            if (dof[i] >= 0)
+                uv.row(i) = x.row(dof[i]);
+
+        const double previous = energy;
+        energy = detail::arap_energy(faces, uv);
+        summary.iterations = it;
+        if (!(previous > 0.0) || (previous - energy) < options.tolerance * previous)
+        {
+            summary.converged = true;
+            break;
+        }
+    }
+    summary.final_energy = energy;
+    std::ostringstream report;
+    report << "LocalGlobal: " << summary.iterations << " iterations, energy "
+           << summary.initial_energy << " -> " << summary.final_energy
+           << (summary.converged ? ", converged" : ", iteration limit reached");
+    summary.report = report.str();
+    return summary;
+}
+
+}  // namespace
+
+void ArapOptions::validate() const
+{
+    if (max_iterations < 1)
+        throw InvalidInputError("ArapOptions::validate: max_iterations must be >= 1 (got " +
+                                std::to_string(max_iterations) + "); use e.g. 50");
+    if (!(tolerance >= 0.0) || !std::isfinite(tolerance))
+        throw InvalidInputError("ArapOptions::validate: tolerance must be finite and >= 0 (got " +
+                                std::to_string(tolerance) + "); use e.g. 1e-6");
+    if (threads < 1)
+        throw InvalidInputError("ArapOptions::validate: threads must be >= 1 (got " +
+                                std::to_string(threads) + ")");
+    if (solver != ArapSolver::Ceres && solver != ArapSolver::LocalGlobal)
+        throw InvalidInputError("ArapOptions::validate: unknown solver " +
+                                std::to_string(static_cast<int>(solver)) +
+                                "; use ArapSolver::Ceres or ArapSolver::LocalGlobal");
+}
+
+double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    check_uv(mesh, uv, "arap_energy");
+    return detail::arap_energy(detail::arap_faces(mesh, "arap_energy"), uv);
+}
+
+ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                 const ArapOptions& options)
+{
+    options.validate();
+    check_uv(mesh, uv, "arap");
+    if (mesh.n_faces() == 0)
+        throw InvalidInputError("arap: the mesh has no faces; pass a triangulated disk");
+    // Work on a copy so that a throwing solver leaves the caller's map untouched.
+    Eigen::MatrixX2d work = uv;
+    const std::vector<bool> is_pinned = apply_pins(mesh, pins, work);
+    const std::vector<detail::ArapFace> faces = detail::arap_faces(mesh, "arap");
+    ArapSummary summary = options.solver == ArapSolver::Ceres
+                              ? detail::arap_ceres(mesh, faces, work, is_pinned, options)
+                              : arap_local_global(mesh, faces, work, is_pinned, options);
+    uv = work;
+    return summary;
+}
+
+}  // namespace vessel

@@ -34,8 +34,8 @@ void assemble_conformal(const Mesh& mesh, Add&& add)
     std::vector<double> w(mesh.n_edges(), 0.0);
     for (auto f : mesh.faces())
         for (auto h : f.halfedges())
-            w[h.edge().idx()] += 0.5 * cot_at(mesh.point(h.from()), mesh.point(h.to()),
-                                              mesh.point(h.next().to()));
+            w[h.edge().idx()] +=
+                0.5 * cot_at(mesh.point(h.from()), mesh.point(h.to()), mesh.point(h.next().to()));
     std::vector<double> diagonal(n, 0.0);
     for (auto e : mesh.edges())
     {
@@ -70,8 +70,7 @@ void check_pins(const Mesh& mesh, const Pins& pins, std::vector<int>& pinned)
 {
     const int n = static_cast<int>(mesh.n_vertices());
     if (pins.size() < 2)
-        throw InvalidInputError("lscm: need at least two pins (got " +
-                                std::to_string(pins.size()) +
+        throw InvalidInputError("lscm: need at least two pins (got " + std::to_string(pins.size()) +
                                 "); pin two vertices far apart, e.g. on the boundary");
     pinned.assign(n, -1);
     bool distinct = false;
@@ -135,9 +134,9 @@ double conformal_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv)
         D.col(1) = (uv.row(i2) - uv.row(i0)).transpose();
         const Eigen::Matrix2d J = D * X.inverse();
         const double area = 0.5 * l1 * b;
-        energy += 0.5 * area *
-                  ((J(0, 0) - J(1, 1)) * (J(0, 0) - J(1, 1)) +
-                   (J(0, 1) + J(1, 0)) * (J(0, 1) + J(1, 0)));
+        energy +=
+            0.5 * area *
+            ((J(0, 0) - J(1, 1)) * (J(0, 0) - J(1, 1)) + (J(0, 1) + J(1, 0)) * (J(0, 1) + J(1, 0)));
     }
     return energy;
 }

@@ -32,8 +32,8 @@ Mesh cut_cylinder(double radius, double length, int n_around, int n_along)
         {
             // i = n_around lands exactly on i = 0: use the same angle, not 2 pi.
             const double t = 2.0 * M_PI * (i % n_around) / n_around;
-            v[j * cols + i] = mesh.add_vertex(
-                {radius * std::cos(t), radius * std::sin(t), length * j / n_along});
+            v[j * cols + i] =
+                mesh.add_vertex({radius * std::cos(t), radius * std::sin(t), length * j / n_along});
         }
     add_grid_faces(mesh, v, cols, rows);
     return mesh;
@@ -50,6 +50,20 @@ Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose)
             v[j * (n + 1) + i] = mesh.add_vertex(to_openmesh(p));
         }
     add_grid_faces(mesh, v, n + 1, n + 1);
+    return mesh;
+}
+
+Mesh bumped_grid(double size, int n, double height)
+{
+    Mesh mesh = posed_grid(size, n, Eigen::Isometry3d::Identity());
+    const double c = 0.5 * size, sigma = 0.25 * size;
+    for (auto v : mesh.vertices())
+    {
+        auto p = mesh.point(v);
+        const double r2 = (p[0] - c) * (p[0] - c) + (p[1] - c) * (p[1] - c);
+        p[2] = height * std::exp(-r2 / (sigma * sigma));
+        mesh.set_point(v, p);
+    }
     return mesh;
 }
 

@@ -19,6 +19,10 @@ Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
 //! (size * i / n, size * j / n) before the motion.
 Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose);
 
+//! \brief posed_grid() with the identity pose and a Gaussian bump of height \p height in z at the
+//! centre (a non-developable disk). Vertex (i, j) has index j * (n + 1) + i.
+Mesh bumped_grid(double size, int n, double height);
+
 //! Signed area of every face of the map \p uv (|V| x 2, row `v.idx()`), indexed by `f.idx()`;
 //! negative means the triangle is flipped.
 Eigen::VectorXd uv_signed_areas(const Mesh& mesh, const Eigen::MatrixX2d& uv);
