@@ -413,6 +413,53 @@ Eigen::Vector3d triangle_normal(const Eigen::Vector3d& a, const Eigen::Vector3d&
     return (b - a).cross(c - a);
 }
 
+// Builds the mesh from a triangle soup, adding faces in breadth-first order across shared edges:
+// OpenMesh's add_face can fail to re-link a vertex whose faces arrive as several disjoint fans,
+// which a growing patch avoids. Returns false on a repeated directed edge (non-manifold or
+// inconsistently oriented soup) or if OpenMesh still rejects a face.
+bool add_grown_faces(const std::vector<Eigen::Vector3d>& positions,
+                     const std::vector<std::array<int, 3>>& triangles, Mesh& mesh)
+{
+    auto key = [](int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); };
+    std::unordered_map<std::uint64_t, int> face_of_edge;
+    face_of_edge.reserve(3 * triangles.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c)
+            if (!face_of_edge.emplace(key(triangles[t][c], triangles[t][(c + 1) % 3]), int(t))
+                     .second)
+                return false;
+    mesh.clear();
+    std::vector<VertexHandle> handles;
+    handles.reserve(positions.size());
+    for (const auto& p : positions)
+        handles.push_back(mesh.add_vertex(to_openmesh(p)));
+    std::vector<char> added(triangles.size(), 0);
+    std::vector<int> queue;
+    for (std::size_t seed = 0; seed < triangles.size(); ++seed)
+    {
+        if (added[seed])
+            continue;
+        added[seed] = 1;
+        queue.assign(1, static_cast<int>(seed));
+        for (std::size_t q = 0; q < queue.size(); ++q)
+        {
+            const auto& t = triangles[queue[q]];
+            if (!mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]).is_valid())
+                return false;
+            for (int c = 0; c < 3; ++c)
+            {
+                const auto it = face_of_edge.find(key(t[(c + 1) % 3], t[c]));
+                if (it != face_of_edge.end() && !added[it->second])
+                {
+                    added[it->second] = 1;
+                    queue.push_back(it->second);
+                }
+            }
+        }
+    }
+    return true;
+}
+
 // Dual contouring ("surface nets") of the field on a regular grid with one vertex per connected
 // patch of the marching-cubes surface in each cell: ambiguous cell faces are resolved by the
 // face-centre value, consistently for both cells that share the face. The dual of a consistent
@@ -548,11 +595,7 @@ bool surface_nets(const VesselField& field, double h, const Eigen::Vector3d& off
     for (auto& p : positions)
         p = project_to_field(field, p, h);
 
-    mesh.clear();
-    std::vector<VertexHandle> handles;
-    handles.reserve(positions.size());
-    for (const auto& p : positions)
-        handles.push_back(mesh.add_vertex(to_openmesh(p)));
+    std::vector<std::array<int, 3>> triangles;
 
     // One quad per crossing grid edge, around the 4 cells sharing it, counter-clockwise seen
     // from the outside.
@@ -597,12 +640,11 @@ bool surface_nets(const VesselField& field, double h, const Eigen::Vector3d& off
                         int alt[2][3] = {{quad[1], quad[2], quad[3]}, {quad[1], quad[3], quad[0]}};
                         std::copy(&alt[0][0], &alt[0][0] + 6, &tri[0][0]);
                     }
-                    for (const auto& t : tri)
-                        if (!mesh.add_face(handles[t[0]], handles[t[1]], handles[t[2]]).is_valid())
-                            return false;
+                    triangles.push_back({tri[0][0], tri[0][1], tri[0][2]});
+                    triangles.push_back({tri[1][0], tri[1][1], tri[1][2]});
                 }
             }
-    return true;
+    return add_grown_faces(positions, triangles, mesh);
 }
 
 // Cuts every end open: vertices close to an end plane are snapped onto it, edges crossing it are

@@ -68,31 +68,54 @@ double helical_tube_angle(const HelicalTubeOptions& options, const Eigen::Vector
 struct CarotidPhantomOptions
 {
     double cca_radius = 3.0;       //!< common carotid radius (mm)
-    double ica_radius = 2.2;       //!< internal carotid radius (mm)
+    double ica_radius = 2.2;       //!< internal carotid radius (mm), away from bulb and stenosis
     double eca_radius = 1.7;       //!< external carotid radius (mm)
-    double cca_length = 25.0;      //!< (mm)
-    double ica_length = 30.0;      //!< (mm)
-    double eca_length = 25.0;      //!< (mm)
-    double branch_angle_deg = 25.0;  //!< angle of each branch to the CCA axis
-    double stenosis = 0.5;         //!< fractional diameter reduction at the ICA narrowing (0 = none)
-    double edge_length = 0.5;      //!< target edge length (mm)
+    double cca_length = 25.0;      //!< (mm) from the bifurcation to the inlet
+    double ica_length = 30.0;      //!< (mm) from the bifurcation to the ICA outlet
+    double eca_length = 25.0;      //!< (mm) from the bifurcation to the ECA outlet
+    double branch_angle_deg = 25.0;  //!< angle of each branch to the CCA axis, in [10, 60]
+    //! Fractional diameter reduction at the ICA narrowing, in [0, 0.8] (0 = none). The throat
+    //! sits at 45% of ica_length, after the sinus bulb (+30% radius at 20% of ica_length).
+    double stenosis = 0.5;
+    //! Target edge length (mm), at most 0.6 * min(ica_radius, eca_radius). The mesh is made
+    //! finer where needed so the narrowest lumen gets >= 1.6 samples per radius.
+    double edge_length = 0.5;
+    //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
 
-//! Carotid bifurcation phantom (CCA -> ICA + ECA, with a stenosis in the ICA) as an open,
-//! outward-wound, genus-0 surface with 3 boundary loops.
+//! \brief Carotid bifurcation phantom: CCA -> ICA (sinus bulb, then a smooth Gaussian stenosis)
+//! + ECA, as an open, outward-wound, genus-0, 2-manifold surface with 3 boundary loops.
+//!
+//! The CCA runs along +z from (0, 0, -cca_length) to the bifurcation at the origin; the ICA
+//! leaves towards +x and the ECA towards -x at branch_angle_deg in the x-z plane. Each boundary
+//! loop lies exactly in the plane through its vessel's end perpendicular to that vessel. Built
+//! by dual contouring a smooth union of tubes, cutting the ends with planes, then tangential
+//! smoothing and edge flips; minimum angles are typically > 15 degrees. Deterministic.
+//! \throw InvalidInputError if `options.validate()` fails.
+//! \throw TopologyError if no valid surface could be built (not expected within the limits).
 Mesh carotid_phantom(const CarotidPhantomOptions& options = {});
 
 struct TreePhantomOptions
 {
-    int outlets = 4;             //!< number of outlets (>= 1)
+    int outlets = 4;             //!< number of outlets, in [1, 30]
     double root_radius = 3.0;    //!< inlet radius
-    double edge_length = 0.5;    //!< target edge length
+    double edge_length = 0.5;    //!< target edge length, at most root_radius / 2
     std::uint32_t seed = 1;      //!< random seed (deterministic output per seed)
+    //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
 
-//! Seeded random planar-ish vessel tree with \p outlets outlets (Murray-like radius falloff).
+//! \brief Seeded random, planar-ish vessel tree with one inlet and \p options.outlets outlets.
+//!
+//! Recursive bifurcations with Murray-like radii, r = root_radius * (outlets below / outlets)^(1/3)
+//! but at least 2 * edge_length. Each subtree keeps to its own angular sector of a radial layout
+//! around the first bifurcation (so branches cannot cross), with small out-of-plane jitter; the
+//! inlet comes from -y towards the origin. Same surface guarantees as carotid_phantom(), with
+//! outlets + 1 boundary loops (the inlet is the longest). Identical output for identical options
+//! on every platform (std::mt19937 with hand-written distributions).
+//! \throw InvalidInputError if `options.validate()` fails.
+//! \throw TopologyError if no layout or surface could be built (not expected within the limits).
 Mesh tree_phantom(const TreePhantomOptions& options = {});
 
 }  // namespace vessel
