@@ -1,1 +1,178 @@
 #include <doctest/doctest.h>
+
+#include "vessel/boundary.h"
+#include "vessel/curvature.h"
+#include "vessel/cut_cost.h"
+#include "vessel/cut_plan.h"
+#include "vessel/direction.h"
+#include "vessel/errors.h"
+#include "vessel/geodesic.h"
+#include "vessel/phantom.h"
+
+#include <cmath>
+
+using namespace vessel;
+
+namespace {
+
+struct Prepared
+{
+    Mesh mesh;
+    std::vector<BoundaryLoop> loops;
+    Eigen::MatrixX3d z;
+    Eigen::MatrixX3d rate;
+};
+
+Prepared prepare(Mesh mesh)
+{
+    Prepared p;
+    p.loops = boundary_loops(mesh);
+    const auto curvature = principal_curvature(mesh);
+    const Eigen::VectorXd G = heat_geodesic_distance(mesh, p.loops[0].vertices);
+    p.z = align_to_root(mesh, curvature.min_direction, G);
+    p.rate = winding_rate(mesh, p.z, curvature.k_max.cwiseAbs());
+    p.mesh = std::move(mesh);
+    return p;
+}
+
+// Unwrapped change of the frame angle around the helix centerline along the cut, in degrees.
+double helix_winding_deg(const HelicalTubeOptions& options, const Mesh& mesh,
+                         const CutPath& path)
+{
+    double total = 0.0;
+    double previous = helical_tube_angle(options, to_eigen(mesh.point(path.start)));
+    for (auto h : path.halfedges)
+    {
+        const double a = helical_tube_angle(options, to_eigen(mesh.point(mesh.to_vertex_handle(h))));
+        total += std::remainder(a - previous, 2.0 * M_PI);
+        previous = a;
+    }
+    return std::abs(total) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
+{
+    for (int n_around : {24, 32, 48})
+    {
+        CAPTURE(n_around);
+        HelicalTubeOptions options;
+        options.tube_radius = 1.0;
+        options.helix_radius = 4.0;
+        options.pitch = 12.0;
+        options.turns = 1.5;
+        options.n_around = n_around;
+        const Prepared p = prepare(helical_tube(options));
+        const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+        const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+        REQUIRE(plan.paths.size() == 1);
+        const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
+        // The trap: the plain shortest path drifts around the tube at (almost) no extra cost.
+        CutPlanOptions plain;
+        plain.tie_tolerance = 0.0;
+        const CutPlan drifting = plan_cuts(p.mesh, p.loops, w, p.rate, plain);
+        const double drift = helix_winding_deg(options, p.mesh, drifting.paths[0]);
+        MESSAGE("helical tube (" << n_around << " around) E_c cut winds " << winding
+                                 << " degrees; plain Dijkstra " << drift << " degrees");
+        CHECK(winding < 30.0);
+        CHECK(drift > winding);
+    }
+}
+
+TEST_CASE("cut_plan: the cut of a helical tube runs from the outlet rim to the inlet rim")
+{
+    HelicalTubeOptions options;
+    const Prepared p = prepare(helical_tube(options));
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+    REQUIRE(plan.paths.size() == 1);
+    const CutPath& cut = plan.paths[0];
+    CHECK(cut.parent == -1);
+    // It runs from one rim to the other.
+    bool starts_on_outlet = false, ends_on_inlet = false;
+    for (auto v : p.loops[1].vertices)
+        starts_on_outlet |= v == cut.start;
+    for (auto v : p.loops[0].vertices)
+        ends_on_inlet |= v == cut.end;
+    CHECK(starts_on_outlet);
+    CHECK(ends_on_inlet);
+}
+
+TEST_CASE("cut_plan: viewpoint endpoints start and end at the loop vertices nearest the point")
+{
+    const Prepared p = prepare(open_cylinder(1.0, 6.0, 24, 24));
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlanOptions options;
+    options.endpoints = EndpointPolicy::NearestToPoint;
+    options.viewpoint = {0.0, 10.0, 3.0};  // looking at the +y side
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, options);
+    REQUIRE(plan.paths.size() == 1);
+    const auto start = p.mesh.point(plan.paths[0].start);
+    const auto end = p.mesh.point(plan.paths[0].end);
+    CHECK(start[1] == doctest::Approx(1.0));
+    CHECK(end[1] == doctest::Approx(1.0));
+    // On a cylinder with axial edges the E_c cut is the straight generator line.
+    for (auto h : plan.paths[0].halfedges)
+        CHECK(p.mesh.point(p.mesh.to_vertex_handle(h))[1] == doctest::Approx(1.0));
+}
+
+TEST_CASE("cut_plan: branches end on interior cut vertices, largest outlet first")
+{
+    const Mesh tree = tree_phantom({4, 3.0, 0.6, 7});
+    const Prepared p = prepare(Mesh(tree));
+    REQUIRE(p.loops.size() == 5);
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+    REQUIRE(plan.paths.size() == 4);
+    std::vector<int> loop_of(p.mesh.n_vertices(), -1);
+    for (std::size_t l = 0; l < p.loops.size(); ++l)
+        for (auto v : p.loops[l].vertices)
+            loop_of[v.idx()] = static_cast<int>(l);
+    std::vector<int> on_cut(p.mesh.n_vertices(), -1);
+    for (std::size_t k = 0; k < plan.paths.size(); ++k)
+    {
+        const CutPath& cut = plan.paths[k];
+        CHECK(cut.outlet == static_cast<int>(k) + 1);  // largest to smallest
+        CHECK(loop_of[cut.start.idx()] == cut.outlet);
+        if (k == 0)
+            CHECK(loop_of[cut.end.idx()] == 0);
+        else
+        {
+            CHECK(loop_of[cut.end.idx()] == -1);
+            REQUIRE(on_cut[cut.end.idx()] >= 0);
+            CHECK(cut.parent == on_cut[cut.end.idx()]);
+        }
+        // No vertex but the end is shared with an earlier cut (cuts never cross), and no vertex
+        // but the start and (for the first cut) the end lies on a boundary loop.
+        for (std::size_t i = 0; i < cut.halfedges.size(); ++i)
+        {
+            const auto v = p.mesh.to_vertex_handle(cut.halfedges[i]);
+            if (i + 1 < cut.halfedges.size())
+            {
+                CHECK(on_cut[v.idx()] < 0);
+                CHECK(loop_of[v.idx()] < 0);
+            }
+        }
+        on_cut[cut.start.idx()] = static_cast<int>(k);
+        for (auto h : cut.halfedges)
+            if (on_cut[p.mesh.to_vertex_handle(h).idx()] < 0)
+                on_cut[p.mesh.to_vertex_handle(h).idx()] = static_cast<int>(k);
+    }
+    const auto seam = plan.seam_edges(p.mesh);
+    std::size_t total = 0;
+    for (const auto& cut : plan.paths)
+        total += cut.halfedges.size();
+    CHECK(seam.size() == total);
+}
+
+TEST_CASE("cut_plan: invalid options and too few loops are refused")
+{
+    CutPlanOptions bad;
+    bad.tie_tolerance = -1.0;
+    CHECK_THROWS_AS(bad.validate(), InvalidInputError);
+    const Mesh sphere = icosphere(1.0, 1);
+    CHECK_THROWS_AS(plan_cuts(sphere, {}, HalfedgeWeights(sphere.n_halfedges(), 1.0),
+                              Eigen::MatrixX3d()),
+                    InvalidInputError);
+}

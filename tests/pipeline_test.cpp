@@ -1,1 +1,127 @@
 #include <doctest/doctest.h>
+
+#include "support/checks.h"
+#include "vessel/errors.h"
+#include "vessel/layout.h"
+#include "vessel/phantom.h"
+#include "vessel/pipeline.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+using namespace vessel;
+using vessel::test::check_flat_obj;
+using vessel::test::read_flat_obj;
+using vessel::test::run;
+using vessel::test::temp_dir;
+
+namespace {
+
+const std::string kData = VESSEL_SHARED_DATA;
+const std::string kFlatten = VESSEL_FLATTEN_EXE;
+
+// Runs vessel-flatten on a valid real mesh and checks the output independently of the library.
+void check_real_mesh(const std::string& relative, int loops)
+{
+    const std::string input = kData + "/" + relative;
+    REQUIRE_MESSAGE(std::filesystem::exists(input), "missing shared data: " << input);
+    const std::string dir = temp_dir(std::filesystem::path(relative).stem().string());
+    const std::string out = dir + "/flat.obj";
+    REQUIRE(run(kFlatten + " " + input + " -o " + out + " --report " + dir +
+                "/report.json --quiet") == 0);
+    const auto c = check_flat_obj(read_flat_obj(out));
+    CHECK(c.euler == 1);  // a disk
+    CHECK(c.boundary_loops == 1);
+    CHECK(c.flipped == 0);
+    CHECK(c.area_ratio >= 0.95);
+    CHECK(c.area_ratio <= 1.05);
+    CHECK(c.mean_abs_log_area <= 0.15);
+    CHECK(c.loops_3d == loops);
+    CHECK(c.seam_loops_touched == loops);  // the seam reaches the inlet and every outlet
+    MESSAGE(relative << ": flipped " << c.flipped << ", area ratio " << c.area_ratio
+                     << ", mean |log area| " << c.mean_abs_log_area);
+}
+
+// Runs vessel-flatten on an invalid real mesh: it must fail with a message and write nothing.
+void check_refused(const std::string& relative, const std::string& expected)
+{
+    const std::string input = kData + "/" + relative;
+    REQUIRE(std::filesystem::exists(input));
+    const std::string dir = temp_dir("refused_" + std::filesystem::path(relative).stem().string());
+    const std::string out = dir + "/flat.obj";
+    const int status = run(kFlatten + " " + input + " -o " + out + " --quiet 2> " + dir + "/err");
+    CHECK(status != 0);
+    CHECK_FALSE(std::filesystem::exists(out));
+    std::ifstream err(dir + "/err");
+    const std::string message((std::istreambuf_iterator<char>(err)), {});
+    CHECK_MESSAGE(message.find(expected) != std::string::npos, message);
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: a carotid phantom flattens into one disk with area kept")
+{
+    const Mesh mesh = carotid_phantom();
+    const FlattenResult r = flatten(mesh);
+    const long euler = static_cast<long>(r.mesh.n_vertices()) -
+                       static_cast<long>(r.mesh.n_edges()) + static_cast<long>(r.mesh.n_faces());
+    CHECK(euler == 1);
+    CHECK(r.mesh.n_faces() == mesh.n_faces());
+    CHECK(r.plan.paths.size() == 2);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.area_ratio == doctest::Approx(1.0).epsilon(0.05));
+    CHECK(r.quality.mean_abs_log_area <= 0.15);
+    CHECK(r.timings.total() > 0.0);
+}
+
+TEST_CASE("pipeline: invalid options are refused before any work")
+{
+    FlattenOptions options;
+    options.blend = 1.5;
+    CHECK_THROWS_AS(flatten(open_cylinder(1, 4, 16, 8), options), InvalidInputError);
+    CHECK_THROWS_AS(make_layout("nonexistent"), InvalidInputError);
+}
+
+TEST_CASE("cli: vmtk aorta (inward wound, 3 loops) flattens")
+{
+    check_real_mesh("vmtk-test-data/aorta-surface-open-ends.ply", 3);
+}
+TEST_CASE("cli: vmtk aorta STL original flattens") { check_real_mesh("vmtk-test-data/aorta-surface-open-ends.stl", 3); }
+TEST_CASE("cli: VaMPy artery with aneurysm flattens") { check_real_mesh("vampy/artery.ply", 3); }
+TEST_CASE("cli: VaMPy coarse artery flattens") { check_real_mesh("vampy/artery-coarse.ply", 3); }
+TEST_CASE("cli: AneuRisk lateral aneurysm (4 loops) flattens")
+{
+    check_real_mesh("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply", 4);
+}
+TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
+{
+    check_real_mesh("svfsi-tests/pulmonary-glenn-wall.ply", 21);
+}
+TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
+{
+    check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21);
+}
+TEST_CASE("cli: coronary phantom tree (7 loops) flattens")
+{
+    check_real_mesh("x-ray-angio-data/coronary-phantom-tri3-coarse.ply", 7);
+}
+TEST_CASE("cli: clinical coronary branch (tube) flattens")
+{
+    check_real_mesh("x-ray-angio-data/coronary-clinical-branch-fine.ply", 2);
+}
+TEST_CASE("cli: SimVascular demo model (open) flattens")
+{
+    check_real_mesh("simvascular-tests/demo-model-open.ply", 3);
+}
+
+TEST_CASE("cli: closed and broken real meshes are refused with a clear message")
+{
+    check_refused("vmtk-test-data/aorta-surface.ply", "closed");
+    check_refused("vmtk-test-data/aorta-surface-subdiv-207k.ply", "closed");
+    check_refused("simvascular-tests/demo-model-capped.ply", "closed");
+    check_refused("sphinxsys-medical/carotid-bif-capped.stl", "closed");
+    check_refused("vmtk-test-data/aorta-surface-branch-split.ply", "3 connected components");
+    check_refused("openlb/aneurysm3d.stl", "not a valid vessel tree surface");
+}

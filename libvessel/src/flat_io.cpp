@@ -1,1 +1,49 @@
-// stub: implemented by its stage owner
+#include "vessel/flat_io.h"
+
+#include "vessel/errors.h"
+#include "vessel/properties.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+namespace vessel {
+
+void write_flat_obj(const std::string& path, const std::vector<Eigen::Vector3d>& input_points,
+                    const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    OpenMesh::VPropHandleT<int> input_index;
+    if (!mesh.get_property_handle(input_index, prop::input_index))
+        throw InvalidInputError(std::string("write_flat_obj: the mesh has no '") +
+                                prop::input_index + "' property; load it with load_tree_surface");
+    if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
+        throw InvalidInputError("write_flat_obj: uv has " + std::to_string(uv.rows()) +
+                                " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
+    const std::string tmp = path + ".tmp";
+    {
+        std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(tmp.c_str(), "w"), &std::fclose);
+        if (!file)
+            throw IoError("write_flat_obj: cannot open " + tmp + " for writing");
+        FILE* out = file.get();
+        std::fprintf(out, "# libvessel flattened vessel: v = input positions, vt = (u, v)\n");
+        for (const auto& p : input_points)
+            std::fprintf(out, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
+        for (Eigen::Index i = 0; i < uv.rows(); ++i)
+            std::fprintf(out, "vt %.9g %.9g\n", uv(i, 0), uv(i, 1));
+        for (auto f : mesh.faces())
+        {
+            std::fputc('f', out);
+            for (auto v : f.vertices())
+                std::fprintf(out, " %d/%d", mesh.property(input_index, v) + 1, v.idx() + 1);
+            std::fputc('\n', out);
+        }
+        if (std::ferror(out))
+            throw IoError("write_flat_obj: write error on " + tmp);
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec)
+        throw IoError("write_flat_obj: cannot rename " + tmp + " to " + path + ": " + ec.message());
+}
+
+}  // namespace vessel

@@ -1,1 +1,67 @@
-// stub: implemented by its stage owner
+#include "vessel/metrics.h"
+
+#include "vessel/errors.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vessel {
+
+double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f)
+{
+    auto h = mesh.halfedge_handle(f);
+    const int a = mesh.from_vertex_handle(h).idx();
+    const int b = mesh.to_vertex_handle(h).idx();
+    const int c = mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx();
+    const Eigen::Vector2d e1 = uv.row(b) - uv.row(a), e2 = uv.row(c) - uv.row(a);
+    return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
+        throw InvalidInputError("flat_quality: uv has " + std::to_string(uv.rows()) +
+                                " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
+    FlatQuality q;
+    double area3 = 0.0, area2 = 0.0, log_sum = 0.0, conformal_sum = 0.0, weight = 0.0;
+    for (auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        const Eigen::Vector3d p0 = to_eigen(mesh.point(h.from()));
+        const Eigen::Vector3d p1 = to_eigen(mesh.point(h.to()));
+        const Eigen::Vector3d p2 = to_eigen(mesh.point(h.next().to()));
+        // Local orthonormal frame of the 3D triangle.
+        const Eigen::Vector3d e1 = p1 - p0, e2 = p2 - p0;
+        const double a3 = 0.5 * e1.cross(e2).norm();
+        const double a2 = signed_uv_area(mesh, uv, f);
+        area3 += a3;
+        area2 += a2;
+        if (a2 <= 0.0)
+        {
+            ++q.flipped_triangles;
+            continue;
+        }
+        if (a3 <= 0.0)
+            continue;
+        const Eigen::Vector3d x = e1.normalized();
+        const Eigen::Vector3d y = (e2 - e2.dot(x) * x).normalized();
+        Eigen::Matrix2d P, U;  // columns: edges in the 3D frame and in the map
+        P << e1.dot(x), e2.dot(x), 0.0, e2.dot(y);
+        const int i0 = h.from().idx(), i1 = h.to().idx(), i2 = h.next().to().idx();
+        U.col(0) = (uv.row(i1) - uv.row(i0)).transpose();
+        U.col(1) = (uv.row(i2) - uv.row(i0)).transpose();
+        const Eigen::Matrix2d J = U * P.inverse();
+        const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(J).singularValues();
+        const double conformal = s[1] > 0 ? s[0] / s[1] : INFINITY;
+        log_sum += a3 * std::abs(std::log(a2 / a3));
+        conformal_sum += a3 * conformal;
+        weight += a3;
+        q.max_conformal = std::max(q.max_conformal, conformal);
+    }
+    q.area_ratio = area3 > 0 ? area2 / area3 : 0.0;
+    q.mean_abs_log_area = weight > 0 ? log_sum / weight : 0.0;
+    q.mean_conformal = weight > 0 ? conformal_sum / weight : 0.0;
+    return q;
+}
+
+}  // namespace vessel

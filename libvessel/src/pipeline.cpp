@@ -1,1 +1,167 @@
-// stub: implemented by its stage owner
+#include "vessel/pipeline.h"
+
+#include "vessel/cut.h"
+#include "vessel/direction.h"
+#include "vessel/errors.h"
+#include "vessel/lscm.h"
+#include "vessel/properties.h"
+#include "vessel/spectral.h"
+
+#include <chrono>
+
+namespace vessel {
+
+void FlattenOptions::validate() const
+{
+    curvature.validate();
+    geodesic.validate();
+    cuts.validate();
+    if (refine_with_arap)
+        arap.validate();
+    if (!(blend >= 0.0 && blend <= 1.0))
+        throw InvalidInputError("FlattenOptions: blend must be in [0, 1], got " +
+                                std::to_string(blend));
+    if (!(alpha_deg >= 0.0 && alpha_deg < 90.0))
+        throw InvalidInputError("FlattenOptions: alpha_deg must be in [0, 90), got " +
+                                std::to_string(alpha_deg));
+}
+
+namespace {
+
+class StageClock
+{
+public:
+    StageClock(const FlattenOptions& options) : options_(options) {}
+    // Seconds since the previous call; reports the stage.
+    double lap(const char* stage)
+    {
+        const auto now = std::chrono::steady_clock::now();
+        const double seconds = std::chrono::duration<double>(now - last_).count();
+        last_ = now;
+        if (options_.on_stage)
+            options_.on_stage(stage, seconds);
+        return seconds;
+    }
+
+private:
+    const FlattenOptions& options_;
+    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
+
+HalfedgeWeights travel_weights(const Mesh& mesh, const Eigen::MatrixX3d& z,
+                               const FlattenOptions& options)
+{
+    if (options.custom_cost)
+        return evaluate_cost(mesh, options.custom_cost);
+    const CurvatureCost curvature{&z};
+    const LengthCost length{mean_edge_length(mesh)};
+    switch (options.cost)
+    {
+        case CostKind::Curvature:
+            return evaluate_cost(mesh, curvature);
+        case CostKind::Geodesic:
+            return evaluate_cost(mesh, length);
+        case CostKind::Blend:
+            return evaluate_cost(mesh, BlendCost{curvature, length, options.blend});
+    }
+    throw InvalidInputError("flatten: unknown cost kind");
+}
+
+template <class T>
+void store(Mesh& mesh, const char* name, const std::function<T(int)>& value)
+{
+    auto property = OpenMesh::VProp<T>(mesh, name);
+    for (auto v : mesh.vertices())
+        property[v] = value(v.idx());
+}
+
+Pins concat(const Pins& a, const Pins& b)
+{
+    Pins all = a;
+    all.insert(all.end(), b.begin(), b.end());
+    return all;
+}
+
+}  // namespace
+
+FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
+{
+    options.validate();
+    FlattenResult result;
+    StageClock clock(options);
+
+    // Z: principal directions, geodesic distance from the inlet, alignment toward the root.
+    result.loops = boundary_loops(mesh);
+    if (result.loops.size() < 2)
+        throw InvalidInputError("flatten: the mesh has " + std::to_string(result.loops.size()) +
+                                " boundary loop(s); a vessel tree needs an inlet and an outlet");
+    const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
+    const HeatGeodesics heat(mesh, options.geodesic);
+    const Eigen::VectorXd G = heat.distance(result.loops[0].vertices);
+    const Eigen::MatrixX3d z = align_to_root(mesh, curvature.min_direction, G);
+    store<double>(mesh, prop::geodesic, [&](int i) { return G[i]; });
+    store<double>(mesh, prop::kmax, [&](int i) { return std::abs(curvature.k_max[i]); });
+    store<OpenMesh::Vec3d>(mesh, prop::direction,
+                           [&](int i) { return to_openmesh(z.row(i).transpose()); });
+    result.timings.Z = clock.lap("Z");
+
+    // GC: the directed cut graph's arc weights.
+    const HalfedgeWeights weights = travel_weights(mesh, z, options);
+    result.timings.GC = clock.lap("GC");
+
+    // VC: cut paths.
+    result.plan = plan_cuts(mesh, result.loops, weights,
+                            winding_rate(mesh, z, curvature.k_max.cwiseAbs()), options.cuts);
+    result.timings.VC = clock.lap("VC");
+
+    // AC: split the seam in place.
+    const std::size_t n_before = mesh.n_vertices();
+    const CutSummary cut = cut_along_edges(mesh, result.plan.seam_edges(mesh));
+    result.seam_edges = cut.seam_edges;
+    result.duplicated_vertices = cut.duplicated_vertices;
+    result.timings.AC = clock.lap("AC");
+
+    // L: pin the inlet and outlets.
+    std::vector<int> loop_of(n_before, -1);
+    for (std::size_t l = 0; l < result.loops.size(); ++l)
+        for (auto v : result.loops[l].vertices)
+            loop_of[v.idx()] = static_cast<int>(l);
+    LayoutInput input;
+    input.mesh = &mesh;
+    input.loops = &result.loops;
+    input.plan = &result.plan;
+    input.geodesic = &G;
+    auto origin = OpenMesh::VProp<int>(mesh, prop::origin);
+    input.origin.resize(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        input.origin[v.idx()] = origin[v];
+    input.segments = boundary_segments(mesh, input.origin, loop_of);
+    const std::shared_ptr<const Layout> layout =
+        options.layout ? options.layout : std::make_shared<BranchFanLayout>(options.alpha_deg);
+    const LayoutResult placed = layout->place(input);
+    result.timings.L = clock.lap("L");
+
+    // F: LSCM (or spectral) start, then ARAP with the inlet pinned.
+    if (options.initialization == Initialization::LayoutLscm)
+        result.uv = lscm(mesh, concat(placed.inlet, placed.outlets));
+    else
+        result.uv = spectral_conformal(mesh);
+    if (options.refine_with_arap)
+    {
+        Pins pins = placed.inlet;
+        if (options.initialization == Initialization::SpectralConformal)
+            for (auto& pin : pins)  // keep the spectral map's own placement of the inlet
+                pin.uv = result.uv.row(pin.vertex.idx()).transpose();
+        result.arap = arap(mesh, result.uv, pins, options.arap);
+    }
+    store<OpenMesh::Vec2d>(mesh, prop::uv, [&](int i) {
+        return OpenMesh::Vec2d(result.uv(i, 0), result.uv(i, 1));
+    });
+    result.timings.F = clock.lap("F");
+
+    result.quality = flat_quality(mesh, result.uv);
+    result.mesh = std::move(mesh);
+    return result;
+}
+
+}  // namespace vessel

@@ -230,7 +230,7 @@ std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
 Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
 {
     Mesh mesh;
-    auto origin = OpenMesh::VProp<int>(mesh, prop::origin);
+    auto input_index = OpenMesh::VProp<int>(mesh, prop::input_index);
     std::vector<int> handle(raw.points.size(), -1);
     for (const auto& t : T)
         for (int k = 0; k < 3; ++k)
@@ -238,7 +238,7 @@ Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
             {
                 auto v = mesh.add_vertex(to_openmesh(raw.points[t[k]]));
                 handle[t[k]] = v.idx();
-                origin[v] = t[k];
+                input_index[v] = t[k];
             }
     mesh.reserve(mesh.n_vertices(), 3 * T.size() / 2, T.size());
     for (const auto& t : T)

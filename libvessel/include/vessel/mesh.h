@@ -4,6 +4,7 @@
 #include <OpenMesh/Core/Utils/PropertyManager.hh>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 #include <vector>
 

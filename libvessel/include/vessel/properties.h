@@ -6,7 +6,11 @@
 
 namespace vessel::prop {
 
-//! `int` per vertex: index of the input vertex a (possibly duplicated) vertex came from.
+//! `int` per vertex: index in the input file of the vertex a (possibly duplicated) vertex came
+//! from; set when a file is loaded (see validation.h), copied to seam duplicates.
+inline constexpr const char* input_index = "vessel:input_index";
+//! `int` per vertex: index, in the mesh before cutting, of the vertex a (possibly duplicated)
+//! vertex came from; created by cut_along_edges() (see cut.h).
 inline constexpr const char* origin = "vessel:origin";
 //! `double` per vertex: heat-method geodesic distance from the inlet.
 inline constexpr const char* geodesic = "vessel:geodesic";

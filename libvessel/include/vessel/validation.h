@@ -21,8 +21,8 @@ struct TreeSurfaceOptions
 //! A validated vessel tree surface.
 struct TreeSurface
 {
-    //! Triangle mesh of the used input vertices; `int` vertex property `prop::origin` gives each
-    //! vertex's index in the input file.
+    //! Triangle mesh of the used input vertices; `int` vertex property `prop::input_index` gives
+    //! each vertex's index in the input file.
     Mesh mesh;
     int input_vertices = 0;          //!< vertices in the file (including unused ones)
     std::vector<std::string> notes;  //!< repairs applied, one human-readable line each

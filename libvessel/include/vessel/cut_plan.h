@@ -1,0 +1,71 @@
+#pragma once
+
+#include "vessel/boundary.h"
+#include "vessel/cut_graph.h"
+
+#include <optional>
+#include <vector>
+
+namespace vessel {
+
+//! Where a cut leaves or meets a boundary loop.
+enum class EndpointPolicy
+{
+    ImaginaryNode,   //!< a zero-cost imaginary node joined to the whole loop: the cheapest point
+    NearestToPoint,  //!< the loop vertex nearest a given 3D point (e.g. the viewpoint)
+};
+
+struct CutPlanOptions
+{
+    EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
+    //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
+    Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+    //! Per-step slack, as a fraction of the mean halfedge weight, within which two routes count
+    //! as equally cheap; among those the one that winds least around the vessel is taken.
+    //! 0 = the plain shortest path, which drifts around the vessel where costs (nearly) tie:
+    //! on a 1.5-turn helical tube it winds 195-220 degrees; with 0.1 it stays within 20.
+    double tie_tolerance = 0.1;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! One cut, from an outlet loop toward the inlet or an earlier cut.
+struct CutPath
+{
+    int outlet = -1;  //!< index into the loops passed to plan_cuts() (1 = largest outlet)
+    int parent = -1;  //!< earlier cut it ends on, or -1 when it ends on the inlet (loop 0)
+    std::vector<HalfedgeHandle> halfedges;  //!< outlet -> end, head to tail
+    VertexHandle start;                     //!< vertex on the outlet loop
+    VertexHandle end;                       //!< vertex on the inlet or on the parent cut
+    double cost = 0.0;
+    double winding_deg = 0.0;  //!< signed angle gained around the vessel along the cut
+};
+
+struct CutPlan
+{
+    std::vector<CutPath> paths;  //!< in the order they were made
+    //! Edges of all paths, each once.
+    std::vector<EdgeHandle> seam_edges(const Mesh& mesh) const;
+};
+
+//! \brief Angle around the vessel gained per unit displacement: k_max(v) * (n_v x z_v), the
+//! lateral direction scaled by the local inverse radius.
+//! \param direction |V| x 3 unit vessel direction z. \param k_max |V| max curvature magnitudes.
+//! \return |V| x 3, row `v.idx()`.
+Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& direction,
+                              const Eigen::VectorXd& k_max);
+
+//! \brief Plan the cuts of the method (step 4): the largest outlet to the inlet first, then every
+//! other outlet, largest to smallest, to the nearest (cheapest) interior vertex already on a cut.
+//! Paths never pass through other boundary loops and never cross earlier cuts, so every loop is
+//! opened at exactly one vertex.
+//! \param loops boundary_loops(mesh): loops[0] is the inlet.
+//! \param weights evaluate_cost() of the chosen travel cost.
+//! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
+//! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
+//! reach the cut tree.
+CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                  const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
+                  const CutPlanOptions& options = {});
+
+}  // namespace vessel

@@ -1,0 +1,24 @@
+#pragma once
+
+#include "vessel/mesh.h"
+
+namespace vessel {
+
+//! Distortion of a map (u, v) of a triangle mesh, measured against its 3D triangles.
+struct FlatQuality
+{
+    int flipped_triangles = 0;     //!< faces with non-positive signed area in the map
+    double area_ratio = 0.0;       //!< total 2D area / total 3D area
+    double mean_abs_log_area = 0.0;  //!< area-weighted mean |log(A_2D / A_3D)| over faces
+    double mean_conformal = 0.0;   //!< area-weighted mean sigma_max / sigma_min (1 = conformal)
+    double max_conformal = 0.0;    //!< worst sigma_max / sigma_min over non-flipped faces
+};
+
+//! \brief Measure the distortion of \p uv (|V| x 2, row `v.idx()`) on \p mesh.
+//! \throw InvalidInputError if \p uv does not have one row per vertex.
+FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
+//! Signed area of face \p f in the map (positive = counter-clockwise).
+double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f);
+
+}  // namespace vessel

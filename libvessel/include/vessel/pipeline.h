@@ -1,0 +1,89 @@
+#pragma once
+
+#include "vessel/arap.h"
+#include "vessel/boundary.h"
+#include "vessel/curvature.h"
+#include "vessel/cut_cost.h"
+#include "vessel/cut_plan.h"
+#include "vessel/geodesic.h"
+#include "vessel/layout.h"
+#include "vessel/metrics.h"
+
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace vessel {
+
+//! The built-in travel costs (step 4).
+enum class CostKind
+{
+    Curvature,  //!< E_c = 1 - <unit edge, z>
+    Geodesic,   //!< E_g = edge length (in mean edge lengths)
+    Blend,      //!< E_cg = a E_c + (1 - a) E_g
+};
+
+//! How the map is started before ARAP (step 7).
+enum class Initialization
+{
+    LayoutLscm,         //!< the paper: LSCM with inlet and outlets pinned at the layout
+    SpectralConformal,  //!< free-boundary spectral conformal map (no layout), then ARAP
+};
+
+struct FlattenOptions
+{
+    CurvatureOptions curvature;    //!< step 3: quadric-fit scale (5 x mean edge) etc.
+    HeatGeodesicsOptions geodesic;  //!< step 3: heat-method time step
+    CostKind cost = CostKind::Curvature;
+    double blend = 0.5;  //!< `a` of E_cg, used with CostKind::Blend
+    //! A researcher's own travel cost; when set it replaces `cost`. Receives the mesh whose
+    //! `prop::direction` (z), `prop::geodesic` and `prop::kmax` vertex properties are filled.
+    AnyCost custom_cost;
+    CutPlanOptions cuts;  //!< endpoint policy (imaginary node / viewpoint), winding control
+    double alpha_deg = 45.0;  //!< branch angle of the fan layout
+    //! Layout policy; null = BranchFanLayout(alpha_deg).
+    std::shared_ptr<const Layout> layout;
+    Initialization initialization = Initialization::LayoutLscm;
+    bool refine_with_arap = true;  //!< step 7: run ARAP after the initial map
+    ArapOptions arap;              //!< ARAP solver, iterations, tolerance
+    //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
+    std::function<void(const std::string& stage, double seconds)> on_stage;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! Per-stage wall-clock seconds under the names of the paper's Table 1.
+struct StageTimings
+{
+    double Z = 0;   //!< curvature, geodesic distance and alignment
+    double GC = 0;  //!< graph conversion (travel costs)
+    double VC = 0;  //!< vessel cut paths (Dijkstra)
+    double AC = 0;  //!< applying the cuts (seam split)
+    double L = 0;   //!< layout
+    double F = 0;   //!< flattening (LSCM + ARAP)
+    double total() const { return Z + GC + VC + AC + L + F; }
+};
+
+struct FlattenResult
+{
+    //! The cut (disk) mesh. Vertex properties: `prop::origin` (pre-cut index), `prop::geodesic`,
+    //! `prop::direction`, `prop::kmax`, `prop::uv`, and whatever the input mesh carried.
+    Mesh mesh;
+    Eigen::MatrixX2d uv;              //!< |V_cut| x 2, row `v.idx()` of `mesh`
+    std::vector<BoundaryLoop> loops;  //!< pre-cut loops; handles index `mesh` too (cutting
+                                      //!< only appends vertices)
+    CutPlan plan;                     //!< the cuts, handles as for `loops`
+    int seam_edges = 0;
+    int duplicated_vertices = 0;
+    ArapSummary arap;
+    FlatQuality quality;
+    StageTimings timings;
+};
+
+//! \brief Cut \p mesh open along natural vessel cuts and flatten it into one patch (steps 3-7).
+//! \param mesh A valid vessel tree surface (see validation.h), outward oriented; taken by value
+//! because it is cut in place.
+//! \throw InvalidInputError, TopologyError, SolverError from the stages.
+FlattenResult flatten(Mesh mesh, const FlattenOptions& options = {});
+
+}  // namespace vessel

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian packages libvessel needs to build, test and render (idempotent).
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
+  doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev
+  python3 python3-numpy python3-scipy python3-matplotlib python3-vtk9 xvfb xauth
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "installing: ${missing[*]}"
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

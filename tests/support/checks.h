@@ -1,0 +1,44 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace vessel::test {
+
+//! A flattened OBJ as vessel-flatten writes it: v = 3D input positions, vt = uv, f v/vt.
+struct FlatObj
+{
+    std::vector<Eigen::Vector3d> v;
+    std::vector<Eigen::Vector2d> vt;
+    std::vector<std::array<int, 3>> f;   //!< 0-based indices into v
+    std::vector<std::array<int, 3>> ft;  //!< 0-based indices into vt
+};
+
+//! Parse \p path; throws std::runtime_error on a malformed file.
+FlatObj read_flat_obj(const std::string& path);
+
+//! Independent topology and quality checks of a flat OBJ, computed from its own arrays.
+struct FlatObjCheck
+{
+    long euler = 0;               //!< V - E + F of the (vt, ft) mesh
+    int boundary_loops = 0;       //!< of the (vt, ft) mesh
+    int flipped = 0;              //!< faces with non-positive signed uv area
+    double area_ratio = 0;        //!< total uv area / total 3D area
+    double mean_abs_log_area = 0;  //!< area-weighted
+    int seam_loops_touched = 0;   //!< 3D boundary loops touched by seam vertices
+    int loops_3d = 0;             //!< boundary loops of the (v, f) mesh
+};
+
+FlatObjCheck check_flat_obj(const FlatObj& obj);
+
+//! Run a shell command; returns its exit status (0 = success).
+int run(const std::string& command);
+
+//! Path to a fresh temporary directory for one test.
+std::string temp_dir(const std::string& name);
+
+}  // namespace vessel::test
