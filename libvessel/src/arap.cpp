@@ -65,17 +65,21 @@ double closest_rotation_angle(const Eigen::Matrix2d& J)
     return std::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
 }
 
+double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matrix2d& R)
+{
+    const Eigen::Matrix2d J = arap_jacobian(face, uv);
+    const double t = closest_rotation_angle(J);
+    const double c = std::cos(t), s = std::sin(t);
+    R << c, -s, s, c;
+    return face.area * (J - R).squaredNorm();
+}
+
 double arap_energy(const std::vector<ArapFace>& faces, const Eigen::MatrixX2d& uv)
 {
     double energy = 0.0;
+    Eigen::Matrix2d R;
     for (const ArapFace& face : faces)
-    {
-        const Eigen::Matrix2d J = arap_jacobian(face, uv);
-        const double t = closest_rotation_angle(J);
-        Eigen::Matrix2d R;
-        R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
-        energy += face.area * (J - R).squaredNorm();
-    }
+        energy += face_energy(face, uv, R);
     return energy;
 }
 
@@ -180,22 +184,29 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
                           std::to_string(n_free) +
                           " free vertices); every connected component needs a pin");
 
-    double energy = summary.initial_energy;
+    // Local step: the closest rotation per face. It also yields the energy of the current map,
+    // so each sweep evaluates the Jacobians once.
+    std::vector<Eigen::Matrix2d> rotations(faces.size());
+    const auto local_step = [&] {
+        double e = 0.0;
+        for (std::size_t t = 0; t < faces.size(); ++t)
+            e += detail::face_energy(faces[t], uv, rotations[t]);
+        return e;
+    };
+    double energy = local_step();
     Eigen::MatrixX2d b(n_free, 2);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
-        // Local step: the closest rotation per face, folded straight into the right-hand side.
         b = b_pinned;
-        for (const auto& face : faces)
+        for (std::size_t t = 0; t < faces.size(); ++t)
         {
-            const double t = detail::closest_rotation_angle(detail::arap_jacobian(face, uv));
-            Eigen::Matrix2d R;
-            R << std::cos(t), -std::sin(t), std::sin(t), std::cos(t);
+            const auto& face = faces[t];
             for (int k = 0; k < 3; ++k)
             {
                 const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
                 const Eigen::RowVector2d r =
-                    face.cot[k] * (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
+                    face.cot[k] *
+                    (rotations[t] * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
                 if (dof[j] >= 0)
                     b.row(dof[j]) += r;
                 if (dof[l] >= 0)
@@ -211,7 +222,7 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
                 uv.row(i) = x.row(dof[i]);
 
         const double previous = energy;
-        energy = detail::arap_energy(faces, uv);
+        energy = local_step();
         summary.iterations = it;
         if (!(previous > 0.0) || (previous - energy) < options.tolerance * previous)
         {

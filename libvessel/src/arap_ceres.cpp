@@ -127,7 +127,8 @@ ArapSummary arap_ceres(const Mesh& mesh, const std::vector<ArapFace>& faces, Eig
     for (int i = 0; i < n; ++i)
         if (!is_pinned[i])
             uv.row(i) << x[2 * i], x[2 * i + 1];
-    summary.iterations = ceres_summary.num_successful_steps + ceres_summary.num_unsuccessful_steps;
+    // iterations[0] is the evaluation at the starting point, not a step.
+    summary.iterations = static_cast<int>(ceres_summary.iterations.size()) - 1;
     summary.final_energy = arap_energy(faces, uv);
     summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
     summary.report = ceres_summary.BriefReport();

@@ -31,6 +31,9 @@ Eigen::Matrix2d arap_jacobian(const ArapFace& face, const Eigen::MatrixX2d& uv);
 //! Angle of the rotation closest (Frobenius) to \p J: argmax_theta tr(R(theta)^T J).
 double closest_rotation_angle(const Eigen::Matrix2d& J);
 
+//! area * ||J - R||_F^2 for one face; \p R receives the closest rotation to J.
+double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matrix2d& R);
+
 //! Sum over faces of area * ||J - R||_F^2 with R the closest rotation.
 double arap_energy(const std::vector<ArapFace>& faces, const Eigen::MatrixX2d& uv);
 
