@@ -8,7 +8,7 @@ struct CurvatureOptions
 {
     //! Radius of the fitting ball as a multiple of the mean edge length (Panozzo et al. 2010 use 5).
     double scale = 5.0;
-    //! Minimum number of neighbours used in a fit; the ball grows by rings until it has them.
+    //! Minimum number of neighbours used in a fit (>= 5); the ball grows by rings until it has them.
     int min_neighbors = 8;
     //! Use all hardware threads for the per-vertex fits.
     bool parallel = true;
@@ -16,7 +16,10 @@ struct CurvatureOptions
     void validate() const;
 };
 
-//! Principal curvature per vertex, all arrays indexed by `v.idx()`.
+//! Principal curvature per vertex, all arrays indexed by `v.idx()`. Curvatures are signed:
+//! positive where the surface bends away from its normal (the face winding's side), e.g. +1/r
+//! on an outward-wound sphere or cylinder of radius r. Isolated vertices get 0 and an arbitrary
+//! orthonormal pair of directions.
 struct PrincipalCurvature
 {
     Eigen::MatrixX3d min_direction;  //!< |V| x 3 unit vectors (sign arbitrary), tangent to the surface
