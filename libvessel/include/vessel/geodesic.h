@@ -34,7 +34,8 @@ struct HeatGeodesicsOptions
 class HeatGeodesics
 {
 public:
-    //! \throw SolverError if a factorization fails. \throw InvalidInputError on an empty mesh.
+    //! \throw SolverError if a factorization fails. \throw InvalidInputError if the mesh has no
+    //! faces or the options are invalid.
     explicit HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& options = {});
     ~HeatGeodesics();
     HeatGeodesics(HeatGeodesics&&) noexcept;
@@ -51,7 +52,7 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-//! One-off convenience: factor and query once.
+//! One-off convenience: factor and query once. Throws as the constructor and distance() do.
 Eigen::VectorXd heat_geodesic_distance(const Mesh& mesh, const std::vector<VertexHandle>& sources,
                                        const HeatGeodesicsOptions& options = {});
 

@@ -16,11 +16,14 @@ Eigen::VectorXd lumped_mass(const Mesh& mesh);
 
 //! \brief Per-face gradient of a piecewise-linear function.
 //! \param f |V| values indexed by `v.idx()`.
-//! \return |F| x 3 matrix, row `f.idx()` is the (constant) gradient on that face.
+//! \return |F| x 3 matrix, row `f.idx()` is the (constant) gradient on that face; zero on faces
+//! with collinear corners.
+//! \throw InvalidInputError if \p f does not have |V| entries.
 Eigen::MatrixX3d face_gradient(const Mesh& mesh, const Eigen::VectorXd& f);
 
 //! \brief Area-weighted average of the face gradients around each vertex.
-//! \return |V| x 3 matrix, row `v.idx()`.
+//! \return |V| x 3 matrix, row `v.idx()`; zero at isolated vertices.
+//! \throw InvalidInputError if \p f does not have |V| entries.
 Eigen::MatrixX3d vertex_gradient(const Mesh& mesh, const Eigen::VectorXd& f);
 
 }  // namespace vessel
