@@ -8,6 +8,7 @@
 #include "vessel/spectral.h"
 
 #include <chrono>
+#include <cmath>
 
 namespace vessel {
 
@@ -16,8 +17,10 @@ void FlattenOptions::validate() const
     curvature.validate();
     geodesic.validate();
     cuts.validate();
-    if (refine_with_arap)
+    if (refinement == Refinement::Arap)
         arap.validate();
+    if (refinement == Refinement::Injective)
+        injective.validate();
     if (!(blend >= 0.0 && blend <= 1.0))
         throw InvalidInputError("FlattenOptions: blend must be in [0, 1], got " +
                                 std::to_string(blend));
@@ -73,6 +76,19 @@ void store(Mesh& mesh, const char* name, const std::function<T(int)>& value)
     auto property = OpenMesh::VProp<T>(mesh, name);
     for (auto v : mesh.vertices())
         property[v] = value(v.idx());
+}
+
+// Rotates and translates the map so that the inlet runs along the u axis, centred at the origin,
+// with the rest of the map above it (the paper's look).
+void put_inlet_at_bottom(const Pins& inlet, Eigen::MatrixX2d& uv)
+{
+    const Eigen::Vector2d right = uv.row(inlet.front().vertex.idx()).transpose();
+    const Eigen::Vector2d left = uv.row(inlet.back().vertex.idx()).transpose();
+    const Eigen::Vector2d chord = right - left;
+    const double angle = -std::atan2(chord.y(), chord.x());
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(angle).toRotationMatrix();
+    const Eigen::RowVector2d centre = (0.5 * (left + right)).transpose();
+    uv = ((uv.rowwise() - centre) * R.transpose()).eval();
 }
 
 Pins concat(const Pins& a, const Pins& b)
@@ -141,19 +157,46 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     const LayoutResult placed = layout->place(input);
     result.timings.L = clock.lap("L");
 
-    // F: LSCM (or spectral) start, then ARAP with the inlet pinned.
-    if (options.initialization == Initialization::LayoutLscm)
-        result.uv = lscm(mesh, concat(placed.inlet, placed.outlets));
-    else
-        result.uv = spectral_conformal(mesh);
-    if (options.refine_with_arap)
+    // F: initial map, then refinement with the inlet pinned.
+    bool at_layout = options.initialization == Initialization::LayoutLscm;
+    switch (options.initialization)
     {
-        Pins pins = placed.inlet;
-        if (options.initialization == Initialization::SpectralConformal)
-            for (auto& pin : pins)  // keep the spectral map's own placement of the inlet
-                pin.uv = result.uv.row(pin.vertex.idx()).transpose();
-        result.arap = arap(mesh, result.uv, pins, options.arap);
+        case Initialization::LayoutLscm:
+            result.uv = lscm(mesh, concat(placed.inlet, placed.outlets));
+            break;
+        case Initialization::SpectralConformal:
+            result.uv = spectral_conformal(mesh);
+            break;
+        case Initialization::Tutte:
+            result.uv = tutte_embedding(mesh);
+            break;
     }
+    Pins pins = placed.inlet;
+    if (!at_layout)  // keep the initial map's own placement of the inlet
+        for (auto& pin : pins)
+            pin.uv = result.uv.row(pin.vertex.idx()).transpose();
+    if (options.refinement == Refinement::Arap)
+        result.arap = arap(mesh, result.uv, pins, options.arap);
+    else if (options.refinement == Refinement::Injective)
+    {
+        const int flipped = flat_quality(mesh, result.uv).flipped_triangles;
+        if (flipped > 0)
+        {
+            result.notes.push_back("the initial map had " + std::to_string(flipped) +
+                                   " flipped triangles; restarted from the Tutte embedding");
+            result.uv = tutte_embedding(mesh);
+            pins.clear();  // the Tutte map cannot hold the inlet at the layout
+            at_layout = false;
+        }
+        const InjectiveSummary s = injective_refine(mesh, result.uv, pins, options.injective);
+        result.arap.iterations = s.iterations;
+        result.arap.initial_energy = s.initial_energy;
+        result.arap.final_energy = s.final_energy;
+        result.arap.converged = s.converged;
+        result.arap.report = s.report;
+    }
+    if (!at_layout)
+        put_inlet_at_bottom(placed.inlet, result.uv);
     store<OpenMesh::Vec2d>(mesh, prop::uv, [&](int i) {
         return OpenMesh::Vec2d(result.uv(i, 0), result.uv(i, 1));
     });

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -63,7 +64,10 @@ nlohmann::json report_json(const std::string& input, const vessel::TreeSurface& 
                  {"final_energy", r.arap.final_energy},
                  {"converged", r.arap.converged},
                  {"report", r.arap.report}};
-    j["notes"] = surface.notes;
+    nlohmann::json notes = surface.notes;
+    for (const auto& note : r.notes)
+        notes.push_back(note);
+    j["notes"] = notes;
     return j;
 }
 
@@ -75,7 +79,7 @@ int main(int argc, char** argv)
                  "one 2D patch.\nWrites OBJ in seam form: v = input positions (input order), "
                  "vt = (u, v) per cut vertex, f v/vt."};
     std::string input, output, report_path, cost = "curvature", solver = "ceres",
-                                            init = "layout-lscm";
+                                            init = "layout-lscm", refine = "injective";
     std::vector<double> viewpoint;
     bool quiet = false;
     vessel::FlattenOptions options;
@@ -103,16 +107,21 @@ int main(int argc, char** argv)
                    "Curvature fitting radius in mean edge lengths")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    options.arap.max_iterations = options.injective.max_iterations;
     app.add_option("--arap-iterations", options.arap.max_iterations,
-                   "Maximum ARAP iterations (0 = LSCM only)")
+                   "Maximum refinement iterations (0 = initial map only)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    app.add_option("--arap-solver", solver, "ARAP minimizer: ceres or local-global")
+    app.add_option("--refine", refine, "Refinement: injective (symmetric Dirichlet; no step may "
+                                       "flip a triangle) or arap (the paper's plain ARAP)")
+        ->check(CLI::IsMember({"injective", "arap"}))
+        ->capture_default_str();
+    app.add_option("--arap-solver", solver, "Solver of --refine arap: ceres or local-global")
         ->check(CLI::IsMember({"ceres", "local-global"}))
         ->capture_default_str();
     app.add_option("--init", init, "Start of the map: layout-lscm (the paper) or spectral "
                                    "(free-boundary spectral conformal)")
-        ->check(CLI::IsMember({"layout-lscm", "spectral"}))
+        ->check(CLI::IsMember({"layout-lscm", "spectral", "tutte"}))
         ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "
@@ -127,13 +136,17 @@ int main(int argc, char** argv)
         if (std::filesystem::path(output).extension() != ".obj")
             throw vessel::InvalidInputError("vessel-flatten: the output must be an .obj file, "
                                             "got " + output);
-        options.refine_with_arap = options.arap.max_iterations > 0;
+        options.refinement = options.arap.max_iterations == 0 ? vessel::Refinement::None
+                             : refine == "arap"           ? vessel::Refinement::Arap
+                                                          : vessel::Refinement::Injective;
+        options.injective.max_iterations = std::max(1, options.arap.max_iterations);
         options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
                        : cost == "blend"  ? vessel::CostKind::Blend
                                           : vessel::CostKind::Curvature;
         options.arap.solver =
             solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
+                                 : init == "tutte"  ? vessel::Initialization::Tutte
                                                     : vessel::Initialization::LayoutLscm;
         if (!viewpoint.empty())
         {
@@ -165,6 +178,9 @@ int main(int argc, char** argv)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
         const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
+        if (!quiet)
+            for (const auto& note : result.notes)
+                std::fprintf(stderr, "note: %s\n", note.c_str());
 
         start = Clock::now();
         vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);

@@ -6,6 +6,7 @@
 #include "vessel/cut_cost.h"
 #include "vessel/cut_plan.h"
 #include "vessel/geodesic.h"
+#include "vessel/injective.h"
 #include "vessel/layout.h"
 #include "vessel/metrics.h"
 
@@ -28,6 +29,15 @@ enum class Initialization
 {
     LayoutLscm,         //!< the paper: LSCM with inlet and outlets pinned at the layout
     SpectralConformal,  //!< free-boundary spectral conformal map (no layout), then ARAP
+    Tutte,              //!< Tutte embedding on a circle: always flip-free, far from isometric
+};
+
+//! How the map is refined (step 7).
+enum class Refinement
+{
+    None,           //!< keep the initial map
+    Arap,           //!< the paper: ARAP with the inlet pinned (ArapOptions picks the solver)
+    Injective,  //!< ARAP + area term with Ceres, rejecting any step that flips a triangle
 };
 
 struct FlattenOptions
@@ -44,8 +54,11 @@ struct FlattenOptions
     //! Layout policy; null = BranchFanLayout(alpha_deg).
     std::shared_ptr<const Layout> layout;
     Initialization initialization = Initialization::LayoutLscm;
-    bool refine_with_arap = true;  //!< step 7: run ARAP after the initial map
-    ArapOptions arap;              //!< ARAP solver, iterations, tolerance
+    //! Step 7 refinement. Injective needs a flip-free start: when the initial map has flipped
+    //! triangles it restarts from the Tutte embedding (noted in FlattenResult::notes).
+    Refinement refinement = Refinement::Injective;
+    ArapOptions arap;                 //!< used with Refinement::Arap
+    InjectiveOptions injective;   //!< used with Refinement::Injective
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
     //! \throw InvalidInputError naming the bad field.
@@ -78,6 +91,7 @@ struct FlattenResult
     ArapSummary arap;
     FlatQuality quality;
     StageTimings timings;
+    std::vector<std::string> notes;  //!< fallbacks taken, one line each
 };
 
 //! \brief Cut \p mesh open along natural vessel cuts and flatten it into one patch (steps 3-7).

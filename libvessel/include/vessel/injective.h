@@ -1,0 +1,48 @@
+#pragma once
+
+#include "vessel/pins.h"
+
+#include <string>
+
+namespace vessel {
+
+//! \brief Tutte embedding \cite tutte_1963_draw, \cite floater_1997_parametrization: the disk's
+//! boundary is placed on a circle of the same perimeter (by arc length), every interior vertex at
+//! the average of its neighbours. Guaranteed free of flipped triangles (faces counter-clockwise).
+//! \param mesh Disk-topology triangle mesh.
+//! \return |V| x 2 (u, v), row `v.idx()`.
+//! \throw TopologyError if the mesh does not have exactly one boundary loop.
+//! \throw SolverError if the sparse factorization fails.
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh);
+
+struct InjectiveOptions
+{
+    int max_iterations = 100;  //!< SLIM iterations
+    double tolerance = 1e-5;   //!< stop after 3 iterations in a row decrease the energy by less
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+struct InjectiveSummary
+{
+    int iterations = 0;
+    double initial_energy = 0.0;  //!< symmetric Dirichlet energy at the start (4 x area at best)
+    double final_energy = 0.0;
+    bool converged = false;
+    std::string report;  //!< one line: iterations and energies
+};
+
+//! \brief Minimize the symmetric Dirichlet energy E = sum_t area_t (||J_t||^2 + ||J_t^-1||^2)
+//! with SLIM \cite rabinovich_2017_scalable (reweighted local/global steps on a CHOLMOD
+//! factorization whose pattern is analysed once) and a line search that never lets a triangle
+//! flip \cite smith_2015_bijective: the energy grows without bound as a triangle collapses and
+//! each step stops short of the first collapse, so a flip-free start stays flip-free. Its minimum is an isometry, like ARAP's, but it penalizes
+//! shrinking as much as stretching, so area stays close to the 3D area.
+//! \param uv |V| x 2 start, row `v.idx()`, with no flipped triangle; updated in place.
+//! \param pins vertices held fixed (may be empty).
+//! \throw InvalidInputError if \p uv has a flipped triangle or the sizes disagree.
+//! \throw SolverError if the sparse factorization fails.
+InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                                    const InjectiveOptions& options = {});
+
+}  // namespace vessel

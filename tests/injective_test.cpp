@@ -1,0 +1,66 @@
+#include <doctest/doctest.h>
+
+#include "support/meshes.h"
+#include "vessel/errors.h"
+#include "vessel/injective.h"
+#include "vessel/metrics.h"
+#include "vessel/phantom.h"
+
+using namespace vessel;
+
+TEST_CASE("injective: the Tutte embedding of a cut cylinder has no flipped triangle")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    CHECK(test::count_flips(mesh, uv) == 0);
+    // Scaled to the 3D area.
+    CHECK(flat_quality(mesh, uv).area_ratio == doctest::Approx(1.0));
+}
+
+TEST_CASE("injective: SLIM from the Tutte embedding unrolls a cut cylinder isometrically")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    InjectiveOptions options;
+    options.max_iterations = 500;
+    options.tolerance = 1e-12;
+    const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
+    CHECK(s.final_energy < s.initial_energy);
+    CHECK(test::count_flips(mesh, uv) == 0);
+    // Symmetric Dirichlet is 4 x area at an isometry.
+    const double area = face_areas(mesh).sum();
+    CHECK(s.final_energy == doctest::Approx(4.0 * area).epsilon(1e-4));
+    CHECK(test::max_edge_length_error(mesh, uv) < 1e-2);
+    const FlatQuality q = flat_quality(mesh, uv);
+    CHECK(q.area_ratio == doctest::Approx(1.0).epsilon(1e-3));
+}
+
+TEST_CASE("injective: pins hold and every iterate stays flip-free on a bumped disk")
+{
+    const Mesh mesh = test::bumped_grid(4.0, 24, 1.5);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    const Pins pins = {{VertexHandle(0), uv.row(0).transpose()}};
+    for (int iterations : {1, 2, 5, 20})
+    {
+        Eigen::MatrixX2d step = uv;
+        InjectiveOptions options;
+        options.max_iterations = iterations;
+        injective_refine(mesh, step, pins, options);
+        CHECK(test::count_flips(mesh, step) == 0);
+        CHECK((step.row(0) - uv.row(0)).norm() < 1e-4);
+    }
+}
+
+TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 2.0, 12, 6);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    uv.col(0) *= -1.0;  // mirror: every triangle flipped
+    CHECK_THROWS_AS(injective_refine(mesh, uv, {}), InvalidInputError);
+    Eigen::MatrixX2d wrong_size(3, 2);
+    CHECK_THROWS_AS(injective_refine(mesh, wrong_size, {}), InvalidInputError);
+    CHECK_THROWS_AS(tutte_embedding(open_cylinder(1.0, 2.0, 12, 6)), TopologyError);
+    InjectiveOptions bad;
+    bad.max_iterations = 0;
+    CHECK_THROWS_AS(bad.validate(), InvalidInputError);
+}
