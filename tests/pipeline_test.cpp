@@ -127,5 +127,6 @@ TEST_CASE("cli: closed and broken real meshes are refused with a clear message")
     check_refused("simvascular-tests/demo-model-capped.ply", "closed");
     check_refused("sphinxsys-medical/carotid-bif-capped.stl", "closed");
     check_refused("vmtk-test-data/aorta-surface-branch-split.ply", "3 connected components");
-    check_refused("openlb/aneurysm3d.stl", "not a valid vessel tree surface");
+    check_refused("openlb/aneurysm3d.stl", "non-manifold edge");
+    check_refused("openlb/aneurysm3d.ply", "non-manifold edge");
 }

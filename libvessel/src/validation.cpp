@@ -153,8 +153,8 @@ std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
     std::sort(corners.begin(), corners.end(),
               [](const Corner& x, const Corner& y) { return x.key < y.key; });
 
-    UnionFind faces(T.size());
-    UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
+    // Faces per edge first: an edge with three faces also looks mis-oriented, and the
+    // non-manifold edge is the defect to report.
     for (std::size_t i = 0; i < corners.size();)
     {
         std::size_t j = i;
@@ -168,6 +168,18 @@ std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
                    std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
                    std::to_string(tri.source_face[corners[i + 2].triangle]) +
                    "); repair the surface so each edge has at most two faces");
+        i = j;
+    }
+
+    UnionFind faces(T.size());
+    UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
+    for (std::size_t i = 0; i < corners.size();)
+    {
+        std::size_t j = i;
+        while (j < corners.size() && corners[j].key == corners[i].key)
+            ++j;
+        const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
+        const std::string edge = "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
         if (j - i == 2)
         {
             const Corner& c0 = corners[i];

@@ -134,8 +134,8 @@ int main(int argc, char** argv)
     try
     {
         if (std::filesystem::path(output).extension() != ".obj")
-            throw vessel::InvalidInputError("vessel-flatten: the output must be an .obj file, "
-                                            "got " + output);
+            throw vessel::InvalidInputError("the output must be an .obj file (seam form), got " +
+                                            output);
         options.refinement = options.arap.max_iterations == 0 ? vessel::Refinement::None
                              : refine == "arap"           ? vessel::Refinement::Arap
                                                           : vessel::Refinement::Injective;
