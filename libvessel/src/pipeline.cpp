@@ -104,6 +104,10 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
 {
     options.validate();
     FlattenResult result;
+    // A copied mesh's arrays are exactly full, so the seam split's first new vertex would
+    // reallocate them all (O(V)) inside the cut stage; make room for the duplicates up front.
+    mesh.reserve(mesh.n_vertices() + mesh.n_vertices() / 8 + 64,
+                 mesh.n_edges() + mesh.n_edges() / 8 + 64, mesh.n_faces());
     StageClock clock(options);
 
     // Z: principal directions, geodesic distance from the inlet, alignment toward the root.
@@ -197,9 +201,8 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     }
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);
-    store<OpenMesh::Vec2d>(mesh, prop::uv, [&](int i) {
-        return OpenMesh::Vec2d(result.uv(i, 0), result.uv(i, 1));
-    });
+    store<OpenMesh::Vec2d>(
+        mesh, prop::uv, [&](int i) { return OpenMesh::Vec2d(result.uv(i, 0), result.uv(i, 1)); });
     result.timings.F = clock.lap("F");
 
     result.quality = flat_quality(mesh, result.uv);
