@@ -1,0 +1,829 @@
+// vessel-bench-table: whole-pipeline timings in the columns of the paper's Table 1 (Z, GC, VC,
+// AC, L, F, Total), per mesh, as the median (min, max) of several runs, with reading time and
+// peak memory. Each mesh runs in its own forked child, so that ru_maxrss is that mesh's own peak
+// (a process's high-water mark never goes down); the child sends its results back as JSON over a
+// pipe. `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
+#include "vessel/arap.h"
+#include "vessel/errors.h"
+#include "vessel/io.h"
+#include "vessel/phantom.h"
+#include "vessel/pipeline.h"
+#include "vessel/validation.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef VESSEL_SHARED_DATA
+#define VESSEL_SHARED_DATA "../shared/data/real"
+#endif
+#ifndef VESSEL_BENCH_CACHE
+#define VESSEL_BENCH_CACHE "vessel-bench-phantoms"
+#endif
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+double seconds_since(Clock::time_point start)
+{
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The valid tree surfaces of ../shared/data/real (MANIFEST.md: #1, #5, #6, #7, #8, #9, #10, #11,
+// #13), in the manifest's order.
+const char* const real_meshes[] = {
+    "vmtk-test-data/aorta-surface-open-ends.ply",
+    "vampy/artery.ply",
+    "vampy/artery-coarse.ply",
+    "vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply",
+    "svfsi-tests/pulmonary-glenn-wall.ply",
+    "svfsi-tests/pulmonary-glenn-wall-split4.ply",
+    "x-ray-angio-data/coronary-phantom-tri3-coarse.ply",
+    "x-ray-angio-data/coronary-clinical-branch-fine.ply",
+    "simvascular-tests/demo-model-open.ply",
+};
+
+struct PhantomSize
+{
+    const char* name;
+    double edge_length;  // carotid_phantom() edge_length (mm)
+    double stenosis;     // carotid_phantom() stenosis; other options at their defaults
+    long faces;          // triangles it gives (for --max-faces before generating)
+};
+
+// carotid_phantom() settings for the paper's sizes, triangles measured with this build
+// (carotid_phantom is deterministic). With the default 50% stenosis the edge is capped at
+// 0.69 mm (>= 1.6 samples per throat radius), which gives at least 6.5k triangles, so the
+// smallest size uses a 30% stenosis. Check a new edge length with `--phantom-edge L`.
+const PhantomSize phantom_sizes[] = {
+    {"carotid-4k", 0.9, 0.3, 4021},
+    {"carotid-13k", 0.49, 0.5, 13023},
+    {"carotid-20k", 0.395, 0.5, 20134},
+    {"carotid-44k", 0.263, 0.5, 44130},     // estimated; 0.265 gave 43466
+    {"carotid-100k", 0.1756, 0.5, 100018},
+    {"carotid-300k", 0.1013, 0.5, 300940},
+    {"carotid-1M", 0.0555, 0.5, 999851},    // generating it takes 23 s and 1.5 GB
+};
+
+struct Case
+{
+    std::string name;
+    std::string path;          // the mesh file (for a phantom: its cached PLY)
+    double edge_length = 0.0;  // phantom: carotid_phantom() options; 0 = a real mesh
+    double stenosis = 0.5;
+    long nominal_faces = 0;  // phantom: expected triangles
+};
+
+struct Settings
+{
+    int runs = 5;
+    std::string cache_dir = VESSEL_BENCH_CACHE;  // generated phantoms, as binary PLY
+    long max_faces = 0;  // 0 = no limit
+    double time_box_s = 180.0;
+    double timeout_s = 3600.0;
+    std::vector<int> solver_iterations;  // empty = library defaults only
+};
+
+double median(std::vector<double> v)
+{
+    if (v.empty())
+        return std::nan("");
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+json stats(const std::vector<double>& v)
+{
+    if (v.empty())
+        return json{{"median", nullptr}, {"min", nullptr}, {"max", nullptr}, {"samples", v}};
+    return {{"median", median(v)},
+            {"min", *std::min_element(v.begin(), v.end())},
+            {"max", *std::max_element(v.begin(), v.end())},
+            {"samples", v}};
+}
+
+const char* const stage_names[] = {"Z", "GC", "VC", "AC", "L", "F"};
+
+std::vector<double> stage_values(const vessel::StageTimings& t)
+{
+    return {t.Z, t.GC, t.VC, t.AC, t.L, t.F};
+}
+
+// Reads the case's mesh \p loads times (timing each), as a user would: read + validate.
+vessel::Mesh load_case(const Case& c, int loads, std::vector<double>& read_s,
+                       std::vector<std::string>& notes)
+{
+    vessel::Mesh mesh;
+    for (int i = 0; i < std::max(1, loads); ++i)
+    {
+        const auto start = Clock::now();
+        vessel::TreeSurface s = vessel::load_tree_surface(c.path);
+        read_s.push_back(seconds_since(start));
+        mesh = std::move(s.mesh);
+        if (i == 0)
+            notes = s.notes;
+    }
+    return mesh;
+}
+
+// --- child side ---------------------------------------------------------------------------------
+
+json run_table_case(const Case& c, const Settings& s)
+{
+    json out{{"name", c.name}, {"path", c.path}, {"kind", "real"}};
+    std::vector<double> read_s;
+    std::vector<std::string> load_notes;
+    const vessel::Mesh mesh = load_case(c, s.runs, read_s, load_notes);
+    out["vertices"] = mesh.n_vertices();
+    out["faces"] = mesh.n_faces();
+    out["read"] = stats(read_s);
+    out["load_notes"] = load_notes;
+    if (s.max_faces > 0 && static_cast<long>(mesh.n_faces()) > s.max_faces)
+    {
+        out["skipped"] = "more than --max-faces triangles";
+        return out;
+    }
+
+    std::vector<std::vector<double>> stage(6);
+    std::vector<double> total, wall;
+    vessel::FlattenResult last;
+    bool time_boxed = false;
+    for (int run = 0; run < s.runs; ++run)
+    {
+        vessel::Mesh copy = mesh;
+        const auto start = Clock::now();
+        vessel::FlattenResult r = vessel::flatten(std::move(copy));
+        wall.push_back(seconds_since(start));
+        const auto v = stage_values(r.timings);
+        for (int k = 0; k < 6; ++k)
+            stage[k].push_back(v[k]);
+        total.push_back(r.timings.total());
+        std::fprintf(stderr, "    %s run %d/%d: total %.3f s (Z %.3f GC %.3f VC %.3f AC %.3f L %.3f "
+                     "F %.3f)\n", c.name.c_str(), run + 1, s.runs, r.timings.total(), v[0], v[1],
+                     v[2], v[3], v[4], v[5]);
+        last = std::move(r);
+        if (wall.back() > s.time_box_s && run + 1 < s.runs)
+        {
+            time_boxed = true;
+            break;
+        }
+    }
+    for (int k = 0; k < 6; ++k)
+        out["stages"][stage_names[k]] = stats(stage[k]);
+    out["stages"]["Total"] = stats(total);
+    out["wall"] = stats(wall);
+    out["runs"] = static_cast<int>(total.size());
+    out["time_boxed"] = time_boxed;
+    const auto& q = last.quality;
+    out["quality"] = {{"flipped_triangles", q.flipped_triangles},
+                      {"area_ratio", q.area_ratio},
+                      {"mean_abs_log_area", q.mean_abs_log_area},
+                      {"mean_conformal", q.mean_conformal}};
+    out["refinement"] = {{"iterations", last.arap.iterations},
+                         {"initial_energy", last.arap.initial_energy},
+                         {"final_energy", last.arap.final_energy},
+                         {"converged", last.arap.converged}};
+    out["seam_edges"] = last.seam_edges;
+    out["cut_paths"] = last.plan.paths.size();
+    out["notes"] = last.notes;
+    return out;
+}
+
+struct Variant
+{
+    const char* name;
+    vessel::Refinement refinement;
+    vessel::ArapSolver solver;
+};
+
+const Variant variants[] = {
+    {"none (LSCM only)", vessel::Refinement::None, vessel::ArapSolver::Ceres},
+    {"ARAP, Ceres", vessel::Refinement::Arap, vessel::ArapSolver::Ceres},
+    {"ARAP, local/global", vessel::Refinement::Arap, vessel::ArapSolver::LocalGlobal},
+    {"injective (default)", vessel::Refinement::Injective, vessel::ArapSolver::Ceres},
+};
+
+json run_solver_case(const Case& c, const Settings& s)
+{
+    json out{{"name", c.name}, {"path", c.path}};
+    std::vector<double> read_s;
+    std::vector<std::string> load_notes;
+    const vessel::Mesh mesh = load_case(c, 1, read_s, load_notes);
+    out["faces"] = mesh.n_faces();
+    if (s.max_faces > 0 && static_cast<long>(mesh.n_faces()) > s.max_faces)
+    {
+        out["skipped"] = "more than --max-faces triangles";
+        return out;
+    }
+    // 0 stands for "the library's default iteration limit".
+    std::vector<int> caps = s.solver_iterations;
+    if (caps.empty())
+        caps.push_back(0);
+    json rows = json::array();
+    for (const Variant& var : variants)
+        for (int cap : caps)
+        {
+            if (var.refinement == vessel::Refinement::None && cap != caps.front())
+                continue;
+            vessel::FlattenOptions o;
+            o.refinement = var.refinement;
+            o.arap.solver = var.solver;
+            if (cap > 0)
+            {
+                o.arap.max_iterations = cap;
+                o.injective.max_iterations = cap;
+            }
+            std::vector<double> f_s, total_s;
+            vessel::FlattenResult last;
+            json row{{"variant", var.name},
+                     {"max_iterations", var.refinement == vessel::Refinement::Injective
+                                            ? o.injective.max_iterations
+                                            : var.refinement == vessel::Refinement::Arap
+                                                  ? o.arap.max_iterations
+                                                  : 0}};
+            try
+            {
+                for (int run = 0; run < s.runs; ++run)
+                {
+                    vessel::FlattenResult r = vessel::flatten(mesh, o);
+                    f_s.push_back(r.timings.F);
+                    total_s.push_back(r.timings.total());
+                    last = std::move(r);
+                    if (total_s.back() > s.time_box_s)
+                        break;
+                }
+            }
+            catch (const std::exception& e)
+            {
+                row["error"] = e.what();
+                rows.push_back(row);
+                continue;
+            }
+            row["F"] = stats(f_s);
+            row["Total"] = stats(total_s);
+            row["iterations"] = last.arap.iterations;
+            row["converged"] = last.arap.converged;
+            row["solver_initial_energy"] = last.arap.initial_energy;
+            row["solver_final_energy"] = last.arap.final_energy;
+            // The same measure for every variant: the ARAP energy of the final map.
+            row["arap_energy"] = vessel::arap_energy(last.mesh, last.uv);
+            row["flipped_triangles"] = last.quality.flipped_triangles;
+            row["area_ratio"] = last.quality.area_ratio;
+            row["mean_conformal"] = last.quality.mean_conformal;
+            row["notes"] = last.notes;
+            std::fprintf(stderr, "    %s / %s (max %d it): F %.3f s, %d it, ARAP energy %.6g\n",
+                         c.name.c_str(), var.name, row["max_iterations"].get<int>(),
+                         median(f_s), last.arap.iterations, row["arap_energy"].get<double>());
+            rows.push_back(row);
+        }
+    out["variants"] = rows;
+    return out;
+}
+
+// Generates a phantom into the cache (binary PLY) unless it is there already. Runs in its own
+// child, so that generation (1.5 GB at 1M triangles) does not count in the pipeline's peak RSS.
+json generate_phantom(const Case& c, const Settings&)
+{
+    json out{{"name", c.name}, {"path", c.path}, {"edge_length", c.edge_length},
+             {"stenosis", c.stenosis}};
+    if (std::filesystem::exists(c.path))
+    {
+        out["cached"] = true;
+        return out;
+    }
+    const auto start = Clock::now();
+    vessel::CarotidPhantomOptions o;
+    o.edge_length = c.edge_length;
+    o.stenosis = c.stenosis;
+    const vessel::Mesh mesh = vessel::carotid_phantom(o);
+    out["generate_s"] = seconds_since(start);
+    out["faces"] = mesh.n_faces();
+    std::filesystem::create_directories(std::filesystem::path(c.path).parent_path());
+    const std::string tmp = c.path + ".tmp." + std::to_string(getpid()) + ".ply";
+    vessel::write_mesh(mesh, tmp);
+    std::filesystem::rename(tmp, c.path);
+    out["cached"] = false;
+    return out;
+}
+
+// --- parent side --------------------------------------------------------------------------------
+
+// Runs `work` in a forked child and returns its JSON, with the child's peak RSS added.
+template <class Work>
+json in_child(const Case& c, const Settings& s, Work work)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+    std::fflush(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0)
+        throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+    if (pid == 0)
+    {
+        close(fds[0]);
+        alarm(static_cast<unsigned>(std::ceil(s.timeout_s)));  // SIGALRM ends a runaway child
+        json out;
+        int code = 0;
+        try
+        {
+            out = work(c, s);
+        }
+        catch (const std::exception& e)
+        {
+            out = {{"name", c.name}, {"path", c.path}, {"error", e.what()}};
+            code = 1;
+        }
+        const std::string text = out.dump();
+        std::size_t done = 0;
+        while (done < text.size())
+        {
+            const ssize_t n = write(fds[1], text.data() + done, text.size() - done);
+            if (n <= 0)
+                break;
+            done += static_cast<std::size_t>(n);
+        }
+        close(fds[1]);
+        std::fflush(nullptr);
+        _exit(code);
+    }
+    close(fds[1]);
+    std::string text;
+    char buffer[1 << 16];
+    for (;;)
+    {
+        const ssize_t n = read(fds[0], buffer, sizeof buffer);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        text.append(buffer, static_cast<std::size_t>(n));
+    }
+    close(fds[0]);
+    int status = 0;
+    struct rusage usage = {};
+    while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR)
+    {
+    }
+    json out;
+    if (!text.empty())
+        out = json::parse(text, nullptr, false);
+    if (out.is_discarded() || !out.is_object())
+        out = {{"name", c.name}, {"path", c.path}};
+    if (WIFSIGNALED(status))
+        out["error"] = WTERMSIG(status) == SIGALRM
+                           ? "timed out after " + std::to_string(s.timeout_s) + " s (--timeout)"
+                           : std::string("killed by signal ") + strsignal(WTERMSIG(status));
+    out["peak_rss_mb"] = usage.ru_maxrss / 1024.0;  // Linux: kilobytes
+    return out;
+}
+
+std::string fmt(double x)
+{
+    if (std::isnan(x))
+        return "-";
+    char b[32];
+    std::snprintf(b, sizeof b, x < 0.1 ? "%.4f" : x < 100 ? "%.3f" : "%.1f", x);
+    return b;
+}
+
+std::string fmt_json(const json& j, const char* key)
+{
+    return j.contains(key) && j[key].is_number() ? fmt(j[key].get<double>()) : "-";
+}
+
+using Table = std::vector<std::vector<std::string>>;  // first row = header
+
+// Display width of UTF-8 text (code points; the tables use "–" and "→").
+std::size_t width_of(const std::string& text)
+{
+    std::size_t n = 0;
+    for (unsigned char ch : text)
+        n += (ch & 0xC0) != 0x80;
+    return n;
+}
+
+void print_table(const Table& t, bool markdown, std::ostream& os)
+{
+    if (t.empty())
+        return;
+    std::vector<std::size_t> width(t[0].size(), 0);
+    for (const auto& row : t)
+        for (std::size_t i = 0; i < row.size(); ++i)
+            width[i] = std::max(width[i], width_of(row[i]));
+    auto line = [&](const std::vector<std::string>& row) {
+        for (std::size_t i = 0; i < row.size(); ++i)
+        {
+            const bool left = i == 0;
+            const std::string pad(width[i] - width_of(row[i]), ' ');
+            os << (markdown ? "| " : (i ? "  " : ""))
+               << (left ? row[i] + pad : pad + row[i]) << (markdown ? " " : "");
+        }
+        os << (markdown ? "|\n" : "\n");
+    };
+    line(t[0]);
+    if (markdown)
+    {
+        os << "|";
+        for (std::size_t i = 0; i < width.size(); ++i)
+            os << (i == 0 ? ":" : "") << std::string(width[i] + 1, '-') << (i ? ":|" : "|");
+        os << "\n";
+    }
+    else
+    {
+        std::size_t total = 0;
+        for (auto w : width)
+            total += w + 2;
+        os << std::string(total - 2, '-') << "\n";
+    }
+    for (std::size_t r = 1; r < t.size(); ++r)
+        line(t[r]);
+}
+
+const char* const table_stages[] = {"Z", "GC", "VC", "AC", "L", "F", "Total"};
+
+bool has_timings(const json& r)
+{
+    return !r.contains("error") && !r.contains("skipped") && r.contains("stages");
+}
+
+std::string status_of(const json& r)
+{
+    if (r.contains("error"))
+        return "error: " + r["error"].get<std::string>();
+    if (r.contains("skipped"))
+        return "skipped: " + r["skipped"].get<std::string>();
+    return "";
+}
+
+void print_results(const std::vector<json>& results, bool markdown, std::ostream& os)
+{
+    Table med{{"mesh", "triangles", "runs", "Z", "GC", "VC", "AC", "L", "F", "Total", "read",
+               "peak RSS MB"}};
+    Table range{{"mesh", "Z", "GC", "VC", "AC", "L", "F", "Total"}};
+    Table extra{{"mesh", "wall", "wall - Total", "AC %", "flips", "area ratio", "refine it",
+                 "seam edges", "notes"}};
+    std::string skipped;
+    for (const json& r : results)
+    {
+        const std::string name = r.value("name", std::string("?"));
+        const std::string faces = r.contains("faces") ? std::to_string(r["faces"].get<long>()) : "-";
+        if (r.contains("skipped"))
+        {
+            skipped += (skipped.empty() ? "" : ", ") + name + " (" + faces + ")";
+            continue;
+        }
+        if (!has_timings(r))
+        {
+            std::vector<std::string> row{name, faces, "0"};
+            row.resize(med[0].size(), "-");
+            row.back() = fmt(r.value("peak_rss_mb", std::nan("")));
+            med.push_back(row);
+            extra.push_back({name, "-", "-", "-", "-", "-", "-", "-", status_of(r)});
+            continue;
+        }
+        std::vector<std::string> row{name, faces, std::to_string(r["runs"].get<int>()) +
+                                                       (r["time_boxed"].get<bool>() ? "*" : "")};
+        std::vector<std::string> rrow{name};
+        for (const char* st : table_stages)
+        {
+            const json& s = r["stages"][st];
+            row.push_back(fmt_json(s, "median"));
+            rrow.push_back(fmt_json(s, "min") + "–" + fmt_json(s, "max"));
+        }
+        row.push_back(fmt_json(r["read"], "median"));
+        char rss[32];
+        std::snprintf(rss, sizeof rss, "%.1f", r["peak_rss_mb"].get<double>());
+        row.push_back(rss);
+        med.push_back(row);
+        range.push_back(rrow);
+        const double total = r["stages"]["Total"]["median"].get<double>();
+        const double wall = r["wall"]["median"].get<double>();
+        char ac[16];
+        std::snprintf(ac, sizeof ac, "%.1f", 100.0 * r["stages"]["AC"]["median"].get<double>() /
+                                                 std::max(total, 1e-12));
+        std::string notes;
+        for (const auto& n : r["notes"])
+            notes += (notes.empty() ? "" : "; ") + n.get<std::string>();
+        char area[16];
+        std::snprintf(area, sizeof area, "%.4f", r["quality"]["area_ratio"].get<double>());
+        extra.push_back({name, fmt(wall), fmt(wall - total), ac,
+                         std::to_string(r["quality"]["flipped_triangles"].get<int>()), area,
+                         std::to_string(r["refinement"]["iterations"].get<int>()),
+                         std::to_string(r["seam_edges"].get<int>()), notes});
+    }
+    os << (markdown ? "\n**Median seconds per stage**\n\n" : "\nMedian seconds per stage\n");
+    print_table(med, markdown, os);
+    os << (markdown ? "\n**Min–max seconds per stage**\n\n" : "\nMin-max seconds per stage\n");
+    print_table(range, markdown, os);
+    os << (markdown ? "\n**Overhead and result**\n\n" : "\nOverhead and result\n");
+    print_table(extra, markdown, os);
+    if (!skipped.empty())
+        os << "\nSkipped (more than --max-faces triangles): " << skipped << "\n";
+
+    // Log-log slopes of the phantoms' medians: time ~ faces^slope. 1 = linear.
+    std::vector<const json*> ph;
+    for (const json& r : results)
+        if (has_timings(r) && r.value("kind", std::string()) == "phantom")
+            ph.push_back(&r);
+    std::sort(ph.begin(), ph.end(), [](const json* a, const json* b) {
+        return (*a)["faces"].get<long>() < (*b)["faces"].get<long>();
+    });
+    if (ph.size() >= 2)
+    {
+        Table slope{{"phantoms", "Z", "GC", "VC", "AC", "L", "F", "Total"}};
+        auto log_t = [](const json& r, const char* st) {
+            return std::log(std::max(r["stages"][st]["median"].get<double>(), 1e-6));
+        };
+        auto log_f = [](const json& r) { return std::log(r["faces"].get<double>()); };
+        for (std::size_t i = 0; i + 1 < ph.size(); ++i)
+        {
+            std::vector<std::string> row{(*ph[i])["name"].get<std::string>() + " → " +
+                                         (*ph[i + 1])["name"].get<std::string>()};
+            for (const char* st : table_stages)
+            {
+                const double d = (log_t(*ph[i + 1], st) - log_t(*ph[i], st)) /
+                                 (log_f(*ph[i + 1]) - log_f(*ph[i]));
+                char b[16];
+                std::snprintf(b, sizeof b, "%.2f", d);
+                row.push_back(b);
+            }
+            slope.push_back(row);
+        }
+        // Least-squares fit over all phantoms from 13k triangles up (the range).
+        std::vector<const json*> fit;
+        for (const json* r : ph)
+            if ((*r)["faces"].get<long>() >= 12000)
+                fit.push_back(r);
+        if (fit.size() >= 2)
+        {
+            std::vector<std::string> row{"least squares, ≥ 13k"};
+            for (const char* st : table_stages)
+            {
+                double sx = 0, sy = 0, sxx = 0, sxy = 0;
+                const double n = static_cast<double>(fit.size());
+                for (const json* r : fit)
+                {
+                    const double x = log_f(*r), y = log_t(*r, st);
+                    sx += x, sy += y, sxx += x * x, sxy += x * y;
+                }
+                char b[16];
+                std::snprintf(b, sizeof b, "%.2f", (n * sxy - sx * sy) / (n * sxx - sx * sx));
+                row.push_back(b);
+            }
+            slope.push_back(row);
+        }
+        os << (markdown ? "\n**Scaling: log-log slope of the median time against triangles "
+                          "(1 = linear)**\n\n"
+                        : "\nScaling: log-log slope of median time vs triangles (1 = linear)\n");
+        print_table(slope, markdown, os);
+    }
+}
+
+void print_solver_results(const std::vector<json>& results, bool markdown, std::ostream& os)
+{
+    Table t{{"mesh", "triangles", "variant", "max it", "F median", "F min–max", "Total", "it",
+             "conv", "ARAP energy", "solver energy", "flips", "area ratio"}};
+    for (const json& r : results)
+    {
+        const std::string name = r.value("name", std::string("?"));
+        const std::string faces = r.contains("faces") ? std::to_string(r["faces"].get<long>()) : "-";
+        if (!r.contains("variants"))
+        {
+            std::vector<std::string> row{name, faces, status_of(r)};
+            row.resize(t[0].size(), "-");
+            t.push_back(row);
+            continue;
+        }
+        for (const json& v : r["variants"])
+        {
+            if (v.contains("error"))
+            {
+                std::vector<std::string> row{name, faces, v["variant"].get<std::string>(),
+                                             std::to_string(v["max_iterations"].get<int>()),
+                                             "error: " + v["error"].get<std::string>()};
+                row.resize(t[0].size(), "-");
+                t.push_back(row);
+                continue;
+            }
+            char e1[32], e2[32], area[16];
+            std::snprintf(e1, sizeof e1, "%.6g", v["arap_energy"].get<double>());
+            if (v["max_iterations"].get<int>() > 0)
+                std::snprintf(e2, sizeof e2, "%.6g", v["solver_final_energy"].get<double>());
+            else
+                std::snprintf(e2, sizeof e2, "-");
+            std::snprintf(area, sizeof area, "%.4f", v["area_ratio"].get<double>());
+            t.push_back({name, faces, v["variant"].get<std::string>(),
+                         std::to_string(v["max_iterations"].get<int>()),
+                         fmt_json(v["F"], "median"),
+                         fmt_json(v["F"], "min") + "–" + fmt_json(v["F"], "max"),
+                         fmt_json(v["Total"], "median"), std::to_string(v["iterations"].get<int>()),
+                         v["converged"].get<bool>() ? "yes" : "no", e1, e2,
+                         std::to_string(v["flipped_triangles"].get<int>()), area});
+        }
+    }
+    os << (markdown ? "\n**Refinement solvers (F = LSCM + refinement, seconds)**\n\n"
+                    : "\nRefinement solvers (F = LSCM + refinement, seconds)\n");
+    print_table(t, markdown, os);
+}
+
+void print_paper(bool markdown, std::ostream& os)
+{
+    Table t{{"paper (Python + libigl, Ryzen 7 5800X)", "triangles", "Z", "GC", "VC", "AC", "L", "F",
+             "Total"},
+            {"Table 1 row", "44k", "-", "-", "-", "5.6", "-", "-", "11.2"},
+            {"Table 1 row", "300k", "16.2", "9.1", "38.1", "109.0", "1.0", "2.3", "175.8"}};
+    os << (markdown ? "\n**The paper's Table 1 (seconds)**\n\n" : "\nThe paper's Table 1 (s)\n");
+    print_table(t, markdown, os);
+}
+
+std::string cpu_model()
+{
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0)
+            return line.substr(line.find(':') + 2);
+    return "unknown";
+}
+
+std::string now_utc()
+{
+    const std::time_t t = std::time(nullptr);
+    char b[64];
+    std::strftime(b, sizeof b, "%Y-%m-%d %H:%M UTC", std::gmtime(&t));
+    return b;
+}
+
+std::string base_name(const std::string& path)
+{
+    const auto slash = path.find_last_of('/');
+    std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+    const auto dot = name.find_last_of('.');
+    return dot == std::string::npos ? name : name.substr(0, dot);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"vessel-bench-table: run the whole flatten() pipeline per mesh several times and "
+                 "print the median (min-max) seconds per stage in the columns of the paper's "
+                 "Table 1, with reading time and peak RSS (each mesh runs in its own child "
+                 "process).\nDefault meshes: the valid trees of " VESSEL_SHARED_DATA
+                 " plus carotid phantoms of about 4k, 13k, 20k, 44k, 100k, 300k and 1M "
+                 "triangles."};
+    std::vector<std::string> meshes;
+    std::vector<double> phantom_edges;
+    Settings s;
+    bool phantoms_only = false, real_only = false, markdown = false, solvers = false;
+    std::string json_path;
+    app.add_option("meshes", meshes, "Meshes to run (.ply, .stl, .obj, .off); default: see above")
+        ->check(CLI::ExistingFile);
+    app.add_option("--runs", s.runs, "Runs per mesh")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_flag("--phantoms-only", phantoms_only, "Only the generated phantoms");
+    app.add_flag("--real-only", real_only, "Only the real meshes");
+    app.add_option("--max-faces", s.max_faces, "Skip meshes with more triangles (0 = no limit)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--cache-dir", s.cache_dir, "Where generated phantoms are kept (binary PLY)")
+        ->capture_default_str();
+    app.add_option("--phantom-edge", phantom_edges,
+                   "Add a carotid phantom with this edge length (mm); repeatable")
+        ->check(CLI::PositiveNumber);
+    app.add_flag("--markdown", markdown, "Print Markdown tables");
+    app.add_option("--json", json_path, "Also write all results (every sample) as JSON");
+    app.add_flag("--solvers", solvers, "Solver study: each refinement variant on the real meshes");
+    app.add_option("--solver-iterations", s.solver_iterations,
+                   "With --solvers: iteration limits to sweep (energy against time); default: "
+                   "the library's defaults")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--time-box", s.time_box_s,
+                   "Stop repeating a mesh after a run longer than this (s); it is then reported "
+                   "from the runs made, marked *")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--timeout", s.timeout_s, "Kill a mesh's child process after this long (s)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+    if (phantoms_only && real_only)
+    {
+        std::cerr << "vessel-bench-table: --phantoms-only and --real-only exclude each other\n";
+        return 1;
+    }
+
+    std::vector<Case> cases;
+    auto phantom = [&](const std::string& name, double edge, double stenosis, long faces) {
+        char file[96];
+        std::snprintf(file, sizeof file, "/carotid-e%g-s%g.ply", edge, stenosis);
+        cases.push_back({name, s.cache_dir + file, edge, stenosis, faces});
+    };
+    if (!meshes.empty() || !phantom_edges.empty())
+    {
+        for (const auto& m : meshes)
+            cases.push_back({base_name(m), m});
+        for (double e : phantom_edges)
+            phantom("carotid-edge-" + fmt(e), e, 0.5, 0);
+    }
+    else
+    {
+        if (!phantoms_only)
+            for (const char* m : real_meshes)
+                cases.push_back({base_name(m), std::string(VESSEL_SHARED_DATA) + "/" + m});
+        if (!real_only && !solvers)
+            for (const auto& p : phantom_sizes)
+                phantom(p.name, p.edge_length, p.stenosis, p.faces);
+    }
+
+    std::vector<json> results;
+    for (std::size_t i = 0; i < cases.size(); ++i)
+    {
+        const Case& c = cases[i];
+        if (s.max_faces > 0 && c.nominal_faces > s.max_faces)
+        {
+            results.push_back({{"name", c.name},
+                               {"faces", c.nominal_faces},
+                               {"skipped", "more than --max-faces triangles"}});
+            continue;
+        }
+        std::fprintf(stderr, "[%zu/%zu] %s\n", i + 1, cases.size(), c.name.c_str());
+        const auto start = Clock::now();
+        json generated;
+        if (c.edge_length > 0)
+        {
+            generated = in_child(c, s, generate_phantom);
+            if (generated.contains("error"))
+            {
+                generated["error"] = "generating the phantom: " +
+                                     generated["error"].get<std::string>();
+                results.push_back(generated);
+                continue;
+            }
+            if (!generated["cached"].get<bool>())
+                std::fprintf(stderr, "    generated %s: %ld triangles in %.1f s\n", c.path.c_str(),
+                             generated["faces"].get<long>(), generated["generate_s"].get<double>());
+        }
+        json r = solvers ? in_child(c, s, run_solver_case) : in_child(c, s, run_table_case);
+        if (c.edge_length > 0)
+        {
+            r["kind"] = "phantom";
+            r["phantom"] = generated;
+        }
+        std::fprintf(stderr, "[%zu/%zu] %s: %s%.1f s, peak RSS %.0f MB\n", i + 1, cases.size(),
+                     c.name.c_str(), status_of(r).empty() ? "" : (status_of(r) + ", ").c_str(),
+                     seconds_since(start), r["peak_rss_mb"].get<double>());
+        results.push_back(std::move(r));
+    }
+
+    struct rusage self = {};
+    getrusage(RUSAGE_SELF, &self);
+    std::ostream& os = std::cout;
+    os << (markdown ? "" : "# ") << "vessel-bench-table, " << now_utc() << ", " << cpu_model()
+       << ", " << sysconf(_SC_NPROCESSORS_ONLN) << " logical CPUs, " << s.runs
+       << " runs per mesh (* = time-boxed after a run over " << fmt(s.time_box_s)
+       << " s); peak RSS per mesh includes ~" << fmt(self.ru_maxrss / 1024.0)
+       << " MB of the harness inherited at fork.\n";
+    if (solvers)
+        print_solver_results(results, markdown, os);
+    else
+    {
+        print_results(results, markdown, os);
+        print_paper(markdown, os);
+    }
+
+    if (!json_path.empty())
+    {
+        json doc{{"date", now_utc()},
+                 {"cpu", cpu_model()},
+                 {"logical_cpus", sysconf(_SC_NPROCESSORS_ONLN)},
+                 {"runs", s.runs},
+                 {"mode", solvers ? "solvers" : "table"},
+                 {"results", results}};
+        std::ofstream(json_path) << doc.dump(2) << "\n";
+    }
+    for (const json& r : results)
+        if (r.contains("error"))
+            return 2;
+    return 0;
+}
