@@ -78,7 +78,7 @@ const PhantomSize phantom_sizes[] = {
     {"carotid-4k", 0.9, 0.3, 4021},
     {"carotid-13k", 0.49, 0.5, 13023},
     {"carotid-20k", 0.395, 0.5, 20134},
-    {"carotid-44k", 0.263, 0.5, 44130},     // estimated; 0.265 gave 43466
+    {"carotid-44k", 0.263, 0.5, 44976},
     {"carotid-100k", 0.1756, 0.5, 100018},
     {"carotid-300k", 0.1013, 0.5, 300940},
     {"carotid-1M", 0.0555, 0.5, 999851},    // generating it takes 23 s and 1.5 GB
