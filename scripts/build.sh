@@ -3,5 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 "$(dirname "$0")/install-deps.sh"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release "$@"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVESSEL_BUILD_BENCHMARKS=ON "$@"
 cmake --build build -j"$(nproc)"
