@@ -9,6 +9,8 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 
 namespace vessel {
 
@@ -69,6 +71,198 @@ private:
     std::vector<int> raw_index_;
 };
 
+
+// Truncated files: OpenMesh's PLY reader loops forever on a header cut before `end_header`, its
+// OFF and ASCII PLY readers turn missing lines into faces with invalid corners, and its STL reader
+// takes a binary STL whose size does not match its triangle count for ASCII and finds no faces.
+// So the sizes a header declares are checked against the file before OpenMesh reads it.
+
+std::string trimmed(std::string line)
+{
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
+        line.pop_back();
+    std::size_t start = 0;
+    while (start < line.size() && std::isspace(static_cast<unsigned char>(line[start])))
+        ++start;
+    return line.substr(start);
+}
+
+// Counts the non-empty lines left in \p in (comments starting with '#' excluded).
+std::uintmax_t count_data_lines(std::istream& in)
+{
+    std::uintmax_t n = 0;
+    std::string line;
+    while (std::getline(in, line))
+    {
+        line = trimmed(line);
+        if (!line.empty() && line[0] != '#')
+            ++n;
+    }
+    return n;
+}
+
+[[noreturn]] void truncated(const std::string& path, const std::string& what)
+{
+    throw IoError("read_raw_mesh: " + path + " is truncated or corrupt: " + what +
+                  "; re-export or re-download the file");
+}
+
+int ply_type_size(const std::string& type)
+{
+    static const std::map<std::string, int> sizes = {
+        {"char", 1},  {"int8", 1},   {"uchar", 1},   {"uint8", 1},   {"short", 2},
+        {"int16", 2}, {"ushort", 2}, {"uint16", 2},  {"int", 4},     {"int32", 4},
+        {"uint", 4},  {"uint32", 4}, {"float", 4},   {"float32", 4}, {"double", 8},
+        {"float64", 8}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? 0 : it->second;
+}
+
+void check_ply(const std::string& path, std::uintmax_t file_size)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    if (trimmed(line) != "ply")
+        throw IoError("read_raw_mesh: " + path + " is not a PLY file (the first line is not 'ply')");
+    std::string format;
+    struct Element
+    {
+        std::string name;
+        std::uintmax_t count = 0;
+        std::uintmax_t min_bytes = 0;  // per element; 0 with an unknown property type
+        bool known = true;
+    };
+    std::vector<Element> elements;
+    bool ended = false;
+    while (std::getline(in, line))
+    {
+        std::istringstream words(trimmed(line));
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "end_header")
+        {
+            ended = true;
+            break;
+        }
+        if (keyword == "format")
+            words >> format;
+        else if (keyword == "element")
+        {
+            Element e;
+            words >> e.name >> e.count;
+            elements.push_back(e);
+        }
+        else if (keyword == "property" && !elements.empty())
+        {
+            std::string type, index_type, name;
+            words >> type;
+            Element& e = elements.back();
+            if (type == "list")
+            {
+                words >> type >> index_type >> name;
+                // A face lists at least three corners; other lists may be empty.
+                const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
+                e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
+                e.min_bytes += ply_type_size(type) + corners * ply_type_size(index_type);
+            }
+            else
+            {
+                e.known = e.known && ply_type_size(type) > 0;
+                e.min_bytes += ply_type_size(type);
+            }
+        }
+    }
+    if (!ended)
+        truncated(path, "the PLY header has no 'end_header' line");
+    std::string counts;
+    for (const auto& e : elements)
+        counts += (counts.empty() ? "elements " : ", ") + e.name + " " + std::to_string(e.count);
+    if (format == "ascii")
+    {
+        std::uintmax_t lines = 0;
+        for (const auto& e : elements)
+            lines += e.count;
+        const std::uintmax_t found = count_data_lines(in);
+        if (found < lines)
+            truncated(path, "the PLY header declares " + counts + " (" + std::to_string(lines) +
+                                " lines) but only " + std::to_string(found) + " lines follow it");
+        return;
+    }
+    const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
+    std::uintmax_t min_bytes = 0;
+    for (const auto& e : elements)
+    {
+        if (!e.known)
+            return;  // OpenMesh refuses unknown types itself
+        min_bytes += e.count * e.min_bytes;
+    }
+    const std::uintmax_t data = file_size - std::min(file_size, header_bytes);
+    if (data < min_bytes)
+        truncated(path, "the binary PLY header declares " + counts + " (at least " +
+                            std::to_string(min_bytes) + " bytes of data) but only " +
+                            std::to_string(data) + " bytes follow it");
+}
+
+void check_off(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    line = trimmed(line);
+    // Only plain ASCII "OFF" (optionally with counts on the same line) is checked; OpenMesh
+    // handles the variants (COFF, NOFF, binary) and their errors itself.
+    if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
+        return;
+    std::istringstream counts(line.substr(3));
+    std::uintmax_t vertices = 0, faces = 0;
+    if (!(counts >> vertices >> faces))
+    {
+        do
+        {
+            if (!std::getline(in, line))
+                truncated(path, "the OFF header has no vertex and face counts");
+            line = trimmed(line);
+        } while (line.empty() || line[0] == '#');
+        std::istringstream second(line);
+        if (!(second >> vertices >> faces))
+            truncated(path, "the OFF header has no vertex and face counts");
+    }
+    const std::uintmax_t found = count_data_lines(in);
+    if (found < vertices + faces)
+        truncated(path, "the OFF header declares " + std::to_string(vertices) + " vertices and " +
+                            std::to_string(faces) + " faces (" +
+                            std::to_string(vertices + faces) + " lines) but only " +
+                            std::to_string(found) + " lines follow it");
+}
+
+void check_stl(const std::string& path, std::uintmax_t file_size)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string head(84, '\0');
+    in.read(head.data(), 84);
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    // ASCII STL starts with "solid" and is text; a binary header may also start with "solid",
+    // but its triangle count (bytes 80-83) is binary.
+    const bool text = std::all_of(head.begin(), head.end(), [](char c) {
+        const auto u = static_cast<unsigned char>(c);
+        return u == '\t' || u == '\n' || u == '\r' || (u >= 0x20 && u < 0x7f);
+    });
+    if (text && trimmed(head).rfind("solid", 0) == 0)
+        return;
+    if (head.size() < 84)
+        truncated(path, "a binary STL needs an 84-byte header but the file has " +
+                            std::to_string(file_size) + " bytes");
+    const auto* b = reinterpret_cast<const unsigned char*>(head.data() + 80);
+    const std::uintmax_t triangles = static_cast<std::uintmax_t>(b[0]) | (b[1] << 8) |
+                                     (b[2] << 16) | (static_cast<std::uintmax_t>(b[3]) << 24);
+    const std::uintmax_t expected = 84 + 50 * triangles;
+    if (expected != file_size)
+        truncated(path, "the binary STL header declares " + std::to_string(triangles) +
+                            " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+                            std::to_string(file_size) + " bytes");
+}
+
 }  // namespace
 
 RawMesh read_raw_mesh(const std::string& path)
@@ -82,6 +276,13 @@ RawMesh read_raw_mesh(const std::string& path)
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
         throw IoError("read_raw_mesh: unknown file format '" + ext + "' (" + path +
                       "); use .obj, .off, .ply or .stl");
+    const std::uintmax_t size = std::filesystem::file_size(path);
+    if (ext == ".ply")
+        check_ply(path, size);
+    else if (ext == ".off")
+        check_off(path);
+    else if (ext == ".stl")
+        check_stl(path, size);
     RawMesh raw;
     ScratchMesh scratch;
     RecordingImporter importer(scratch, raw);
