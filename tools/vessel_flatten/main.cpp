@@ -1,4 +1,5 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
+#include "batch.h"
 #include "vessel/errors.h"
 #include "vessel/flat_io.h"
 #include "vessel/io.h"
@@ -24,53 +25,6 @@ double seconds_since(Clock::time_point start)
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-nlohmann::json report_json(const std::string& input, const vessel::TreeSurface& surface,
-                           const vessel::FlattenResult& r, double read_s, double write_s)
-{
-    nlohmann::json j;
-    j["input"] = input;
-    const auto& t = r.timings;
-    j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
-                    {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
-    nlohmann::json loops = nlohmann::json::array();
-    for (std::size_t l = 0; l < r.loops.size(); ++l)
-        loops.push_back({{"role", l == 0 ? "inlet" : "outlet"},
-                         {"arc_length", r.loops[l].arc_length},
-                         {"vertices", r.loops[l].vertices.size()}});
-    j["counts"] = {{"input_vertices", surface.input_vertices},
-                   {"vertices", surface.mesh.n_vertices()},
-                   {"faces", surface.mesh.n_faces()},
-                   {"boundary_loops", loops},
-                   {"cut_vertices", r.mesh.n_vertices()},
-                   {"seam_edges", r.seam_edges},
-                   {"duplicated_vertices", r.duplicated_vertices}};
-    nlohmann::json cuts = nlohmann::json::array();
-    for (const auto& c : r.plan.paths)
-        cuts.push_back({{"outlet", c.outlet},
-                        {"ends_on", c.parent < 0 ? std::string("inlet")
-                                                 : "cut " + std::to_string(c.parent)},
-                        {"edges", c.halfedges.size()},
-                        {"cost", c.cost},
-                        {"winding_deg", c.winding_deg}});
-    j["cuts"] = cuts;
-    const auto& q = r.quality;
-    j["quality"] = {{"flipped_triangles", q.flipped_triangles},
-                    {"area_ratio", q.area_ratio},
-                    {"mean_abs_log_area_ratio", q.mean_abs_log_area},
-                    {"mean_conformal_distortion", q.mean_conformal},
-                    {"max_conformal_distortion", q.max_conformal}};
-    j["arap"] = {{"iterations", r.arap.iterations},
-                 {"initial_energy", r.arap.initial_energy},
-                 {"final_energy", r.arap.final_energy},
-                 {"converged", r.arap.converged},
-                 {"report", r.arap.report}};
-    nlohmann::json notes = surface.notes;
-    for (const auto& note : r.notes)
-        notes.push_back(note);
-    j["notes"] = notes;
-    return j;
-}
-
 }  // namespace
 
 int main(int argc, char** argv)
@@ -83,11 +37,24 @@ int main(int argc, char** argv)
     std::vector<double> viewpoint;
     bool quiet = false;
     vessel::FlattenOptions options;
-    app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), open at inlet and "
-                                   "outlets")
-        ->required()
-        ->check(CLI::ExistingFile);
-    app.add_option("-o,--output", output, "Flattened mesh (.obj)")->required();
+    vessel::cli::BatchOptions batch;
+    auto* input_option =
+        app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), open at inlet "
+                                        "and outlets")
+            ->check(CLI::ExistingFile);
+    app.add_option("-o,--output", output, "Flattened mesh (.obj); with --batch, the output "
+                                          "directory")
+        ->required();
+    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
+                                            ".ply/.stl files) or a text file with one path per "
+                                            "line; writes OUTDIR/<stem>.obj, <stem>.json and "
+                                            "summary.csv/.json")
+        ->excludes(input_option);
+    app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
+                                           "<stem>.json already exist in OUTDIR");
     app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature (E_c), geodesic (E_g) or "
                                    "blend (E_cg)")
@@ -131,9 +98,14 @@ int main(int argc, char** argv)
     app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
     CLI11_PARSE(app, argc, argv);
 
+    if (input.empty() && batch.inputs.empty())
+    {
+        std::fprintf(stderr, "vessel-flatten: give an INPUT mesh, or --batch DIR_OR_LIST\n");
+        return 1;
+    }
     try
     {
-        if (std::filesystem::path(output).extension() != ".obj")
+        if (batch.inputs.empty() && std::filesystem::path(output).extension() != ".obj")
             throw vessel::InvalidInputError("the output must be an .obj file (seam form), got " +
                                             output);
         options.refinement = options.arap.max_iterations == 0 ? vessel::Refinement::None
@@ -153,13 +125,19 @@ int main(int argc, char** argv)
             options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
             options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
         }
+        if (!batch.inputs.empty())
+        {
+            batch.output_dir = output;
+            batch.quiet = quiet;
+            return vessel::cli::run_batch(batch, options);
+        }
         static const std::map<std::string, std::string> stage_names = {
             {"Z", "curvature, geodesic distance, alignment"},
             {"GC", "cut graph costs"},
             {"VC", "cut paths"},
             {"AC", "applying the cuts"},
             {"L", "layout"},
-            {"F", "LSCM + ARAP"}};
+            {"F", "initial map + refinement"}};
         if (!quiet)
             options.on_stage = [](const std::string& stage, double s) {
                 std::fprintf(stderr, "[%-2s] %-42s %8.3f s\n", stage.c_str(),
@@ -188,7 +166,7 @@ int main(int argc, char** argv)
         if (!report_path.empty())
         {
             const std::string tmp = report_path + ".tmp";
-            std::ofstream(tmp) << report_json(input, surface, result, read_s, write_s).dump(2)
+            std::ofstream(tmp) << vessel::cli::report_json(input, surface, result, read_s, write_s).dump(2)
                                << "\n";
             std::filesystem::rename(tmp, report_path);
         }

@@ -1,0 +1,448 @@
+#include "batch.h"
+
+#include "vessel/errors.h"
+#include "vessel/flat_io.h"
+#include "vessel/io.h"
+
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <thread>
+#include <unistd.h>
+#include <vector>
+
+namespace vessel::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start)
+{
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Set by the first SIGINT/SIGTERM; workers stop taking new meshes. The handler resets itself
+// (SA_RESETHAND), so a second signal ends the process at once: only `.tmp` files can then be
+// left behind, and the next run removes them.
+std::atomic<int> g_signal{0};
+
+extern "C" void on_signal(int sig)
+{
+    g_signal = sig;
+    static const char message[] =
+        "\nvessel-flatten: interrupted; finishing the running meshes (interrupt again to "
+        "abandon them)\n";
+    [[maybe_unused]] const auto n = ::write(2, message, sizeof(message) - 1);
+}
+
+void install_signal_handlers()
+{
+    struct sigaction action = {};
+    action.sa_handler = on_signal;
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
+struct Row
+{
+    std::string file;
+    std::string stem;
+    std::string status = "interrupted";
+    std::string message = "not processed: the batch was interrupted; rerun with --resume";
+    bool resumed = false;
+    double total_s = 0;
+    long faces = 0;
+    int flipped = 0;
+    double area_ratio = 0;
+    double mean_abs_log_area = 0;
+};
+
+bool is_mesh_file(const fs::path& p)
+{
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
+}
+
+std::string trimmed(const std::string& s)
+{
+    const auto first = s.find_first_not_of(" \t\r\n");
+    if (first == std::string::npos)
+        return "";
+    return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
+}
+
+std::vector<std::string> collect_inputs(const std::string& spec)
+{
+    std::vector<std::string> files;
+    if (fs::is_directory(spec))
+    {
+        for (const auto& entry : fs::directory_iterator(spec))
+            if (entry.is_regular_file() && is_mesh_file(entry.path()))
+                files.push_back(entry.path().string());
+        if (files.empty())
+            throw InvalidInputError("--batch: no .obj, .off, .ply or .stl files in " + spec);
+    }
+    else if (fs::is_regular_file(spec))
+    {
+        std::ifstream list(spec);
+        const fs::path base = fs::path(spec).parent_path();
+        std::string line;
+        while (std::getline(list, line))
+        {
+            line = trimmed(line);
+            if (line.empty() || line[0] == '#')
+                continue;
+            const fs::path p(line);
+            files.push_back(p.is_absolute() ? p.string() : (base / p).string());
+        }
+        if (files.empty())
+            throw InvalidInputError("--batch: the list " + spec + " names no files");
+    }
+    else
+        throw InvalidInputError("--batch: " + spec + " is neither a directory nor a list file");
+    std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+        const auto na = fs::path(a).filename().string(), nb = fs::path(b).filename().string();
+        return na != nb ? na < nb : a < b;
+    });
+    std::map<std::string, std::string> by_stem;
+    for (const auto& f : files)
+    {
+        const std::string stem = fs::path(f).stem().string();
+        if (stem == "summary")
+            throw InvalidInputError("--batch: input " + f +
+                                    " has the stem 'summary', which would overwrite the batch "
+                                    "summary; rename it");
+        const auto [it, inserted] = by_stem.emplace(stem, f);
+        if (!inserted)
+            throw InvalidInputError("--batch: inputs " + it->second + " and " + f +
+                                    " have the same stem '" + stem + "', so both would write " +
+                                    stem + ".obj; rename one of them");
+    }
+    return files;
+}
+
+void write_atomically(const fs::path& path, const std::string& text)
+{
+    const fs::path tmp = path.string() + ".tmp";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        out << text;
+        out.flush();
+        if (!out)
+            throw IoError("cannot write " + tmp.string());
+    }
+    fs::rename(tmp, path);
+}
+
+void remove_quietly(const fs::path& path)
+{
+    std::error_code ec;
+    fs::remove(path, ec);
+}
+
+// Fills \p row from an earlier run's <stem>.json; false if it is unreadable or not a success.
+bool resume_row(const fs::path& json_path, Row& row)
+{
+    try
+    {
+        std::ifstream in(json_path);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        if (j.value("status", std::string("ok")) != "ok")
+            return false;
+        row.status = "ok";
+        row.message.clear();
+        row.resumed = true;
+        row.total_s = j.at("timings").at("total").get<double>();
+        row.faces = j.at("counts").at("faces").get<long>();
+        const auto& q = j.at("quality");
+        row.flipped = q.at("flipped_triangles").get<int>();
+        row.area_ratio = q.at("area_ratio").get<double>();
+        row.mean_abs_log_area = q.at("mean_abs_log_area_ratio").get<double>();
+        return true;
+    }
+    catch (const std::exception&)
+    {
+        return false;
+    }
+}
+
+std::string csv_field(const std::string& s)
+{
+    if (s.find_first_of(",\"\n\r") == std::string::npos)
+        return s;
+    std::string quoted = "\"";
+    for (char c : s)
+        quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return quoted + "\"";
+}
+
+std::string number(double x)
+{
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.6g", x);
+    return buffer;
+}
+
+void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int signal)
+{
+    std::ostringstream csv;
+    csv << "file,status,message,resumed,total_s,faces,flipped,area_ratio,"
+           "mean_abs_log_area_ratio\n";
+    nlohmann::json files = nlohmann::json::array();
+    std::map<std::string, int> counts;
+    for (const auto& r : rows)
+    {
+        ++counts[r.status];
+        const bool ok = r.status == "ok";
+        csv << csv_field(r.file) << "," << r.status << "," << csv_field(r.message) << ","
+            << (r.resumed ? "true" : "false") << ",";
+        if (ok)
+            csv << number(r.total_s) << "," << r.faces << "," << r.flipped << ","
+                << number(r.area_ratio) << "," << number(r.mean_abs_log_area);
+        else
+            csv << ",,,,";
+        csv << "\n";
+        nlohmann::json j = {{"file", r.file},
+                            {"status", r.status},
+                            {"message", r.message},
+                            {"resumed", r.resumed}};
+        if (ok)
+        {
+            j["total_s"] = r.total_s;
+            j["faces"] = r.faces;
+            j["flipped"] = r.flipped;
+            j["area_ratio"] = r.area_ratio;
+            j["mean_abs_log_area_ratio"] = r.mean_abs_log_area;
+        }
+        files.push_back(j);
+    }
+    nlohmann::json summary = {{"inputs", rows.size()},
+                              {"ok", counts["ok"]},
+                              {"refused", counts["refused"]},
+                              {"failed", counts["failed"]},
+                              {"interrupted", counts["interrupted"]},
+                              {"signal", signal},
+                              {"files", files}};
+    write_atomically(dir / "summary.csv", csv.str());
+    write_atomically(dir / "summary.json", summary.dump(2) + "\n");
+}
+
+}  // namespace
+
+nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
+                           const FlattenResult& r, double read_s, double write_s)
+{
+    nlohmann::json j;
+    j["input"] = input;
+    const auto& t = r.timings;
+    j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
+                    {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
+    nlohmann::json loops = nlohmann::json::array();
+    for (std::size_t l = 0; l < r.loops.size(); ++l)
+        loops.push_back({{"role", l == 0 ? "inlet" : "outlet"},
+                         {"arc_length", r.loops[l].arc_length},
+                         {"vertices", r.loops[l].vertices.size()}});
+    j["counts"] = {{"input_vertices", surface.input_vertices},
+                   {"vertices", surface.mesh.n_vertices()},
+                   {"faces", surface.mesh.n_faces()},
+                   {"boundary_loops", loops},
+                   {"cut_vertices", r.mesh.n_vertices()},
+                   {"seam_edges", r.seam_edges},
+                   {"duplicated_vertices", r.duplicated_vertices}};
+    nlohmann::json cuts = nlohmann::json::array();
+    for (const auto& c : r.plan.paths)
+        cuts.push_back({{"outlet", c.outlet},
+                        {"ends_on", c.parent < 0 ? std::string("inlet")
+                                                 : "cut " + std::to_string(c.parent)},
+                        {"edges", c.halfedges.size()},
+                        {"cost", c.cost},
+                        {"winding_deg", c.winding_deg}});
+    j["cuts"] = cuts;
+    const auto& q = r.quality;
+    j["quality"] = {{"flipped_triangles", q.flipped_triangles},
+                    {"area_ratio", q.area_ratio},
+                    {"mean_abs_log_area_ratio", q.mean_abs_log_area},
+                    {"mean_conformal_distortion", q.mean_conformal},
+                    {"max_conformal_distortion", q.max_conformal}};
+    j["arap"] = {{"iterations", r.arap.iterations},
+                 {"initial_energy", r.arap.initial_energy},
+                 {"final_energy", r.arap.final_energy},
+                 {"converged", r.arap.converged},
+                 {"report", r.arap.report}};
+    nlohmann::json notes = surface.notes;
+    for (const auto& note : r.notes)
+        notes.push_back(note);
+    j["notes"] = notes;
+    return j;
+}
+
+int run_batch(const BatchOptions& batch, const FlattenOptions& options)
+{
+    std::vector<std::string> files;
+    try
+    {
+        files = collect_inputs(batch.inputs);
+        fs::create_directories(batch.output_dir);
+    }
+    catch (const std::exception& e)
+    {
+        std::fprintf(stderr, "vessel-flatten: %s\n", e.what());
+        return 1;
+    }
+    const fs::path dir = batch.output_dir;
+    std::vector<Row> rows(files.size());
+    std::vector<std::size_t> todo;
+    for (std::size_t i = 0; i < files.size(); ++i)
+    {
+        Row& row = rows[i];
+        row.file = files[i];
+        row.stem = fs::path(files[i]).stem().string();
+        // Leftovers of an abandoned run (a second interrupt) are never valid outputs.
+        remove_quietly(dir / (row.stem + ".obj.tmp"));
+        remove_quietly(dir / (row.stem + ".json.tmp"));
+        const fs::path obj = dir / (row.stem + ".obj"), json = dir / (row.stem + ".json");
+        if (batch.resume && fs::exists(obj) && fs::exists(json) && resume_row(json, row))
+            continue;
+        todo.push_back(i);
+    }
+
+    FlattenOptions mesh_options = options;
+    mesh_options.on_stage = nullptr;
+    // OpenMesh's readers are process-wide singletons with per-read state (e.g. the PLY reader's
+    // element counts), so reads are serialized; flattening runs in parallel.
+    std::mutex read_mutex;
+    std::mutex print_mutex;
+    std::atomic<std::size_t> next{0};
+    std::size_t finished = files.size() - todo.size();
+    // OpenMesh warnings would interleave between threads; our messages say what matters.
+    omerr().disable();
+    g_signal = 0;
+    install_signal_handlers();
+
+    auto process = [&](Row& row) {
+        const fs::path obj = dir / (row.stem + ".obj"), json = dir / (row.stem + ".json");
+        bool validated = false;
+        try
+        {
+            auto start = Clock::now();
+            RawMesh raw;
+            {
+                std::lock_guard<std::mutex> lock(read_mutex);
+                raw = read_raw_mesh(row.file);
+            }
+            const TreeSurface surface = make_tree_surface(raw);
+            validated = true;
+            const double read_s = seconds_since(start);
+            const FlattenResult result = flatten(surface.mesh, mesh_options);
+            start = Clock::now();
+            write_flat_obj(obj.string(), raw.points, result.mesh, result.uv);
+            const double write_s = seconds_since(start);
+            nlohmann::json report = report_json(row.file, surface, result, read_s, write_s);
+            report["status"] = "ok";
+            write_atomically(json, report.dump(2) + "\n");
+            row.status = "ok";
+            row.message.clear();
+            row.total_s = result.timings.total();
+            row.faces = static_cast<long>(surface.mesh.n_faces());
+            row.flipped = result.quality.flipped_triangles;
+            row.area_ratio = result.quality.area_ratio;
+            row.mean_abs_log_area = result.quality.mean_abs_log_area;
+            return;
+        }
+        catch (const InvalidInputError& e)
+        {
+            row.status = validated ? "failed" : "refused";
+            row.message = e.what();
+        }
+        catch (const IoError& e)
+        {
+            row.status = validated ? "failed" : "refused";
+            row.message = e.what();
+        }
+        catch (const std::exception& e)
+        {
+            row.status = "failed";
+            row.message = e.what();
+        }
+        catch (...)
+        {
+            row.status = "failed";
+            row.message = "unknown exception";
+        }
+        // No outputs of an earlier run may contradict the summary.
+        remove_quietly(obj);
+        remove_quietly(json);
+        remove_quietly(obj.string() + ".tmp");
+        remove_quietly(json.string() + ".tmp");
+    };
+
+    auto worker = [&]() {
+        while (g_signal == 0)
+        {
+            const std::size_t k = next++;
+            if (k >= todo.size())
+                return;
+            Row& row = rows[todo[k]];
+            process(row);
+            if (!batch.quiet)
+            {
+                std::lock_guard<std::mutex> lock(print_mutex);
+                ++finished;
+                if (row.status == "ok")
+                    std::fprintf(stderr, "[%zu/%zu] %s: ok, %d flipped, mean |log area| %.4f, "
+                                         "%.3f s\n",
+                                 finished, files.size(), row.file.c_str(), row.flipped,
+                                 row.mean_abs_log_area, row.total_s);
+                else
+                    std::fprintf(stderr, "[%zu/%zu] %s: %s: %s\n", finished, files.size(),
+                                 row.file.c_str(), row.status.c_str(), row.message.c_str());
+            }
+        }
+    };
+    const int jobs =
+        static_cast<int>(std::max<std::size_t>(1, std::min<std::size_t>(batch.jobs, todo.size())));
+    std::vector<std::thread> threads;
+    for (int t = 0; t < jobs; ++t)
+        threads.emplace_back(worker);
+    for (auto& t : threads)
+        t.join();
+
+    const int signal = g_signal;
+    try
+    {
+        write_summaries(dir, rows, signal);
+    }
+    catch (const std::exception& e)
+    {
+        std::fprintf(stderr, "vessel-flatten: cannot write the summary: %s\n", e.what());
+        return 1;
+    }
+    const auto bad = std::count_if(rows.begin(), rows.end(),
+                                   [](const Row& r) { return r.status != "ok"; });
+    if (!batch.quiet || bad > 0)
+        std::fprintf(stderr, "vessel-flatten: %zu of %zu meshes flattened; summary in %s\n",
+                     rows.size() - static_cast<std::size_t>(bad), rows.size(),
+                     (dir / "summary.csv").string().c_str());
+    if (signal != 0)
+        return 128 + signal;
+    return bad > 0 ? 1 : 0;
+}
+
+}  // namespace vessel::cli

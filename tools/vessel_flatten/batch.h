@@ -1,0 +1,35 @@
+#pragma once
+
+#include "vessel/pipeline.h"
+#include "vessel/validation.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+
+namespace vessel::cli {
+
+//! The `--report` JSON of one flattened mesh (timings, counts, cuts, quality, notes).
+nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
+                           const FlattenResult& r, double read_s, double write_s);
+
+struct BatchOptions
+{
+    //! A directory (its .obj/.off/.ply/.stl files) or a text file with one mesh path per line
+    //! (blank lines and lines starting with '#' skipped; relative paths are relative to the
+    //! list file's directory).
+    std::string inputs;
+    std::string output_dir;  //!< receives <stem>.obj, <stem>.json, summary.csv, summary.json
+    int jobs = 2;            //!< worker threads, each flattening one mesh at a time
+    bool resume = false;     //!< keep inputs whose <stem>.obj and <stem>.json already exist
+    bool quiet = false;      //!< no progress lines on stderr
+};
+
+//! \brief Flatten every input of \p batch with \p options (its `on_stage` is ignored) and write
+//! the per-mesh outputs and the summaries, each to a temporary name renamed when complete.
+//! SIGINT/SIGTERM stop the batch after the running meshes (a second signal abandons them).
+//! \return the exit code: 0 if every mesh was flattened, 1 if any was refused or failed (or the
+//! batch could not start), 128 + signal number if interrupted.
+int run_batch(const BatchOptions& batch, const FlattenOptions& options);
+
+}  // namespace vessel::cli
