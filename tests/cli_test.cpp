@@ -5,6 +5,8 @@
 #include "vessel/io.h"
 #include "vessel/phantom.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -172,6 +174,22 @@ TEST_CASE("cli: a truncated binary PLY is refused, never read as garbage or hung
         fs::resize_file(dir + "/in.ply", 60);
         check_bad(dir, dir + "/in.ply", "the PLY header has no 'end_header' line");
     }
+}
+
+TEST_CASE("cli: a truncated ASCII PLY is refused")
+{
+    const auto dir = temp_dir("cli_truncated_ascii_ply");
+    const Soup s = tube();
+    std::ostringstream ply;
+    ply << "ply\nformat ascii 1.0\nelement vertex " << s.v.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << s.f.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const auto& p : s.v)
+        ply << p.x() << " " << p.y() << " " << p.z() << "\n";
+    for (std::size_t f = 0; f + 10 < s.f.size(); ++f)  // the last 10 faces are missing
+        ply << "3 " << s.f[f][0] << " " << s.f[f][1] << " " << s.f[f][2] << "\n";
+    write_text(dir + "/in.ply", ply.str());
+    check_bad(dir, dir + "/in.ply", "is truncated or corrupt: the PLY header declares elements");
 }
 
 TEST_CASE("cli: a truncated ASCII OFF is refused")
@@ -389,4 +407,188 @@ TEST_CASE("cli: an output that is not .obj is refused")
                       std::string::npos,
                   o.err);
     CHECK_FALSE(fs::exists(dir + "/flat.ply"));
+}
+
+namespace {
+
+// Two valid meshes (a tube and a coarse carotid phantom) and two bad ones in \p dir/in.
+void write_batch_inputs(const std::string& dir)
+{
+    fs::create_directories(dir + "/in");
+    write_mesh(open_cylinder(1.0, 4.0, 16, 8), dir + "/in/a_tube.ply");
+    CarotidPhantomOptions carotid;
+    carotid.edge_length = 1.0;
+    write_mesh(carotid_phantom(carotid), dir + "/in/b_carotid.ply");
+    write_text(dir + "/in/c_empty.obj", "");
+    write_obj(dir + "/in/d_closed.obj", soup(icosphere(1.0, 1)));
+    write_text(dir + "/in/notes.txt", "not a mesh, not an input");
+}
+
+std::vector<std::vector<std::string>> read_csv_rows(const std::string& path)
+{
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(read_text(path));
+    std::string line;
+    while (std::getline(in, line))
+    {
+        auto& row = rows.emplace_back();
+        std::string field;
+        bool quoted = false;
+        for (std::size_t i = 0; i < line.size(); ++i)
+        {
+            const char c = line[i];
+            if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+                field += '"', ++i;
+            else if (c == '"')
+                quoted = !quoted;
+            else if (c == ',' && !quoted)
+                row.push_back(field), field.clear();
+            else
+                field += c;
+        }
+        row.push_back(field);
+    }
+    return rows;
+}
+
+}  // namespace
+
+TEST_CASE("cli: a batch flattens the good meshes, reports the bad ones and exits 1")
+{
+    const auto dir = temp_dir("cli_batch");
+    write_batch_inputs(dir);
+    const Outcome o = flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out --quiet");
+    CHECK(o.status == 1);
+    const auto rows = read_csv_rows(dir + "/out/summary.csv");
+    REQUIRE(rows.size() == 5);
+    CHECK(rows[0][0] == "file");
+    const std::vector<std::string> names = {"a_tube", "b_carotid", "c_empty", "d_closed"};
+    const std::vector<std::string> status = {"ok", "ok", "refused", "refused"};
+    for (int i = 0; i < 4; ++i)
+    {
+        REQUIRE(rows[i + 1].size() == 9);
+        CHECK(fs::path(rows[i + 1][0]).stem() == names[i]);
+        CHECK(rows[i + 1][1] == status[i]);
+    }
+    CHECK(rows[1][2].empty());
+    CHECK(rows[3][2].find("read_raw_mesh: file is empty") != std::string::npos);
+    CHECK(rows[4][2].find("the surface is closed") != std::string::npos);
+    CHECK(std::stol(rows[2][5]) > 0);  // faces
+    CHECK(rows[2][6] == "0");          // flipped
+
+    const auto summary = nlohmann::json::parse(read_text(dir + "/out/summary.json"));
+    CHECK(summary["ok"] == 2);
+    CHECK(summary["refused"] == 2);
+    REQUIRE(summary["files"].size() == 4);
+    for (int i = 0; i < 4; ++i)
+    {
+        const auto& row = summary["files"][i];
+        CHECK(row["file"] == rows[i + 1][0]);
+        CHECK(row["status"] == status[i]);
+        CHECK(row["message"] == rows[i + 1][2]);
+    }
+    CHECK(summary["files"][1]["faces"].get<long>() == std::stol(rows[2][5]));
+
+    for (int i = 0; i < 2; ++i)
+    {
+        const auto c = check_flat_obj(read_flat_obj(dir + "/out/" + names[i] + ".obj"));
+        CHECK(c.euler == 1);
+        CHECK(c.boundary_loops == 1);
+        CHECK(c.flipped == 0);
+        const auto report = nlohmann::json::parse(read_text(dir + "/out/" + names[i] + ".json"));
+        CHECK(report["status"] == "ok");
+        CHECK(report["quality"]["flipped_triangles"] == 0);
+    }
+    for (const auto& bad : {"c_empty", "d_closed"})
+    {
+        CHECK_FALSE(fs::exists(dir + "/out/" + bad + ".obj"));
+        CHECK_FALSE(fs::exists(dir + "/out/" + bad + ".json"));
+    }
+    for (const auto& entry : fs::directory_iterator(dir + "/out"))
+        CHECK_MESSAGE(entry.path().extension() != ".tmp", entry.path());
+}
+
+TEST_CASE("cli: a resumed batch gives the same outputs as an uninterrupted one")
+{
+    const auto dir = temp_dir("cli_batch_resume");
+    write_batch_inputs(dir);
+    const std::string fresh = "--batch " + dir + "/in -o " + dir + "/fresh --quiet --jobs 1";
+    REQUIRE(flatten_cli(dir, fresh).status == 1);
+    REQUIRE(flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out --quiet").status == 1);
+    fs::remove(dir + "/out/b_carotid.obj");
+    fs::remove(dir + "/out/b_carotid.json");
+    const auto tube_time = fs::last_write_time(dir + "/out/a_tube.obj");
+    const Outcome o =
+        flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out --quiet --resume");
+    CHECK(o.status == 1);  // the bad inputs are tried again and refused again
+    CHECK(fs::last_write_time(dir + "/out/a_tube.obj") == tube_time);  // kept, not redone
+    for (const auto& name : {"a_tube", "b_carotid"})
+    {
+        const std::string a = read_text(dir + "/fresh/" + name + ".obj");
+        CHECK(!a.empty());
+        CHECK_MESSAGE(a == read_text(dir + "/out/" + name + ".obj"), name);
+    }
+    const auto rows = read_csv_rows(dir + "/out/summary.csv");
+    REQUIRE(rows.size() == 5);
+    CHECK(rows[1][1] == "ok");
+    CHECK(rows[1][3] == "true");  // a_tube resumed
+    CHECK(rows[2][1] == "ok");
+    CHECK(rows[2][3] == "false");  // b_carotid flattened again
+}
+
+TEST_CASE("cli: an interrupted batch keeps whole outputs only and resumes to the same result")
+{
+    const auto dir = temp_dir("cli_batch_interrupt");
+    write_batch_inputs(dir);
+    REQUIRE(flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/fresh --quiet").status == 1);
+    const std::string batch = kFlatten + " --batch " + dir + "/in -o " + dir + "/out --quiet";
+    const int status = run("sh -c '" + batch + " 2> " + dir + "/err & pid=$!; sleep 0.3; kill -INT " +
+                           "$pid; wait $pid'");
+    // Interrupted (130) or, on a fast machine, finished before the signal (1).
+    CHECK((status == 130 || status == 1));
+    REQUIRE(fs::exists(dir + "/out/summary.csv"));
+    for (const auto& entry : fs::directory_iterator(dir + "/out"))
+        CHECK_MESSAGE(entry.path().extension() != ".tmp", entry.path());
+    for (const auto& name : {"a_tube", "b_carotid"})
+        if (fs::exists(dir + "/out/" + std::string(name) + ".obj"))
+            CHECK(read_text(dir + "/out/" + name + ".obj") ==
+                  read_text(dir + "/fresh/" + name + ".obj"));
+    CHECK(flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out --quiet --resume").status ==
+          1);
+    for (const auto& name : {"a_tube", "b_carotid"})
+        CHECK(read_text(dir + "/out/" + name + ".obj") ==
+              read_text(dir + "/fresh/" + name + ".obj"));
+}
+
+TEST_CASE("cli: a batch with two inputs of the same stem is refused before any work")
+{
+    const auto dir = temp_dir("cli_batch_stems");
+    fs::create_directories(dir + "/a");
+    fs::create_directories(dir + "/b");
+    write_obj(dir + "/a/vessel.obj", tube());
+    write_mesh(open_cylinder(1.0, 4.0, 12, 6), dir + "/b/vessel.ply");
+    write_text(dir + "/list.txt", "# two meshes\na/vessel.obj\n\nb/vessel.ply\n");
+    const Outcome o = flatten_cli(dir, "--batch " + dir + "/list.txt -o " + dir + "/out");
+    CHECK(o.status == 1);
+    CHECK_MESSAGE(o.err.find("have the same stem 'vessel', so both would write vessel.obj") !=
+                      std::string::npos,
+                  o.err);
+    CHECK_FALSE(fs::exists(dir + "/out/vessel.obj"));
+    CHECK_FALSE(fs::exists(dir + "/out/summary.csv"));
+}
+
+TEST_CASE("cli: a batch list names meshes relative to the list file")
+{
+    const auto dir = temp_dir("cli_batch_list");
+    fs::create_directories(dir + "/meshes");
+    write_obj(dir + "/meshes/tube.obj", tube());
+    write_text(dir + "/list.txt", "meshes/tube.obj\nmeshes/missing.ply\n");
+    const Outcome o = flatten_cli(dir, "--batch " + dir + "/list.txt -o " + dir + "/out -q");
+    CHECK(o.status == 1);
+    const auto rows = read_csv_rows(dir + "/out/summary.csv");
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[1][1] == "refused");
+    CHECK(rows[1][2].find("read_raw_mesh: file not found") != std::string::npos);
+    CHECK(rows[2][1] == "ok");
+    CHECK(fs::exists(dir + "/out/tube.obj"));
 }
