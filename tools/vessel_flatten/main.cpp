@@ -96,7 +96,15 @@ int main(int argc, char** argv)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
-    CLI11_PARSE(app, argc, argv);
+    try
+    {
+        app.parse(argc, argv);
+    }
+    catch (const CLI::ParseError& e)
+    {
+        // CLI11 prints the message (or the help); every usage error exits 1, as documented.
+        return app.exit(e) == 0 ? 0 : 1;
+    }
 
     if (input.empty() && batch.inputs.empty())
     {
