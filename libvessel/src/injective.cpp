@@ -11,6 +11,10 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <thread>
+#include <vector>
+
+#include <dlfcn.h>
 
 namespace vessel {
 
@@ -93,6 +97,40 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
 
 namespace {
 
+// While alive, lets the OpenMP runtime run fewer threads than asked for on this thread's
+// parallel regions (the dyn-var ICV, which is per thread and restored on destruction).
+// Debian's CHOLMOD opens a 4-thread OpenMP region per large supernode to scatter updates (the
+// flops are in serial BLAS); on two busy cores the threads mostly wait on each other, and the
+// SLIM factorization of a 72k-unknown system took 1.5x longer wall time than serially.
+// OpenMP is looked up at run time: libvessel does not link it, CHOLMOD does.
+class SerialOpenMp
+{
+public:
+    SerialOpenMp()
+    {
+        set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
+        const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
+        if (!set_ || !get)
+        {
+            set_ = nullptr;
+            return;
+        }
+        previous_ = get();
+        set_(1);
+    }
+    ~SerialOpenMp()
+    {
+        if (set_)
+            set_(previous_);
+    }
+    SerialOpenMp(const SerialOpenMp&) = delete;
+    SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+private:
+    void (*set_)(int) = nullptr;
+    int previous_ = 0;
+};
+
 // Per-face constants of the map's Jacobian J = [[D0 u, D1 u], [D0 v, D1 v]], where Dk holds the
 // coefficients of the three corners (J is linear in the uv of the corners).
 struct FaceOperator
@@ -140,97 +178,244 @@ Eigen::Matrix2d jacobian(const FaceOperator& op, const Eigen::VectorXd& x)
     return J;
 }
 
-// Symmetric Dirichlet energy; +infinity if a triangle is flipped or collapsed.
-double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x)
+// Threads for the per-face loops: two where they pay (the machines this runs on have two
+// cores); small meshes stay serial, where starting a thread costs more than it saves.
+int face_threads(std::size_t faces)
 {
-    double e = 0.0;
-    for (const auto& op : ops)
+    if (faces < 8192)
+        return 1;
+    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
+}
+
+// Calls body(begin, end, thread) on `threads` contiguous chunks of [0, count), in parallel.
+// The body must not throw.
+template <class Body>
+void parallel_chunks(std::size_t count, int threads, const Body& body)
+{
+    if (threads <= 1)
     {
-        const Eigen::Matrix2d J = jacobian(op, x);
-        const double det = J.determinant();
-        if (!(det > 0.0))
-            return INFINITY;
-        const double frob = J.squaredNorm();
-        e += op.area * (frob + frob / (det * det));
+        body(std::size_t{0}, count, 0);
+        return;
     }
-    return e;
+    std::vector<std::thread> pool;
+    pool.reserve(threads - 1);
+    for (int t = 1; t < threads; ++t)
+        pool.emplace_back([&, t] { body(count * t / threads, count * (t + 1) / threads, t); });
+    body(std::size_t{0}, count / threads, 0);
+    for (auto& thread : pool)
+        thread.join();
+}
+
+// Symmetric Dirichlet energy; +infinity if a triangle is flipped or collapsed.
+double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x, int threads)
+{
+    std::array<double, 2> partial{0.0, 0.0};
+    const int used = std::min(threads, 2);
+    parallel_chunks(ops.size(), used, [&](std::size_t begin, std::size_t end, int t) {
+        double e = 0.0;
+        for (std::size_t f = begin; f < end; ++f)
+        {
+            const FaceOperator& op = ops[f];
+            const Eigen::Matrix2d J = jacobian(op, x);
+            const double det = J.determinant();
+            if (!(det > 0.0))
+            {
+                e = INFINITY;
+                break;
+            }
+            const double frob = J.squaredNorm();
+            e += op.area * (frob + frob / (det * det));
+        }
+        partial[t] = e;
+    });
+    return partial[0] + partial[1];
 }
 
 // Largest step t in (0, 1] along d that keeps every triangle positively oriented (Smith and
 // Schaefer 2015): det of the corner-difference matrix is quadratic in t; stop short of its first
 // positive root.
 double max_injective_step(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& d)
+                          const Eigen::VectorXd& d, int threads)
 {
-    double t_max = 1.0;
-    for (const auto& op : ops)
-    {
-        const int i = op.corner[0], j = op.corner[1], k = op.corner[2];
-        const double a1 = x[2 * j] - x[2 * i], a2 = x[2 * j + 1] - x[2 * i + 1];
-        const double b1 = x[2 * k] - x[2 * i], b2 = x[2 * k + 1] - x[2 * i + 1];
-        const double da1 = d[2 * j] - d[2 * i], da2 = d[2 * j + 1] - d[2 * i + 1];
-        const double db1 = d[2 * k] - d[2 * i], db2 = d[2 * k + 1] - d[2 * i + 1];
-        const double qa = da1 * db2 - da2 * db1;
-        const double qb = a1 * db2 + da1 * b2 - a2 * db1 - da2 * b1;
-        const double qc = a1 * b2 - a2 * b1;
-        double root = INFINITY;
-        if (std::abs(qa) < 1e-300)
+    std::array<double, 2> partial{1.0, 1.0};
+    const int used = std::min(threads, 2);
+    parallel_chunks(ops.size(), used, [&](std::size_t begin, std::size_t end, int t) {
+        double t_max = 1.0;
+        for (std::size_t f = begin; f < end; ++f)
         {
-            if (qb < 0.0)
-                root = -qc / qb;
-        }
-        else
-        {
-            const double disc = qb * qb - 4.0 * qa * qc;
-            if (disc >= 0.0)
+            const FaceOperator& op = ops[f];
+            const int i = op.corner[0], j = op.corner[1], k = op.corner[2];
+            const double a1 = x[2 * j] - x[2 * i], a2 = x[2 * j + 1] - x[2 * i + 1];
+            const double b1 = x[2 * k] - x[2 * i], b2 = x[2 * k + 1] - x[2 * i + 1];
+            const double da1 = d[2 * j] - d[2 * i], da2 = d[2 * j + 1] - d[2 * i + 1];
+            const double db1 = d[2 * k] - d[2 * i], db2 = d[2 * k + 1] - d[2 * i + 1];
+            const double qa = da1 * db2 - da2 * db1;
+            const double qb = a1 * db2 + da1 * b2 - a2 * db1 - da2 * b1;
+            const double qc = a1 * b2 - a2 * b1;
+            double root = INFINITY;
+            if (std::abs(qa) < 1e-300)
             {
-                const double sq = std::sqrt(disc);
-                // Numerically stable pair of roots.
-                const double q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
-                for (double r : {q / qa, qc / q})
-                    if (r > 0.0)
-                        root = std::min(root, r);
+                if (qb < 0.0)
+                    root = -qc / qb;
             }
+            else
+            {
+                const double disc = qb * qb - 4.0 * qa * qc;
+                if (disc >= 0.0)
+                {
+                    const double sq = std::sqrt(disc);
+                    // Numerically stable pair of roots.
+                    const double q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
+                    for (double r : {q / qa, qc / q})
+                        if (r > 0.0)
+                            root = std::min(root, r);
+                }
+            }
+            t_max = std::min(t_max, 0.8 * root);
         }
-        t_max = std::min(t_max, 0.8 * root);
-    }
-    return t_max;
+        partial[t] = t_max;
+    });
+    return std::min(partial[0], partial[1]);
 }
 
-// The global step's normal matrix has a fixed pattern: 6 x 6 entries per face (the u and v of
-// its three corners). It is built once; every iteration only refills the values.
+// The global step's normal matrix has a fixed pattern: the u and v of a face's three corners
+// couple in a 6 x 6 block. Only the lower triangle is stored (CHOLMOD reads no more). With the
+// corners in increasing vertex order, local unknown l = 2 * (sorted corner) + (0 for u, 1 for
+// v) increases with the global one, so the block's lower triangle is a >= b: 21 entries.
+struct FaceBlock
+{
+    std::array<int, 21> slot{};  //!< value index of (a, b), a >= b, in order a = 0..5, b <= a
+    std::array<int, 3> corner{};  //!< corner of the face operator at each sorted position
+    //! area * (D0_k D0_l + D1_k D1_l) over sorted corners (k, l): (0,0) (1,0) (1,1) (2,0) (2,1) (2,2)
+    std::array<double, 6> gram{};
+};
+
 struct NormalMatrix
 {
-    Eigen::SparseMatrix<double> A;
-    std::vector<int> slot;  // 36 value indices per face, row-major over the 6 local unknowns
+    Eigen::SparseMatrix<double> A;  // lower triangle
+    std::vector<FaceBlock> blocks;  // per face
+    std::vector<int> diagonal;      // value index of (i, i)
 };
 
 NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
 {
+    NormalMatrix M;
+    M.blocks.resize(ops.size());
+    for (std::size_t f = 0; f < ops.size(); ++f)
+    {
+        const FaceOperator& op = ops[f];
+        FaceBlock& block = M.blocks[f];
+        block.corner = {0, 1, 2};
+        std::sort(block.corner.begin(), block.corner.end(),
+                  [&](int p, int q) { return op.corner[p] < op.corner[q]; });
+        int g = 0;
+        for (int k = 0; k < 3; ++k)
+            for (int l = 0; l <= k; ++l)
+            {
+                const int p = block.corner[k], q = block.corner[l];
+                block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
+            }
+    }
+    const auto dof = [&](std::size_t f, int l) {
+        return 2 * ops[f].corner[M.blocks[f].corner[l / 2]] + l % 2;
+    };
     std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(36 * ops.size() + 2 * n);
-    const auto dof = [](const FaceOperator& op, int l) { return 2 * op.corner[l / 2] + l % 2; };
-    for (const auto& op : ops)
+    triplets.reserve(21 * ops.size() + 2 * n);
+    for (std::size_t f = 0; f < ops.size(); ++f)
         for (int a = 0; a < 6; ++a)
-            for (int b = 0; b < 6; ++b)
-                triplets.emplace_back(dof(op, a), dof(op, b), 0.0);
+            for (int b = 0; b <= a; ++b)
+                triplets.emplace_back(dof(f, a), dof(f, b), 0.0);
     for (int i = 0; i < 2 * n; ++i)
         triplets.emplace_back(i, i, 0.0);
-    NormalMatrix M;
     M.A.resize(2 * n, 2 * n);
     M.A.setFromTriplets(triplets.begin(), triplets.end());
     M.A.makeCompressed();
-    M.slot.resize(36 * ops.size());
     const auto index_of = [&](int row, int col) {
         const int* begin = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col];
         const int* end = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col + 1];
         return static_cast<int>(std::lower_bound(begin, end, row) - M.A.innerIndexPtr());
     };
     for (std::size_t f = 0; f < ops.size(); ++f)
+    {
+        int s = 0;
         for (int a = 0; a < 6; ++a)
-            for (int b = 0; b < 6; ++b)
-                M.slot[36 * f + 6 * a + b] = index_of(dof(ops[f], a), dof(ops[f], b));
+            for (int b = 0; b <= a; ++b)
+                M.blocks[f].slot[s++] = index_of(dof(f, a), dof(f, b));
+    }
+    M.diagonal.resize(2 * n);
+    for (int i = 0; i < 2 * n; ++i)
+        M.diagonal[i] = index_of(i, i);
     return M;
+}
+
+// SLIM's local step on one face: the proxy ||W (J - R)||^2 with R the closest rotation to J
+// and W = U diag(w) U^T (J = U diag(sigma) V^T) enters the normal equations as
+// area * kron(Gram, W^2) and the right-hand side as area * W^2 R D_k. The 2 x 2 polar and
+// singular value decompositions are closed-form: with E, F, G, H the conformal and
+// anti-conformal halves of J, sigma = sqrt(E^2 + H^2) +- sqrt(F^2 + G^2), R rotates by
+// atan2(H, E), and U by half the sum of atan2(G, F) and atan2(H, E).
+void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::VectorXd& x,
+              double* values, double* rhs)
+{
+    const Eigen::Matrix2d J = jacobian(op, x);
+    const double E = 0.5 * (J(0, 0) + J(1, 1)), F = 0.5 * (J(0, 0) - J(1, 1));
+    const double G = 0.5 * (J(1, 0) + J(0, 1)), H = 0.5 * (J(1, 0) - J(0, 1));
+    const double q = std::sqrt(E * E + H * H), r = std::sqrt(F * F + G * G);
+    // Clamped: on a Tutte start, deep branches are compressed by orders of magnitude, and
+    // weights ~ sigma^-1.5 would make the system numerically indefinite. A weaker proxy still
+    // descends: the line search uses the true energy.
+    const auto weight = [](double sigma) {
+        const double s = std::max(sigma, 1e-2);
+        return std::sqrt(1.0 + 1.0 / s + 1.0 / (s * s) + 1.0 / (s * s * s));
+    };
+    const double w0 = weight(q + r), w1 = weight(q - r);
+    const double w_mean = 0.5 * (w0 + w1), w_half = 0.5 * (w0 - w1);
+    // U diag(w) U^T = w_mean I + w_half S, S = [[cos 2phi, sin 2phi], [sin 2phi, -cos 2phi]];
+    // S^2 = I, so W^2 = (w_mean^2 + w_half^2) I + 2 w_mean w_half S.
+    double c2 = 1.0, s2 = 0.0;
+    if (r > 0.0 && q > 0.0)
+    {
+        c2 = (F * E - G * H) / (r * q);
+        s2 = (G * E + F * H) / (r * q);
+    }
+    const double iso = w_mean * w_mean + w_half * w_half, aniso = 2.0 * w_mean * w_half;
+    Eigen::Matrix2d W2;
+    W2 << iso + aniso * c2, aniso * s2, aniso * s2, iso - aniso * c2;
+    Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
+    if (q > 0.0)
+        R << E / q, -H / q, H / q, E / q;
+    const Eigen::Matrix2d T = op.area * (W2 * R);  // rhs of corner k: T (D0_k, D1_k)
+    int corner_dof[3];
+    for (int k = 0; k < 3; ++k)
+    {
+        const int p = block.corner[k];
+        corner_dof[k] = 2 * op.corner[p];
+        rhs[corner_dof[k]] += T(0, 0) * op.d0[p] + T(0, 1) * op.d1[p];
+        rhs[corner_dof[k] + 1] += T(1, 0) * op.d0[p] + T(1, 1) * op.d1[p];
+    }
+    const double w00 = W2(0, 0), w10 = W2(1, 0), w11 = W2(1, 1);
+    const int* slot = block.slot.data();
+    const double* gram = block.gram.data();
+    // Rows a = 2k + i, columns b = 2l + j <= a; gram index of (k, l), l <= k: k (k + 1) / 2 + l.
+    for (int k = 0; k < 3; ++k)
+    {
+        const double* g = gram + k * (k + 1) / 2;
+        // Row 2k (u of corner k): columns 2l, 2l + 1 for l < k, then 2k.
+        for (int l = 0; l < k; ++l)
+        {
+            values[*slot++] += g[l] * w00;
+            values[*slot++] += g[l] * w10;
+        }
+        values[*slot++] += g[k] * w00;
+        // Row 2k + 1 (v of corner k): columns 2l, 2l + 1 for l < k, then 2k, 2k + 1.
+        for (int l = 0; l < k; ++l)
+        {
+            values[*slot++] += g[l] * w10;
+            values[*slot++] += g[l] * w11;
+        }
+        values[*slot++] += g[k] * w10;
+        values[*slot++] += g[k] * w11;
+    }
 }
 
 }  // namespace
@@ -254,7 +439,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
 
     const std::vector<FaceOperator> ops = face_operators(mesh);
     InjectiveSummary summary;
-    summary.initial_energy = energy(ops, x);
+    const int threads = face_threads(ops.size());
+    summary.initial_energy = energy(ops, x, threads);
     if (!std::isfinite(summary.initial_energy))
         throw InvalidInputError("injective_refine: the start map has a flipped or collapsed "
                                 "triangle; start from a map without flips (e.g. tutte_embedding)");
@@ -269,82 +455,53 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     const double pin_weight = 1e6 * total_area / n;
     const double proximal = 1e-8 * total_area / n;
     NormalMatrix M = normal_matrix_pattern(ops, n);
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
-    solver.analyzePattern(M.A);
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    {
+        const SerialOpenMp serial;
+        solver.analyzePattern(M.A);
+    }
+    // Per-thread partial sums: thread 0 adds into the matrix, the others into their own copy.
+    const Eigen::Index nnz = M.A.nonZeros();
+    std::vector<std::vector<double>> partial_values(threads - 1, std::vector<double>(nnz));
+    std::vector<Eigen::VectorXd> partial_rhs(threads, Eigen::VectorXd(2 * n));
 
     double e = summary.initial_energy;
     int slow = 0;  // consecutive iterations below the tolerance
     for (int it = 0; it < options.max_iterations; ++it)
     {
-        std::fill(M.A.valuePtr(), M.A.valuePtr() + M.A.nonZeros(), 0.0);
-        Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * n);
-        for (std::size_t f = 0; f < ops.size(); ++f)
+        double* values = M.A.valuePtr();
+        parallel_chunks(ops.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+            double* v = t == 0 ? values : partial_values[t - 1].data();
+            std::fill(v, v + nnz, 0.0);
+            partial_rhs[t].setZero();
+            double* r = partial_rhs[t].data();
+            for (std::size_t f = begin; f < end; ++f)
+                add_face(ops[f], M.blocks[f], x, v, r);
+        });
+        Eigen::VectorXd rhs = partial_rhs[0];
+        for (int t = 1; t < threads; ++t)
         {
-            const FaceOperator& op = ops[f];
-            const Eigen::Matrix2d J = jacobian(op, x);
-            Eigen::JacobiSVD<Eigen::Matrix2d> svd(J, Eigen::ComputeFullU | Eigen::ComputeFullV);
-            const Eigen::Vector2d sigma = svd.singularValues();
-            const Eigen::Matrix2d U = svd.matrixU(), V = svd.matrixV();
-            Eigen::Matrix2d R = U * V.transpose();
-            if (R.determinant() < 0.0)  // cannot happen for det J > 0, kept for safety
-            {
-                Eigen::Matrix2d U2 = U;
-                U2.col(1) *= -1.0;
-                R = U2 * V.transpose();
-            }
-            Eigen::Vector2d w;
-            for (int k = 0; k < 2; ++k)
-            {
-                // Clamped: on a Tutte start, deep branches are compressed by orders of magnitude,
-                // and weights ~ sigma^-1.5 would make the system numerically indefinite. A
-                // weaker proxy still descends: the line search uses the true energy.
-                const double s = std::max(sigma[k], 1e-2);
-                w[k] = std::sqrt(1.0 + 1.0 / s + 1.0 / (s * s) + 1.0 / (s * s * s));
-            }
-            const Eigen::Matrix2d W = U * w.asDiagonal() * U.transpose();
-            const Eigen::Matrix2d target = W * R;
-            // Residual (r, c) = sqrt(area) (W_r0 (Dc u) + W_r1 (Dc v) - target_rc); local
-            // unknowns l = 2 * corner + (0 for u, 1 for v).
-            double row[4][6];
-            for (int r = 0; r < 2; ++r)
-                for (int c = 0; c < 2; ++c)
-                {
-                    const auto& D = c == 0 ? op.d0 : op.d1;
-                    for (int k = 0; k < 3; ++k)
-                    {
-                        row[2 * r + c][2 * k] = W(r, 0) * D[k];
-                        row[2 * r + c][2 * k + 1] = W(r, 1) * D[k];
-                    }
-                }
-            const int* slot = &M.slot[36 * f];
-            double* values = M.A.valuePtr();
-            for (int a = 0; a < 6; ++a)
-            {
-                const int dof_a = 2 * op.corner[a / 2] + a % 2;
-                for (int q = 0; q < 4; ++q)
-                    rhs[dof_a] += op.area * row[q][a] * target(q / 2, q % 2);
-                for (int b = 0; b < 6; ++b)
-                {
-                    double sum = 0.0;
-                    for (int q = 0; q < 4; ++q)
-                        sum += row[q][a] * row[q][b];
-                    values[slot[6 * a + b]] += op.area * sum;
-                }
-            }
+            const double* v = partial_values[t - 1].data();
+            for (Eigen::Index i = 0; i < nnz; ++i)
+                values[i] += v[i];
+            rhs += partial_rhs[t];
         }
         for (int i = 0; i < 2 * n; ++i)
         {
-            M.A.coeffRef(i, i) += proximal;
+            values[M.diagonal[i]] += proximal;
             rhs[i] += proximal * x[i];
         }
         for (const auto& pin : pins)
             for (int k = 0; k < 2; ++k)
             {
                 const int i = 2 * pin.vertex.idx() + k;
-                M.A.coeffRef(i, i) += pin_weight;
+                values[M.diagonal[i]] += pin_weight;
                 rhs[i] += pin_weight * pin.uv[k];
             }
-        solver.factorize(M.A);
+        {
+            const SerialOpenMp serial;
+            solver.factorize(M.A);
+        }
         if (solver.info() != Eigen::Success)
             throw SolverError("injective_refine: CHOLMOD could not factor the global step");
         const Eigen::VectorXd target = solver.solve(rhs);
@@ -352,13 +509,13 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             throw SolverError("injective_refine: CHOLMOD solve failed");
 
         const Eigen::VectorXd d = target - x;
-        double t = max_injective_step(ops, x, d);
-        double e_new = energy(ops, x + t * d);
+        double t = max_injective_step(ops, x, d, threads);
+        double e_new = energy(ops, x + t * d, threads);
         while (!(e_new <= e) && t > 1e-12)
         {
             t *= 0.5;
-            e_new = energy(ops, x + t * d);
-        }
+            e_new = energy(ops, x + t * d, threads);
+            }
         summary.iterations = it + 1;
         if (!(e_new <= e))
         {
