@@ -26,6 +26,44 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
 }
 
+namespace {
+
+// While alive, lets the OpenMP runtime run fewer threads than asked for on this thread's
+// parallel regions (the dyn-var ICV, which is per thread and restored on destruction).
+// Debian's CHOLMOD opens a 4-thread OpenMP region per large supernode to scatter updates (the
+// flops are in serial BLAS); on two busy cores the threads mostly wait on each other, and the
+// SLIM factorization of a 72k-unknown system took 1.5x longer wall time than serially.
+// OpenMP is looked up at run time: libvessel does not link it, CHOLMOD does.
+class SerialOpenMp
+{
+public:
+    SerialOpenMp()
+    {
+        set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
+        const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
+        if (!set_ || !get)
+        {
+            set_ = nullptr;
+            return;
+        }
+        previous_ = get();
+        set_(1);
+    }
+    ~SerialOpenMp()
+    {
+        if (set_)
+            set_(previous_);
+    }
+    SerialOpenMp(const SerialOpenMp&) = delete;
+    SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+private:
+    void (*set_)(int) = nullptr;
+    int previous_ = 0;
+};
+
+}  // namespace
+
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
 {
     const auto loops = boundary_loops(mesh);
@@ -75,7 +113,11 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
     }
     Eigen::SparseMatrix<double> L(n_free, n_free);
     L.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(L);
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+    {
+        const SerialOpenMp serial;
+        solver.compute(L);
+    }
     if (solver.info() != Eigen::Success)
         throw SolverError("tutte_embedding: CHOLMOD could not factor the graph Laplacian");
     const Eigen::MatrixX2d x = solver.solve(rhs);
@@ -96,40 +138,6 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
 }
 
 namespace {
-
-// While alive, lets the OpenMP runtime run fewer threads than asked for on this thread's
-// parallel regions (the dyn-var ICV, which is per thread and restored on destruction).
-// Debian's CHOLMOD opens a 4-thread OpenMP region per large supernode to scatter updates (the
-// flops are in serial BLAS); on two busy cores the threads mostly wait on each other, and the
-// SLIM factorization of a 72k-unknown system took 1.5x longer wall time than serially.
-// OpenMP is looked up at run time: libvessel does not link it, CHOLMOD does.
-class SerialOpenMp
-{
-public:
-    SerialOpenMp()
-    {
-        set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
-        const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
-        if (!set_ || !get)
-        {
-            set_ = nullptr;
-            return;
-        }
-        previous_ = get();
-        set_(1);
-    }
-    ~SerialOpenMp()
-    {
-        if (set_)
-            set_(previous_);
-    }
-    SerialOpenMp(const SerialOpenMp&) = delete;
-    SerialOpenMp& operator=(const SerialOpenMp&) = delete;
-
-private:
-    void (*set_)(int) = nullptr;
-    int previous_ = 0;
-};
 
 // Per-face constants of the map's Jacobian J = [[D0 u, D1 u], [D0 v, D1 v]], where Dk holds the
 // coefficients of the three corners (J is linear in the uv of the corners).
