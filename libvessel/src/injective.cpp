@@ -2,6 +2,7 @@
 
 #include "vessel/boundary.h"
 #include "vessel/errors.h"
+#include "detail/serial_openmp.h"
 #include "vessel/metrics.h"
 
 #include <Eigen/CholmodSupport>
@@ -14,7 +15,6 @@
 #include <thread>
 #include <vector>
 
-#include <dlfcn.h>
 
 namespace vessel {
 
@@ -25,44 +25,6 @@ void InjectiveOptions::validate() const
     if (!(tolerance > 0.0))
         throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
 }
-
-namespace {
-
-// While alive, lets the OpenMP runtime run fewer threads than asked for on this thread's
-// parallel regions (the dyn-var ICV, which is per thread and restored on destruction).
-// Debian's CHOLMOD opens a 4-thread OpenMP region per large supernode to scatter updates (the
-// flops are in serial BLAS); on two busy cores the threads mostly wait on each other, and the
-// SLIM factorization of a 72k-unknown system took 1.5x longer wall time than serially.
-// OpenMP is looked up at run time: libvessel does not link it, CHOLMOD does.
-class SerialOpenMp
-{
-public:
-    SerialOpenMp()
-    {
-        set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
-        const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
-        if (!set_ || !get)
-        {
-            set_ = nullptr;
-            return;
-        }
-        previous_ = get();
-        set_(1);
-    }
-    ~SerialOpenMp()
-    {
-        if (set_)
-            set_(previous_);
-    }
-    SerialOpenMp(const SerialOpenMp&) = delete;
-    SerialOpenMp& operator=(const SerialOpenMp&) = delete;
-
-private:
-    void (*set_)(int) = nullptr;
-    int previous_ = 0;
-};
-
-}  // namespace
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
 {
@@ -115,7 +77,7 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
     L.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
     {
-        const SerialOpenMp serial;
+        const detail::SerialOpenMp serial;
         solver.compute(L);
     }
     if (solver.info() != Eigen::Success)
@@ -465,7 +427,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     NormalMatrix M = normal_matrix_pattern(ops, n);
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
     {
-        const SerialOpenMp serial;
+        const detail::SerialOpenMp serial;
         solver.analyzePattern(M.A);
     }
     // Per-thread partial sums: thread 0 adds into the matrix, the others into their own copy.
@@ -507,7 +469,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 rhs[i] += pin_weight * pin.uv[k];
             }
         {
-            const SerialOpenMp serial;
+            const detail::SerialOpenMp serial;
             solver.factorize(M.A);
         }
         if (solver.info() != Eigen::Success)

@@ -1,6 +1,7 @@
 #include "vessel/lscm.h"
 
 #include "vessel/errors.h"
+#include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
 
@@ -8,44 +9,11 @@
 #include <string>
 #include <vector>
 
-#include <dlfcn.h>
 
 namespace vessel {
 
 namespace {
 
-// While alive, lets the OpenMP runtime run fewer threads than asked for on this thread's
-// parallel regions (the per-thread dyn-var ICV, restored on destruction). Debian's CHOLMOD
-// opens a 4-thread OpenMP region per large supernode to scatter updates while the flops run in
-// serial BLAS; on two busy cores those threads mostly wait on each other. OpenMP is looked up
-// at run time: libvessel does not link it, CHOLMOD does. (Same helper as in injective.cpp.)
-class SerialOpenMp
-{
-public:
-    SerialOpenMp()
-    {
-        set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
-        const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
-        if (!set_ || !get)
-        {
-            set_ = nullptr;
-            return;
-        }
-        previous_ = get();
-        set_(1);
-    }
-    ~SerialOpenMp()
-    {
-        if (set_)
-            set_(previous_);
-    }
-    SerialOpenMp(const SerialOpenMp&) = delete;
-    SerialOpenMp& operator=(const SerialOpenMp&) = delete;
-
-private:
-    void (*set_)(int) = nullptr;
-    int previous_ = 0;
-};
 
 // Cotangent of the angle at c in triangle (a, b, c). A degenerate triangle would give inf/NaN;
 // clamping the sine keeps the system finite so the factorization, not the assembly, reports it.
@@ -231,7 +199,7 @@ Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
     // meshes and costs more to compute than CHOLMOD's default AMD.
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
     {
-        const SerialOpenMp serial;
+        const detail::SerialOpenMp serial;
         solver.compute(A);
     }
     if (solver.info() != Eigen::Success)

@@ -153,51 +153,48 @@ std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
     std::sort(corners.begin(), corners.end(),
               [](const Corner& x, const Corner& y) { return x.key < y.key; });
 
+    // Calls visit(first, count, edge name) for the corners of every undirected edge.
+    const auto for_each_edge = [&](const auto& visit) {
+        for (std::size_t i = 0; i < corners.size();)
+        {
+            std::size_t j = i;
+            while (j < corners.size() && corners[j].key == corners[i].key)
+                ++j;
+            const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
+            visit(i, j - i, "(" + std::to_string(a) + ", " + std::to_string(b) + ")");
+            i = j;
+        }
+    };
     // Faces per edge first: an edge with three faces also looks mis-oriented, and the
     // non-manifold edge is the defect to report.
-    for (std::size_t i = 0; i < corners.size();)
-    {
-        std::size_t j = i;
-        while (j < corners.size() && corners[j].key == corners[i].key)
-            ++j;
-        const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
-        const std::string edge = "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
-        if (j - i > 2)
-            refuse("non-manifold edge " + edge + " is shared by " + plural(j - i, "face") +
+    for_each_edge([&](std::size_t i, std::size_t count, const std::string& edge) {
+        if (count > 2)
+            refuse("non-manifold edge " + edge + " is shared by " + plural(count, "face") +
                    " (faces " + std::to_string(tri.source_face[corners[i].triangle]) + ", " +
                    std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
                    std::to_string(tri.source_face[corners[i + 2].triangle]) +
                    "); repair the surface so each edge has at most two faces");
-        i = j;
-    }
+    });
 
     UnionFind faces(T.size());
     UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
-    for (std::size_t i = 0; i < corners.size();)
-    {
-        std::size_t j = i;
-        while (j < corners.size() && corners[j].key == corners[i].key)
-            ++j;
-        const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
-        const std::string edge = "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
-        if (j - i == 2)
-        {
-            const Corner& c0 = corners[i];
-            const Corner& c1 = corners[i + 1];
-            if (c0.forward == c1.forward)
-                refuse("inconsistent orientation: faces " +
-                       std::to_string(tri.source_face[c0.triangle]) + " and " +
-                       std::to_string(tri.source_face[c1.triangle]) +
-                       " run the same way along edge " + edge +
-                       "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
-                       "coherently')");
-            faces.unite(c0.triangle, c1.triangle);
-            // Opposite runs: corner `local` of c0 and corner `local + 1` of c1 are the same vertex.
-            fans.unite(3 * c0.triangle + c0.local, 3 * c1.triangle + (c1.local + 1) % 3);
-            fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
-        }
-        i = j;
-    }
+    for_each_edge([&](std::size_t i, std::size_t count, const std::string& edge) {
+        if (count != 2)
+            return;
+        const Corner& c0 = corners[i];
+        const Corner& c1 = corners[i + 1];
+        if (c0.forward == c1.forward)
+            refuse("inconsistent orientation: faces " +
+                   std::to_string(tri.source_face[c0.triangle]) + " and " +
+                   std::to_string(tri.source_face[c1.triangle]) + " run the same way along edge " +
+                   edge +
+                   "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
+                   "coherently')");
+        faces.unite(c0.triangle, c1.triangle);
+        // Opposite runs: corner `local` of c0 and corner `local + 1` of c1 are the same vertex.
+        fans.unite(3 * c0.triangle + c0.local, 3 * c1.triangle + (c1.local + 1) % 3);
+        fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
+    });
 
     std::vector<int> first_fan(n, -1);
     for (std::size_t t = 0; t < T.size(); ++t)
