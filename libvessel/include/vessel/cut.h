@@ -15,7 +15,9 @@ struct CutSummary
 
 //! \brief Cut the mesh open in place along \p seam by splitting its edges and duplicating the
 //! vertices where the surface falls apart into several fans; work is O(seam length), nothing is
-//! deleted, existing handles stay valid.
+//! deleted, existing handles stay valid. (A mesh whose arrays are exactly full, e.g. a fresh
+//! copy, is grown once by OpenMesh, which is O(V); call `mesh.reserve()` first to avoid it, as
+//! flatten() does.)
 //!
 //! Every vertex property (named or not) is copied to the duplicates. The `int` vertex property
 //! `prop::origin` maps every vertex to the input vertex it came from; it is created (identity) if
