@@ -320,6 +320,24 @@ TEST_CASE("cli: NaN and infinite coordinates are refused")
         write_binary_ply(dir + "/in.ply", s);
         check_bad(dir, dir + "/in.ply", "vertex 7 has a NaN or infinite coordinate");
     }
+    SUBCASE("nan written as text in an OBJ")
+    {
+        s.v[5].y() = std::numeric_limits<double>::quiet_NaN();
+        write_obj(dir + "/in.obj", s);
+        check_bad(dir, dir + "/in.obj", "vertex 5 of " + dir + "/in.obj has a NaN, infinite");
+    }
+    SUBCASE("inf written as text in an OFF")
+    {
+        std::ostringstream off;
+        off << "OFF\n" << s.v.size() << " " << s.f.size() << " 0\n";
+        for (std::size_t i = 0; i < s.v.size(); ++i)
+            off << (i == 3 ? std::string("inf") : std::to_string(s.v[i].x())) << " "
+                << s.v[i].y() << " " << s.v[i].z() << "\n";
+        for (const auto& face : s.f)
+            off << "3 " << face[0] << " " << face[1] << " " << face[2] << "\n";
+        write_text(dir + "/in.off", off.str());
+        check_bad(dir, dir + "/in.off", "vertex 3 of " + dir + "/in.off has a NaN, infinite");
+    }
 }
 
 TEST_CASE("cli: a zero-area face is refused")

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -263,6 +265,63 @@ void check_stl(const std::string& path, std::uintmax_t file_size)
                             std::to_string(file_size) + " bytes");
 }
 
+// OpenMesh's text readers cannot parse "nan" or "inf": they drop or misread the vertex and the
+// faces then point at the wrong vertices. Check the coordinates of OBJ `v` lines and of the
+// vertex lines of an ASCII OFF ourselves, so the user hears about the coordinate.
+void check_text_coordinates(const std::string& path, const std::string& ext)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    const auto check = [&](const std::string& text, std::size_t vertex) {
+        std::istringstream words(text);
+        for (int k = 0; k < 3; ++k)
+        {
+            std::string word;
+            words >> word;
+            char* end = nullptr;
+            const double value = std::strtod(word.c_str(), &end);
+            if (word.empty() || *end != '\0' || !std::isfinite(value))
+                throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
+                              " has a NaN, infinite or unreadable coordinate ('" + word +
+                              "'); fix or remove it in the source");
+        }
+    };
+    if (ext == ".obj")
+    {
+        std::size_t vertex = 0;
+        while (std::getline(in, line))
+            if (line.size() > 2 && line[0] == 'v' && (line[1] == ' ' || line[1] == '\t'))
+                check(line.substr(2), vertex++);
+        return;
+    }
+    // Plain ASCII OFF: "OFF", optional counts on the same line or the next data line.
+    std::getline(in, line);
+    line = trimmed(line);
+    if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
+        return;
+    std::istringstream counts(line.substr(3));
+    std::uintmax_t vertices = 0;
+    if (!(counts >> vertices))
+    {
+        do
+        {
+            if (!std::getline(in, line))
+                return;  // check_off reports the missing counts
+            line = trimmed(line);
+        } while (line.empty() || line[0] == '#');
+        std::istringstream second(line);
+        if (!(second >> vertices))
+            return;
+    }
+    for (std::size_t vertex = 0; vertex < vertices && std::getline(in, line);)
+    {
+        line = trimmed(line);
+        if (line.empty() || line[0] == '#')
+            continue;
+        check(line, vertex++);
+    }
+}
+
 }  // namespace
 
 RawMesh read_raw_mesh(const std::string& path)
@@ -281,6 +340,8 @@ RawMesh read_raw_mesh(const std::string& path)
         check_ply(path, size);
     else if (ext == ".off")
         check_off(path);
+    if (ext == ".obj" || ext == ".off")
+        check_text_coordinates(path, ext);
     else if (ext == ".stl")
         check_stl(path, size);
     RawMesh raw;
