@@ -40,16 +40,8 @@ struct Soup
 
 Soup soup(const Mesh& mesh)
 {
-    Soup s;
-    for (auto v : mesh.vertices())
-        s.v.push_back(to_eigen(mesh.point(v)));
-    for (auto f : mesh.faces())
-    {
-        auto& face = s.f.emplace_back();
-        for (auto v : f.vertices())
-            face.push_back(v.idx());
-    }
-    return s;
+    RawMesh raw = to_raw_mesh(mesh);
+    return {std::move(raw.points), std::move(raw.faces)};
 }
 
 Soup tube() { return soup(open_cylinder(1.0, 4.0, 12, 6)); }

@@ -12,20 +12,6 @@ using namespace vessel;
 
 namespace {
 
-RawMesh to_raw(const Mesh& mesh)
-{
-    RawMesh raw;
-    for (auto v : mesh.vertices())
-        raw.points.push_back(to_eigen(mesh.point(v)));
-    for (auto f : mesh.faces())
-    {
-        auto& face = raw.faces.emplace_back();
-        for (auto v : f.vertices())
-            face.push_back(v.idx());
-    }
-    return raw;
-}
-
 std::string refusal(const RawMesh& raw)
 {
     try
@@ -43,7 +29,7 @@ std::string refusal(const RawMesh& raw)
 
 TEST_CASE("validation: a tube is a valid tree surface and keeps input indices")
 {
-    const RawMesh raw = to_raw(open_cylinder(1.0, 4.0, 16, 8));
+    const RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
     const TreeSurface s = make_tree_surface(raw);
     CHECK(s.mesh.n_vertices() == raw.points.size());
     CHECK(s.mesh.n_faces() == raw.faces.size());
@@ -55,7 +41,7 @@ TEST_CASE("validation: a tube is a valid tree surface and keeps input indices")
 
 TEST_CASE("validation: an inward-wound surface is turned outward with a note")
 {
-    RawMesh raw = to_raw(open_cylinder(1.0, 4.0, 16, 8));
+    RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
     for (auto& f : raw.faces)
         std::swap(f[1], f[2]);
     const TreeSurface s = make_tree_surface(raw);
@@ -70,7 +56,7 @@ TEST_CASE("validation: an inward-wound surface is turned outward with a note")
 
 TEST_CASE("validation: polygons are triangulated with a note, or refused by option")
 {
-    RawMesh raw = to_raw(open_cylinder(1.0, 4.0, 16, 8));
+    RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
     // Merge the first two triangles (a quad of the cylinder) back into one quad.
     raw.faces[0] = {raw.faces[0][0], raw.faces[0][1], raw.faces[0][2], raw.faces[1][2]};
     raw.faces.erase(raw.faces.begin() + 1);
@@ -85,13 +71,13 @@ TEST_CASE("validation: polygons are triangulated with a note, or refused by opti
 
 TEST_CASE("validation: every invalid class is refused with a message naming it")
 {
-    const RawMesh tube = to_raw(open_cylinder(1.0, 4.0, 16, 8));
+    const RawMesh tube = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
 
     RawMesh nan = tube;
     nan.points[5].x() = std::nan("");
     CHECK(refusal(nan).find("vertex 5 has a NaN") != std::string::npos);
 
-    RawMesh closed = to_raw(icosphere(1.0, 1));
+    RawMesh closed = to_raw_mesh(icosphere(1.0, 1));
     CHECK(refusal(closed).find("closed") != std::string::npos);
 
     RawMesh two = tube;
@@ -106,7 +92,7 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     }
     CHECK(refusal(two).find("2 connected components") != std::string::npos);
 
-    RawMesh torus_mesh = to_raw(torus(3.0, 1.0, 24, 12));
+    RawMesh torus_mesh = to_raw_mesh(torus(3.0, 1.0, 24, 12));
     // Open the torus with two holes: remove two faces far apart -> genus 1 with 2 loops.
     torus_mesh.faces.erase(torus_mesh.faces.begin() + 300);
     torus_mesh.faces.erase(torus_mesh.faces.begin());
@@ -146,7 +132,7 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     repeated.faces[3] = {1, 1, 2};
     CHECK(refusal(repeated).find("uses vertex 1 twice") != std::string::npos);
 
-    RawMesh one_hole = to_raw(icosphere(1.0, 1));
+    RawMesh one_hole = to_raw_mesh(icosphere(1.0, 1));
     one_hole.faces.pop_back();
     CHECK(refusal(one_hole).find("only one open end") != std::string::npos);
 

@@ -362,6 +362,22 @@ RawMesh read_raw_mesh(const std::string& path)
     return raw;
 }
 
+RawMesh to_raw_mesh(const Mesh& mesh)
+{
+    RawMesh raw;
+    raw.points.reserve(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        raw.points.push_back(to_eigen(mesh.point(v)));
+    raw.faces.reserve(mesh.n_faces());
+    for (auto f : mesh.faces())
+    {
+        auto& face = raw.faces.emplace_back();
+        for (auto v : f.vertices())
+            face.push_back(v.idx());
+    }
+    return raw;
+}
+
 void write_mesh(const Mesh& mesh, const std::string& path)
 {
     OpenMesh::IO::Options options;

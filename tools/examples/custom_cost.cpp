@@ -8,6 +8,7 @@
 //   custom_cost_example [MESH] [OUT.obj]
 // Without arguments it flattens the built-in carotid phantom.
 #include "vessel/flat_io.h"
+#include "vessel/io.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
 #include "vessel/properties.h"
@@ -50,15 +51,7 @@ int main(int argc, char** argv)
         }
         else
         {
-            const vessel::Mesh phantom = vessel::carotid_phantom();
-            for (auto v : phantom.vertices())
-                raw.points.push_back(vessel::to_eigen(phantom.point(v)));
-            for (auto f : phantom.faces())
-            {
-                auto& face = raw.faces.emplace_back();
-                for (auto v : f.vertices())
-                    face.push_back(v.idx());
-            }
+            raw = vessel::to_raw_mesh(vessel::carotid_phantom());
             surface = vessel::make_tree_surface(raw);
         }
         vessel::FlattenOptions options;

@@ -21,6 +21,10 @@ struct RawMesh
 //! \throw IoError if the file is missing, unreadable, empty or of an unknown format.
 RawMesh read_raw_mesh(const std::string& path);
 
+//! The corner lists and positions of \p mesh as a RawMesh (vertex i = `VertexHandle(i)`,
+//! face j = `FaceHandle(j)`), e.g. to validate a generated mesh like a file.
+RawMesh to_raw_mesh(const Mesh& mesh);
+
 //! \brief Write a mesh with OpenMesh (format from the extension; PLY is written binary).
 //! \throw IoError if writing fails.
 void write_mesh(const Mesh& mesh, const std::string& path);
