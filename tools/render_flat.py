@@ -58,7 +58,7 @@ def main():
     seam = np.array(seam_edges(F, FT)).reshape(-1, 2)
 
     fig = plt.figure(figsize=(14, 7))
-    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+    ax3 = fig.add_subplot(1, 2, 1, projection="3d", computed_zorder=False)
     n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
     n /= np.maximum(np.linalg.norm(n, axis=1), 1e-300)[:, None]
     light = np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
@@ -67,7 +67,8 @@ def main():
                             linewidths=0)
     ax3.add_collection3d(poly)
     if len(seam):
-        ax3.add_collection3d(Line3DCollection(V[seam], colors="red", linewidths=2.0))
+        # Drawn after (on top of) the surface so the whole cut stays visible.
+        ax3.add_collection3d(Line3DCollection(V[seam], colors="red", linewidths=2.5, zorder=10))
     lo, hi = V.min(0), V.max(0)
     c, r = (lo + hi) / 2, (hi - lo).max() / 2
     ax3.set_xlim(c[0] - r, c[0] + r); ax3.set_ylim(c[1] - r, c[1] + r); ax3.set_zlim(c[2] - r, c[2] + r)
