@@ -107,23 +107,12 @@ std::vector<bool> apply_pins(const Mesh& mesh, const Pins& pins, Eigen::MatrixX2
         throw InvalidInputError(
             "arap: no pins; pin at least one vertex (e.g. the inlet loop) to "
             "fix the translation");
+    pin_index(mesh, pins, "arap");  // validates
     std::vector<bool> is_pinned(n, false);
-    for (std::size_t p = 0; p < pins.size(); ++p)
+    for (const auto& pin : pins)
     {
-        const VertexHandle v = pins[p].vertex;
-        if (!v.is_valid() || v.idx() >= n)
-            throw InvalidInputError("arap: pin " + std::to_string(p) + " has vertex index " +
-                                    std::to_string(v.idx()) + " but the mesh has " +
-                                    std::to_string(n) + " vertices; pass handles of this mesh");
-        if (!pins[p].uv.allFinite())
-            throw InvalidInputError("arap: pin " + std::to_string(p) + " (vertex " +
-                                    std::to_string(v.idx()) +
-                                    ") has a non-finite target; give finite (u, v)");
-        if (is_pinned[v.idx()])
-            throw InvalidInputError("arap: vertex " + std::to_string(v.idx()) +
-                                    " is pinned twice; pin each vertex once");
-        is_pinned[v.idx()] = true;
-        uv.row(v.idx()) = pins[p].uv.transpose();
+        is_pinned[pin.vertex.idx()] = true;
+        uv.row(pin.vertex.idx()) = pin.uv.transpose();
     }
     return is_pinned;
 }

@@ -398,9 +398,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     if (uv.rows() != n)
         throw InvalidInputError("injective_refine: uv has " + std::to_string(uv.rows()) +
                                 " rows for " + std::to_string(n) + " vertices");
-    for (const auto& pin : pins)
-        if (!mesh.is_valid_handle(pin.vertex))
-            throw InvalidInputError("injective_refine: invalid pin vertex handle");
+    pin_index(mesh, pins, "injective_refine");
     Eigen::VectorXd x(2 * n);
     for (int v = 0; v < n; ++v)
         x.segment<2>(2 * v) = uv.row(v).transpose();

@@ -1,6 +1,7 @@
 #include "vessel/lscm.h"
 
 #include "vessel/errors.h"
+#include "vessel/operators.h"
 #include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
@@ -14,16 +15,6 @@ namespace vessel {
 
 namespace {
 
-
-// Cotangent of the angle at c in triangle (a, b, c). A degenerate triangle would give inf/NaN;
-// clamping the sine keeps the system finite so the factorization, not the assembly, reports it.
-double cot_at(const OpenMesh::Vec3d& a, const OpenMesh::Vec3d& b, const OpenMesh::Vec3d& c)
-{
-    const OpenMesh::Vec3d ca = a - c, cb = b - c;
-    const double sin_area = OpenMesh::cross(ca, cb).norm();
-    return OpenMesh::dot(ca, cb) / std::max(sin_area, 1e-300);
-}
-
 // Calls add(row, col, value) for every entry of L_C = blockdiag(L, L) - M, with L the cotan
 // Laplacian (weights (cot a + cot b) / 2, so 1/2 u^T L u is the Dirichlet energy) and M the
 // symmetric form with 1/2 x^T M x = signed area of the image (shoelace over the boundary).
@@ -32,28 +23,11 @@ template <class Add>
 void assemble_conformal(const Mesh& mesh, Add&& add)
 {
     const int n = static_cast<int>(mesh.n_vertices());
-    // Accumulate the weights per edge first: it emits one entry per edge instead of one per
-    // face corner, which matters for the triplet sort on 300k-triangle meshes.
-    std::vector<double> w(mesh.n_edges(), 0.0);
-    for (auto f : mesh.faces())
-        for (auto h : f.halfedges())
-            w[h.edge().idx()] +=
-                0.5 * cot_at(mesh.point(h.from()), mesh.point(h.to()), mesh.point(h.next().to()));
-    std::vector<double> diagonal(n, 0.0);
-    for (auto e : mesh.edges())
-    {
-        const int i = e.v0().idx(), j = e.v1().idx();
-        diagonal[i] += w[e.idx()];
-        diagonal[j] += w[e.idx()];
-        for (int c = 0; c < 2; ++c)
-        {
-            add(c * n + i, c * n + j, -w[e.idx()]);
-            add(c * n + j, c * n + i, -w[e.idx()]);
-        }
-    }
-    for (int i = 0; i < n; ++i)
-        for (int c = 0; c < 2; ++c)
-            add(c * n + i, c * n + i, diagonal[i]);
+    const Eigen::SparseMatrix<double> L = cotan_laplacian(mesh);
+    for (int col = 0; col < L.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(L, col); it; ++it)
+            for (int c = 0; c < 2; ++c)
+                add(c * n + static_cast<int>(it.row()), c * n + col, it.value());
     // The face-side halfedge of a boundary edge runs with the interior on its left, so summing
     // u_i v_j - u_j v_i over them gives twice the signed (counter-clockwise positive) area.
     for (auto h : mesh.halfedges())
@@ -71,31 +45,13 @@ void assemble_conformal(const Mesh& mesh, Add&& add)
 
 void check_pins(const Mesh& mesh, const Pins& pins, std::vector<int>& pinned)
 {
-    const int n = static_cast<int>(mesh.n_vertices());
     if (pins.size() < 2)
         throw InvalidInputError("lscm: need at least two pins (got " + std::to_string(pins.size()) +
                                 "); pin two vertices far apart, e.g. on the boundary");
-    pinned.assign(n, -1);
+    pinned = pin_index(mesh, pins, "lscm");
     bool distinct = false;
-    for (std::size_t p = 0; p < pins.size(); ++p)
-    {
-        const VertexHandle v = pins[p].vertex;
-        if (!v.is_valid() || v.idx() >= n)
-            throw InvalidInputError("lscm: pin " + std::to_string(p) + " has vertex index " +
-                                    std::to_string(v.idx()) + " but the mesh has " +
-                                    std::to_string(n) + " vertices; pass handles of this mesh");
-        if (!pins[p].uv.allFinite())
-            throw InvalidInputError("lscm: pin " + std::to_string(p) + " (vertex " +
-                                    std::to_string(v.idx()) +
-                                    ") has a non-finite target; give finite (u, v)");
-        if (pinned[v.idx()] >= 0)
-            throw InvalidInputError("lscm: vertex " + std::to_string(v.idx()) +
-                                    " is pinned twice (pins " + std::to_string(pinned[v.idx()]) +
-                                    " and " + std::to_string(p) + "); pin each vertex once");
-        pinned[v.idx()] = static_cast<int>(p);
-        if ((pins[p].uv - pins[0].uv).squaredNorm() > 0)
-            distinct = true;
-    }
+    for (const auto& pin : pins)
+        distinct = distinct || (pin.uv - pins[0].uv).squaredNorm() > 0;
     if (!distinct)
         throw InvalidInputError("lscm: all " + std::to_string(pins.size()) +
                                 " pins have the same target; give at least two distinct targets");
