@@ -136,9 +136,9 @@ void check_degenerate(const RawMesh& raw, const Triangulated& tri,
                "; remove degenerate faces (e.g. MeshLab 'Remove Zero Area Faces')");
 }
 
-// Checks edges and vertices for 2-manifoldness and consistent orientation, and counts the
-// edge-connected components. Returns the number of components.
-std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
+// Checks edges and vertices for 2-manifoldness and consistent orientation, and that the faces
+// form one edge-connected component.
+void check_manifold(const RawMesh& raw, const Triangulated& tri)
 {
     const auto& T = tri.triangles;
     const std::uint64_t n = raw.points.size();
@@ -233,7 +233,6 @@ std::size_t check_manifold(const RawMesh& raw, const Triangulated& tri)
         refuse(plural(sizes.size(), "connected component") + " (faces per component: " +
                list.str() + "); keep only the vessel surface (one piece)");
     }
-    return sizes.size();
 }
 
 Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
