@@ -1,0 +1,470 @@
+#include "vessel/map_image.h"
+
+#include "vessel/errors.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <numeric>
+
+namespace vessel {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+using Rgb = Eigen::Vector3d;
+
+enum class Format { Png, Svg, Pdf };
+
+Format format_of(const std::string& path)
+{
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".png")
+        return Format::Png;
+    if (ext == ".svg")
+        return Format::Svg;
+    if (ext == ".pdf")
+        return Format::Pdf;
+    throw InvalidInputError("render_map_image: cannot tell the format of '" + path +
+                            "'; end the file name in .png, .svg or .pdf");
+}
+
+struct CairoDeleter
+{
+    void operator()(cairo_t* cr) const { cairo_destroy(cr); }
+    void operator()(cairo_surface_t* s) const { cairo_surface_destroy(s); }
+    void operator()(cairo_pattern_t* p) const { cairo_pattern_destroy(p); }
+};
+template <class T>
+using CairoPtr = std::unique_ptr<T, CairoDeleter>;
+
+void set_rgb(cairo_t* cr, const Rgb& c) { cairo_set_source_rgb(cr, c[0], c[1], c[2]); }
+
+//! Maps values to colours with the range and table of a layout.
+struct Shader
+{
+    const MapImageLayout* layout;
+    Rgb nan_color;
+    Rgb operator()(double value) const
+    {
+        if (!std::isfinite(value))
+            return nan_color;
+        return colormap_rgb(layout->colormap, (value - layout->range_min) /
+                                                  (layout->range_max - layout->range_min));
+    }
+};
+
+//! Adds Gouraud-shaded triangles to a cairo mesh pattern, splitting those whose values span
+//! more than `max_step` (in range units) so that colours follow the colormap between vertices.
+class TrianglePainter
+{
+public:
+    TrianglePainter(const Shader& shader, double max_step, cairo_pattern_t* pattern)
+        : shader_(shader), max_step_(max_step), pattern_(pattern)
+    {}
+    void add(const Vec2 (&p)[3], const double (&value)[3], double shade, int depth = 0) const
+    {
+        const double span = std::max({value[0], value[1], value[2]}) -
+                            std::min({value[0], value[1], value[2]});
+        const double range = shader_.layout->range_max - shader_.layout->range_min;
+        if (depth < 4 && std::isfinite(span) && span > max_step_ * range)
+        {
+            const Vec2 m[3] = {(p[0] + p[1]) / 2, (p[1] + p[2]) / 2, (p[2] + p[0]) / 2};
+            const double mv[3] = {(value[0] + value[1]) / 2, (value[1] + value[2]) / 2,
+                                  (value[2] + value[0]) / 2};
+            add({p[0], m[0], m[2]}, {value[0], mv[0], mv[2]}, shade, depth + 1);
+            add({m[0], p[1], m[1]}, {mv[0], value[1], mv[1]}, shade, depth + 1);
+            add({m[2], m[1], p[2]}, {mv[2], mv[1], value[2]}, shade, depth + 1);
+            add({m[0], m[1], m[2]}, {mv[0], mv[1], mv[2]}, shade, depth + 1);
+            return;
+        }
+        cairo_mesh_pattern_begin_patch(pattern_);
+        cairo_mesh_pattern_move_to(pattern_, p[0].x(), p[0].y());
+        cairo_mesh_pattern_line_to(pattern_, p[1].x(), p[1].y());
+        cairo_mesh_pattern_line_to(pattern_, p[2].x(), p[2].y());
+        for (int k = 0; k < 3; ++k)
+        {
+            const Rgb c = shade * shader_(value[k]);
+            cairo_mesh_pattern_set_corner_color_rgb(pattern_, k, c[0], c[1], c[2]);
+        }
+        cairo_mesh_pattern_end_patch(pattern_);
+    }
+
+private:
+    Shader shader_;
+    double max_step_;
+    cairo_pattern_t* pattern_;
+};
+
+void paint_pattern(cairo_t* cr, cairo_pattern_t* pattern, const Eigen::AlignedBox2d& clip)
+{
+    cairo_save(cr);
+    cairo_rectangle(cr, clip.min().x(), clip.min().y(), clip.sizes().x(), clip.sizes().y());
+    cairo_clip(cr);
+    cairo_set_source(cr, pattern);
+    cairo_paint(cr);
+    cairo_restore(cr);
+}
+
+Eigen::AlignedBox2d box(double x0, double y0, double x1, double y1)
+{
+    return Eigen::AlignedBox2d(Vec2(x0, y0), Vec2(x1, y1));
+}
+
+void draw_text(cairo_t* cr, const std::string& text, const Vec2& at, double align_x,
+               double align_y)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text.c_str(), &e);
+    cairo_move_to(cr, at.x() - e.x_bearing - align_x * e.width,
+                  at.y() - e.y_bearing - align_y * e.height);
+    cairo_show_text(cr, text.c_str());
+}
+
+double text_width(cairo_t* cr, const std::string& text)
+{
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, text.c_str(), &e);
+    return e.x_advance;
+}
+
+std::string format_tick(double x)
+{
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", std::abs(x) < 1e-12 ? 0.0 : x);
+    return buf;
+}
+
+//! Round tick positions (1, 2, 5 x 10^k steps) inside [lo, hi], about five of them.
+std::vector<double> nice_ticks(double lo, double hi)
+{
+    const double raw = (hi - lo) / 5.0;
+    const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = mag;
+    for (double m : {1.0, 2.0, 5.0, 10.0})
+        if (m * mag >= raw)
+        {
+            step = m * mag;
+            break;
+        }
+    std::vector<double> ticks;
+    for (double t = std::ceil(lo / step - 1e-9) * step; t <= hi + 1e-9 * step; t += step)
+        ticks.push_back(t);
+    return ticks;
+}
+
+double draw_colorbar_title_width(cairo_t* cr, const MapImageOptions& o, std::string& title)
+{
+    title = o.field_name + (o.units.empty() ? "" : " [" + o.units + "]");
+    return text_width(cr, title);
+}
+
+void draw_colorbar(cairo_t* cr, const MapImageLayout& layout, const MapImageOptions& o,
+                   const std::string& title)
+{
+    const auto& b = layout.colorbar_box;
+    CairoPtr<cairo_pattern_t> gradient(
+        cairo_pattern_create_linear(0, b.max().y(), 0, b.min().y()));
+    for (int i = 0; i < 256; ++i)
+    {
+        const Rgb c = colormap_rgb(layout.colormap, i / 255.0);
+        cairo_pattern_add_color_stop_rgb(gradient.get(), i / 255.0, c[0], c[1], c[2]);
+    }
+    cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
+    cairo_set_source(cr, gradient.get());
+    cairo_fill_preserve(cr);
+    cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+    cairo_set_line_width(cr, 1.0);
+    cairo_stroke(cr);
+    const double lo = layout.range_min, hi = layout.range_max;
+    for (double t : nice_ticks(lo, hi))
+    {
+        const double y = b.max().y() - (t - lo) / (hi - lo) * b.sizes().y();
+        cairo_move_to(cr, b.max().x(), y);
+        cairo_line_to(cr, b.max().x() + 5, y);
+        cairo_stroke(cr);
+        draw_text(cr, format_tick(t), Vec2(b.max().x() + 8, y), 0.0, 0.5);
+    }
+    draw_text(cr, title, Vec2(b.min().x(), b.min().y() - 0.6 * o.font_size_px), 0.0, 1.0);
+}
+
+//! uv -> pixel transform that fits the uv bounding box into \p panel, centred, v up.
+void fit_map(MapImageLayout& layout, const Eigen::MatrixX2d& uv, const Eigen::AlignedBox2d& panel)
+{
+    const Vec2 lo = uv.colwise().minCoeff().transpose(), hi = uv.colwise().maxCoeff().transpose();
+    const Vec2 size = (hi - lo).cwiseMax(1e-12);
+    layout.scale = std::min(panel.sizes().x() / size.x(), panel.sizes().y() / size.y());
+    layout.uv_min = lo;
+    const Vec2 used = layout.scale * size;
+    layout.map_origin = Vec2(panel.min().x() + (panel.sizes().x() - used.x()) / 2,
+                             panel.max().y() - (panel.sizes().y() - used.y()) / 2);
+}
+
+void draw_map(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px,
+              const Eigen::VectorXd& values, const TrianglePainter& painter,
+              cairo_pattern_t* pattern, const Eigen::AlignedBox2d& panel)
+{
+    for (auto f : mesh.faces())
+    {
+        Vec2 p[3];
+        double v[3];
+        int k = 0;
+        for (auto vh : f.vertices())
+        {
+            p[k] = px[vh.idx()];
+            v[k++] = values[vh.idx()];
+        }
+        painter.add(p, v, 1.0);
+    }
+    paint_pattern(cr, pattern, panel);
+}
+
+void draw_outline(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px, double width)
+{
+    for (auto h : mesh.halfedges())
+        if (h.is_boundary())
+        {
+            cairo_move_to(cr, px[h.from().idx()].x(), px[h.from().idx()].y());
+            cairo_line_to(cr, px[h.to().idx()].x(), px[h.to().idx()].y());
+        }
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_set_line_width(cr, width);
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_stroke(cr);
+}
+
+void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
+                      const std::vector<Vec2>& px, const MapImageOptions& o,
+                      const Eigen::AlignedBox2d& map_drawn, const Eigen::AlignedBox2d& image)
+{
+    for (std::size_t i = 0; i < loops.size(); ++i)
+    {
+        if (loops[i].vertices.empty())
+            continue;
+        const std::string text = i < o.labels.size() ? o.labels[i]
+                                 : i == 0            ? std::string("inlet")
+                                                     : "outlet " + std::to_string(i);
+        Vec2 anchor = Vec2::Zero();
+        for (auto v : loops[i].vertices)
+            anchor += px[v.idx()];
+        anchor /= static_cast<double>(loops[i].vertices.size());
+        Vec2 out = anchor - map_drawn.center();
+        out = out.norm() > 0 ? out.normalized() : Vec2(0, 1);
+        cairo_text_extents_t e;
+        cairo_text_extents(cr, text.c_str(), &e);
+        // Push the text centre out until its box clears the anchor by half a font size.
+        const double reach = 0.5 * std::abs(out.x()) * e.width + 0.5 * std::abs(out.y()) * e.height;
+        Vec2 c = anchor + out * (reach + 0.5 * o.font_size_px);
+        c.x() = std::clamp(c.x(), image.min().x() + e.width / 2, image.max().x() - e.width / 2);
+        c.y() = std::clamp(c.y(), image.min().y() + e.height / 2, image.max().y() - e.height / 2);
+        cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
+        draw_text(cr, text, c, 0.5, 0.5);
+    }
+}
+
+//! Orthonormal view frame (right, up, forward) of the 3D view.
+Eigen::Matrix3d view_frame(const Eigen::MatrixX3d& P, const MapImageInput& input,
+                           const MapImageOptions& o)
+{
+    const Eigen::RowVector3d mean = P.colwise().mean();
+    const Eigen::MatrixX3d C = P.rowwise() - mean;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C.transpose() * C);
+    Eigen::Vector3d d = o.view_direction.norm() > 0 ? o.view_direction.normalized()
+                                                    : Eigen::Vector3d(eig.eigenvectors().col(0));
+    Eigen::Vector3d up = o.view_up.norm() > 0 ? o.view_up : Eigen::Vector3d(eig.eigenvectors().col(2));
+    up = (up - up.dot(d) * d).normalized();
+    if (o.view_up.norm() == 0 && !input.loops.empty() && !input.loops[0].vertices.empty())
+    {
+        // Automatic up: put the inlet at the bottom, as vessels are usually drawn.
+        const Eigen::Vector3d inlet = P.row(input.loops[0].vertices[0].idx()).transpose();
+        if ((inlet - mean.transpose()).dot(up) > 0)
+            up = -up;
+    }
+    Eigen::Matrix3d frame;
+    frame.col(0) = d.cross(up);
+    frame.col(1) = up;
+    frame.col(2) = d;
+    return frame;
+}
+
+void draw_view3d(cairo_t* cr, const MapImageInput& input, const Eigen::VectorXd& values,
+                 const MapImageOptions& o, const Shader& shader, const Eigen::AlignedBox2d& panel)
+{
+    const Mesh& mesh = *input.mesh;
+    const Eigen::MatrixX3d P = vertex_positions(mesh);
+    const Eigen::Matrix3d frame = view_frame(P, input, o);
+    const Eigen::MatrixX3d Q = P * frame;  // columns: screen x, screen y, depth
+    Eigen::MatrixX2d screen(Q.rows(), 2);
+    screen.col(0) = Q.col(0);
+    screen.col(1) = Q.col(1);
+    MapImageLayout fit;
+    fit_map(fit, screen, panel);
+    std::vector<Vec2> px(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        px[v.idx()] = fit.to_pixel(screen.row(v.idx()).transpose());
+
+    const Eigen::MatrixX3i F = face_indices(mesh);
+    std::vector<int> order(F.rows());
+    std::iota(order.begin(), order.end(), 0);
+    Eigen::VectorXd depth(F.rows());
+    for (Eigen::Index f = 0; f < F.rows(); ++f)
+        depth[f] = Q(F(f, 0), 2) + Q(F(f, 1), 2) + Q(F(f, 2), 2);
+    // Painter's algorithm: far faces (largest depth along the view direction) first.
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return depth[a] > depth[b]; });
+
+    CairoPtr<cairo_pattern_t> pattern(cairo_pattern_create_mesh());
+    const TrianglePainter painter(shader, o.max_color_step, pattern.get());
+    for (int f : order)
+    {
+        Vec2 p[3];
+        double v[3];
+        for (int k = 0; k < 3; ++k)
+        {
+            p[k] = px[F(f, k)];
+            v[k] = values[F(f, k)];
+        }
+        double shade = 1.0;
+        if (o.shade3d)
+        {
+            const Eigen::Vector3d a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
+            const Eigen::Vector3d n = (b - a).cross(c - a);
+            shade = 0.55 + 0.45 * (n.norm() > 0 ? std::abs(n.normalized().dot(frame.col(2))) : 1.0);
+        }
+        painter.add(p, v, shade);
+    }
+    paint_pattern(cr, pattern.get(), panel);
+}
+
+void check_input(const MapImageInput& input, const Eigen::VectorXd& values)
+{
+    if (input.mesh == nullptr)
+        throw InvalidInputError("render_map_image: input.mesh is null; pass the cut mesh");
+    const auto n = static_cast<Eigen::Index>(input.mesh->n_vertices());
+    if (input.uv.rows() != n || values.size() != n)
+        throw InvalidInputError("render_map_image: the mesh has " + std::to_string(n) +
+                                " vertices but uv has " + std::to_string(input.uv.rows()) +
+                                " rows and values " + std::to_string(values.size()) +
+                                " entries; give one per cut-mesh vertex");
+    if (input.mesh->n_faces() == 0)
+        throw InvalidInputError("render_map_image: the mesh has no faces");
+    if (!input.uv.allFinite())
+        throw InvalidInputError("render_map_image: uv has non-finite entries");
+    for (const auto& loop : input.loops)
+        for (auto v : loop.vertices)
+            if (v.idx() < 0 || v.idx() >= n)
+                throw InvalidInputError("render_map_image: a boundary loop names vertex " +
+                                        std::to_string(v.idx()) + ", not in the mesh");
+}
+
+CairoPtr<cairo_surface_t> make_surface(Format format, const std::string& path, int w, int h)
+{
+    cairo_surface_t* s = nullptr;
+    switch (format)
+    {
+        case Format::Png: s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h); break;
+        case Format::Svg: s = cairo_svg_surface_create(path.c_str(), w, h); break;
+        case Format::Pdf: s = cairo_pdf_surface_create(path.c_str(), w, h); break;
+    }
+    CairoPtr<cairo_surface_t> surface(s);
+    if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS)
+        throw IoError("render_map_image: cannot create " + path + ": " +
+                      cairo_status_to_string(cairo_surface_status(s)));
+    return surface;
+}
+
+}  // namespace
+
+MapImageLayout render_map_image(const std::string& path, const MapImageInput& input,
+                                const Eigen::VectorXd& values, const MapImageOptions& options)
+{
+    const Format format = format_of(path);
+    check_input(input, values);
+    MapImageLayout layout = map_image_range(values, options);
+    const MapImageOptions& o = options;
+    const std::string tmp = path + ".tmp";
+    auto surface = make_surface(format, tmp, o.width_px, o.height_px);
+    CairoPtr<cairo_t> context(cairo_create(surface.get()));
+    cairo_t* cr = context.get();
+    set_rgb(cr, o.background);
+    cairo_paint(cr);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, o.font_size_px);
+
+    // Panels, left to right: map, 3D view, colorbar (bar + tick labels, title above).
+    const double m = o.margin_px, fs = o.font_size_px;
+    const Eigen::AlignedBox2d image = box(m, m, o.width_px - m, o.height_px - m);
+    double right = image.max().x();
+    std::string title;
+    if (o.colorbar)
+    {
+        const double ticks_w = std::max(text_width(cr, format_tick(layout.range_min)),
+                                        text_width(cr, format_tick(layout.range_max))) + 12;
+        const double strip = std::max(draw_colorbar_title_width(cr, o, title), 22 + ticks_w);
+        const double x0 = image.max().x() - strip;
+        layout.colorbar_box = box(x0, image.min().y() + 2.5 * fs, x0 + 22, image.max().y() - fs);
+        right = x0 - fs;
+    }
+    double map_right = right;
+    if (o.view3d)
+    {
+        const double w = (right - image.min().x()) * 0.45;
+        layout.view3d_box = box(right - w, image.min().y(), right, image.max().y());
+        map_right = right - w - fs;
+    }
+    layout.map_box = box(image.min().x(), image.min().y(), map_right, image.max().y());
+    // Room for the loop labels around the map.
+    const double pad = o.loop_labels && !input.loops.empty() ? 2.0 * fs : 0.0;
+    fit_map(layout, input.uv,
+            box(layout.map_box.min().x() + pad * 3, layout.map_box.min().y() + pad,
+                layout.map_box.max().x() - pad * 3, layout.map_box.max().y() - pad));
+
+    const Mesh& mesh = *input.mesh;
+    std::vector<Vec2> px(mesh.n_vertices());
+    Eigen::AlignedBox2d drawn;
+    for (auto v : mesh.vertices())
+        drawn.extend(px[v.idx()] = layout.to_pixel(input.uv.row(v.idx()).transpose()));
+    const Shader shader{&layout, o.nan_color};
+    {
+        CairoPtr<cairo_pattern_t> pattern(cairo_pattern_create_mesh());
+        draw_map(cr, mesh, px, values, TrianglePainter(shader, o.max_color_step, pattern.get()),
+                 pattern.get(), layout.map_box);
+    }
+    if (o.outline)
+        draw_outline(cr, mesh, px, o.outline_width_px);
+    if (o.loop_labels)
+        draw_loop_labels(cr, input.loops, px, o, drawn, layout.map_box);
+    if (o.view3d)
+        draw_view3d(cr, input, values, o, shader, layout.view3d_box);
+    if (o.colorbar)
+        draw_colorbar(cr, layout, o, title);
+
+    context.reset();
+    if (format == Format::Png)
+    {
+        const cairo_status_t status = cairo_surface_write_to_png(surface.get(), tmp.c_str());
+        if (status != CAIRO_STATUS_SUCCESS)
+            throw IoError("render_map_image: cannot write " + tmp + ": " +
+                          cairo_status_to_string(status));
+    }
+    cairo_surface_finish(surface.get());
+    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
+        throw IoError("render_map_image: cannot write " + tmp + ": " +
+                      cairo_status_to_string(cairo_surface_status(surface.get())));
+    surface.reset();
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec)
+        throw IoError("render_map_image: cannot rename " + tmp + " to " + path + ": " +
+                      ec.message());
+    return layout;
+}
+
+}  // namespace vessel
