@@ -25,8 +25,9 @@ void MapImageOptions::validate() const
         fail("outline_width_px must be in (0, 50)");
     if (!(font_size_px >= 4 && font_size_px <= 200))
         fail("font_size_px must be in [4, 200]");
-    if (!(max_color_step > 0 && max_color_step <= 1))
-        fail("max_color_step must be in (0, 1]");
+    if (!(max_color_step > 0 && max_color_step <= 1) ||
+        !(vector_max_color_step > 0 && vector_max_color_step <= 1))
+        fail("max_color_step and vector_max_color_step must be in (0, 1]");
     for (const Eigen::Vector3d* c : {&background, &nan_color})
         if (!(c->minCoeff() >= 0 && c->maxCoeff() <= 1))
             fail("background and nan_color are RGB in [0, 1]");

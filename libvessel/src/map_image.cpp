@@ -161,15 +161,23 @@ std::vector<double> nice_ticks(double lo, double hi)
     return ticks;
 }
 
-double draw_colorbar_title_width(cairo_t* cr, const MapImageOptions& o, std::string& title)
+std::string colorbar_title(const MapImageOptions& o)
 {
-    title = o.field_name + (o.units.empty() ? "" : " [" + o.units + "]");
-    return text_width(cr, title);
+    return o.field_name + (o.units.empty() ? "" : " [" + o.units + "]");
 }
 
-void draw_colorbar(cairo_t* cr, const MapImageLayout& layout, const MapImageOptions& o,
-                   const std::string& title)
+double tick_labels_width(cairo_t* cr, const MapImageLayout& layout)
 {
+    double w = 0;
+    for (double t : nice_ticks(layout.range_min, layout.range_max))
+        w = std::max(w, text_width(cr, format_tick(t)));
+    return w;
+}
+
+void draw_colorbar(cairo_t* cr, const MapImageLayout& layout, const MapImageOptions& o)
+{
+    const std::string title = colorbar_title(o);
+    const double ticks_width = tick_labels_width(cr, layout);
     const auto& b = layout.colorbar_box;
     CairoPtr<cairo_pattern_t> gradient(
         cairo_pattern_create_linear(0, b.max().y(), 0, b.min().y()));
@@ -193,7 +201,12 @@ void draw_colorbar(cairo_t* cr, const MapImageLayout& layout, const MapImageOpti
         cairo_stroke(cr);
         draw_text(cr, format_tick(t), Vec2(b.max().x() + 8, y), 0.0, 0.5);
     }
-    draw_text(cr, title, Vec2(b.min().x(), b.min().y() - 0.6 * o.font_size_px), 0.0, 1.0);
+    // Title along the bar, to the right of the tick labels (as matplotlib places it).
+    cairo_save(cr);
+    cairo_translate(cr, b.max().x() + 8 + ticks_width + 0.5 * o.font_size_px, b.center().y());
+    cairo_rotate(cr, M_PI / 2);
+    draw_text(cr, title, Vec2::Zero(), 0.5, 1.0);
+    cairo_restore(cr);
 }
 
 //! uv -> pixel transform that fits the uv bounding box into \p panel, centred, v up.
@@ -388,7 +401,9 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     const Format format = format_of(path);
     check_input(input, values);
     MapImageLayout layout = map_image_range(values, options);
-    const MapImageOptions& o = options;
+    MapImageOptions o = options;
+    if (format != Format::Png)
+        o.max_color_step = options.vector_max_color_step;
     const std::string tmp = path + ".tmp";
     auto surface = make_surface(format, tmp, o.width_px, o.height_px);
     CairoPtr<cairo_t> context(cairo_create(surface.get()));
@@ -402,20 +417,18 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     const double m = o.margin_px, fs = o.font_size_px;
     const Eigen::AlignedBox2d image = box(m, m, o.width_px - m, o.height_px - m);
     double right = image.max().x();
-    std::string title;
     if (o.colorbar)
     {
-        const double ticks_w = std::max(text_width(cr, format_tick(layout.range_min)),
-                                        text_width(cr, format_tick(layout.range_max))) + 12;
-        const double strip = std::max(draw_colorbar_title_width(cr, o, title), 22 + ticks_w);
+        // Bar, ticks, tick labels, rotated title.
+        const double strip = 22 + 8 + tick_labels_width(cr, layout) + 2 * fs;
         const double x0 = image.max().x() - strip;
-        layout.colorbar_box = box(x0, image.min().y() + 2.5 * fs, x0 + 22, image.max().y() - fs);
+        layout.colorbar_box = box(x0, image.min().y() + fs, x0 + 22, image.max().y() - fs);
         right = x0 - fs;
     }
     double map_right = right;
     if (o.view3d)
     {
-        const double w = (right - image.min().x()) * 0.45;
+        const double w = (right - image.min().x()) * 0.4;
         layout.view3d_box = box(right - w, image.min().y(), right, image.max().y());
         map_right = right - w - fs;
     }
@@ -423,8 +436,8 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     // Room for the loop labels around the map.
     const double pad = o.loop_labels && !input.loops.empty() ? 2.0 * fs : 0.0;
     fit_map(layout, input.uv,
-            box(layout.map_box.min().x() + pad * 3, layout.map_box.min().y() + pad,
-                layout.map_box.max().x() - pad * 3, layout.map_box.max().y() - pad));
+            box(layout.map_box.min().x() + pad * 2, layout.map_box.min().y() + pad,
+                layout.map_box.max().x() - pad * 2, layout.map_box.max().y() - pad));
 
     const Mesh& mesh = *input.mesh;
     std::vector<Vec2> px(mesh.n_vertices());
@@ -444,7 +457,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     if (o.view3d)
         draw_view3d(cr, input, values, o, shader, layout.view3d_box);
     if (o.colorbar)
-        draw_colorbar(cr, layout, o, title);
+        draw_colorbar(cr, layout, o);
 
     context.reset();
     if (format == Format::Png)

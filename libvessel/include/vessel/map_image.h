@@ -60,6 +60,9 @@ struct MapImageOptions
     //! Subdivide triangles whose values span more than this fraction of the range (up to 4
     //! levels), so that colours between vertices follow the colormap, not a straight RGB blend.
     double max_color_step = 1.0 / 32.0;
+    //! max_color_step for SVG and PDF, whose size grows by about 160 bytes per drawn piece
+    //! (PDF viewers blend colours in RGB as Gouraud shading does).
+    double vector_max_color_step = 1.0 / 8.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
