@@ -254,6 +254,29 @@ void draw_outline(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px, do
     cairo_stroke(cr);
 }
 
+std::string loop_label(const MapImageOptions& o, std::size_t i)
+{
+    return i < o.labels.size() ? o.labels[i]
+           : i == 0            ? std::string("inlet")
+                               : "outlet " + std::to_string(i);
+}
+
+//! Room the loop labels need on each side of a panel: the widest label plus a font size.
+Vec2 label_padding(cairo_t* cr, const MapImageInput& input, const MapImageOptions& o)
+{
+    if (!o.loop_labels || input.loops.empty())
+        return Vec2::Zero();
+    double w = 0;
+    for (std::size_t i = 0; i < input.loops.size(); ++i)
+        w = std::max(w, text_width(cr, loop_label(o, i)));
+    return Vec2(w + o.font_size_px, 2.0 * o.font_size_px);
+}
+
+Eigen::AlignedBox2d shrink(const Eigen::AlignedBox2d& b, const Vec2& pad)
+{
+    return Eigen::AlignedBox2d(b.min() + pad, b.max() - pad);
+}
+
 void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
                       const std::vector<Vec2>& px, const MapImageOptions& o,
                       const Eigen::AlignedBox2d& map_drawn, const Eigen::AlignedBox2d& image)
@@ -262,9 +285,7 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
     {
         if (loops[i].vertices.empty())
             continue;
-        const std::string text = i < o.labels.size() ? o.labels[i]
-                                 : i == 0            ? std::string("inlet")
-                                                     : "outlet " + std::to_string(i);
+        const std::string text = loop_label(o, i);
         Vec2 anchor = Vec2::Zero();
         for (auto v : loops[i].vertices)
             anchor += px[v.idx()];
@@ -273,9 +294,13 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
         out = out.norm() > 0 ? out.normalized() : Vec2(0, 1);
         cairo_text_extents_t e;
         cairo_text_extents(cr, text.c_str(), &e);
-        // Push the text centre out until its box clears the anchor by half a font size.
-        const double reach = 0.5 * std::abs(out.x()) * e.width + 0.5 * std::abs(out.y()) * e.height;
-        Vec2 c = anchor + out * (reach + 0.5 * o.font_size_px);
+        // Push the text centre out until its box clears the anchor by a font size, in x
+        // or in y, whichever comes first along `out`.
+        const double gap = o.font_size_px, big = 1e9;
+        const double reach = std::min(
+            std::abs(out.x()) > 1e-9 ? (0.5 * e.width + gap) / std::abs(out.x()) : big,
+            std::abs(out.y()) > 1e-9 ? (0.5 * e.height + gap) / std::abs(out.y()) : big);
+        Vec2 c = anchor + out * reach;
         c.x() = std::clamp(c.x(), image.min().x() + e.width / 2, image.max().x() - e.width / 2);
         c.y() = std::clamp(c.y(), image.min().y() + e.height / 2, image.max().y() - e.height / 2);
         cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
@@ -319,10 +344,11 @@ void draw_view3d(cairo_t* cr, const MapImageInput& input, const Eigen::VectorXd&
     screen.col(0) = Q.col(0);
     screen.col(1) = Q.col(1);
     MapImageLayout fit;
-    fit_map(fit, screen, panel);
+    fit_map(fit, screen, shrink(panel, label_padding(cr, input, o)));
     std::vector<Vec2> px(mesh.n_vertices());
+    Eigen::AlignedBox2d drawn;
     for (auto v : mesh.vertices())
-        px[v.idx()] = fit.to_pixel(screen.row(v.idx()).transpose());
+        drawn.extend(px[v.idx()] = fit.to_pixel(screen.row(v.idx()).transpose()));
 
     const Eigen::MatrixX3i F = face_indices(mesh);
     std::vector<int> order(F.rows());
@@ -354,6 +380,8 @@ void draw_view3d(cairo_t* cr, const MapImageInput& input, const Eigen::VectorXd&
         painter.add(p, v, shade);
     }
     paint_pattern(cr, pattern.get(), panel);
+    if (o.loop_labels)
+        draw_loop_labels(cr, input.loops, px, o, drawn, panel);
 }
 
 void check_input(const MapImageInput& input, const Eigen::VectorXd& values)
@@ -434,10 +462,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     }
     layout.map_box = box(image.min().x(), image.min().y(), map_right, image.max().y());
     // Room for the loop labels around the map.
-    const double pad = o.loop_labels && !input.loops.empty() ? 2.0 * fs : 0.0;
-    fit_map(layout, input.uv,
-            box(layout.map_box.min().x() + pad * 2, layout.map_box.min().y() + pad,
-                layout.map_box.max().x() - pad * 2, layout.map_box.max().y() - pad));
+    fit_map(layout, input.uv, shrink(layout.map_box, label_padding(cr, input, o)));
 
     const Mesh& mesh = *input.mesh;
     std::vector<Vec2> px(mesh.n_vertices());

@@ -41,7 +41,8 @@ struct MapImageOptions
     std::string units;               //!< appended to the title as " [units]" when not empty
     bool outline = true;             //!< stroke the boundary of the map
     double outline_width_px = 1.5;   //!< outline line width
-    //! Label each boundary loop next to its segment of the map's boundary.
+    //! Label each boundary loop next to its segment of the map's boundary (and next to its
+    //! opening in the 3D view).
     bool loop_labels = true;
     //! Text per loop (same order as the loops passed in); empty = "inlet", "outlet 1", ...
     std::vector<std::string> labels;
