@@ -2,6 +2,7 @@
 
 #include "support/checks.h"
 #include "vessel/errors.h"
+#include "vessel/io.h"
 #include "vessel/map_frames.h"
 #include "vessel/map_image.h"
 #include "vessel/phantom.h"
@@ -34,11 +35,7 @@ const FlattenResult& flat_carotid()
     return result;
 }
 
-MapImageInput carotid_input()
-{
-    const FlattenResult& flat = flat_carotid();
-    return {&flat.mesh, flat.uv, flat.loops};
-}
+MapImageInput carotid_input() { return map_image_input(flat_carotid()); }
 
 //! A smooth known field: a linear function of the 3D position.
 Eigen::VectorXd linear_field(const Mesh& mesh, const Eigen::Vector3d& a, double b)
@@ -354,6 +351,17 @@ TEST_CASE("map_image: bad inputs are refused")
     CHECK_THROWS_AS(render_map_image(dir + "/no/such/dir/a.png", input, values), IoError);
 }
 
+TEST_CASE("map_image: the map can come from the mesh's uv property")
+{
+    const FlattenResult& flat = flat_carotid();
+    const MapImageInput from_property = map_image_input(flat.mesh);
+    CHECK(from_property.mesh == &flat.mesh);
+    CHECK(from_property.uv == flat.uv);  // flatten() stores the same uv in prop::uv
+    CHECK(from_property.loops.empty());
+    const Mesh bare = carotid_phantom();
+    CHECK_THROWS_AS(map_image_input(bare), InvalidInputError);
+}
+
 TEST_CASE("map_frames: linear interpolation between time steps")
 {
     FieldSeries series;
@@ -440,4 +448,34 @@ TEST_CASE("map_frames: frames of a travelling pulse show the interpolated values
                                 << frame.max_error);
     CHECK(frame.checked > 500);
     CHECK(frame.max_error < 0.015);
+}
+
+TEST_CASE("vessel-render: draws a map written by vessel-flatten with values from a CSV")
+{
+    const std::string dir = temp_dir("vessel_render");
+    const std::string render = VESSEL_RENDER_EXE, flatten_exe = VESSEL_FLATTEN_EXE;
+    CarotidPhantomOptions coarse;
+    coarse.edge_length = 0.8;
+    const Mesh mesh = carotid_phantom(coarse);
+    write_mesh(mesh, dir + "/carotid.ply");
+    REQUIRE(run(flatten_exe + " -q " + dir + "/carotid.ply -o " + dir + "/flat.obj") == 0);
+    {
+        std::ofstream csv(dir + "/values.csv");
+        csv << "value\n";
+        for (auto v : mesh.vertices())
+            csv << mesh.point(v)[2] << "\n";
+    }
+    const std::string common = " " + dir + "/flat.obj --values " + dir + "/values.csv";
+    CHECK(run(render + common + " " + dir + "/map.png --view3d > /dev/null") == 0);
+    const Png png(dir + "/map.png");
+    CHECK(png.width() == 1200);
+    CHECK(run(render + common + " " + dir + "/map.pdf > /dev/null") == 0);
+    CHECK(read_text(dir + "/map.pdf").rfind("%PDF-", 0) == 0);
+    // Too few rows, a field that needs the surface, an unknown format: exit 1 with a message.
+    std::ofstream(dir + "/short.csv") << "1\n2\n";
+    CHECK(run(render + " " + dir + "/flat.obj --values " + dir + "/short.csv " + dir +
+              "/x.png 2> /dev/null") == 1);
+    CHECK(run(render + " " + dir + "/flat.obj --field geodesic " + dir + "/x.png 2> /dev/null") == 1);
+    CHECK(run(render + common + " " + dir + "/x.bmp 2> /dev/null") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir + "/x.png"));
 }

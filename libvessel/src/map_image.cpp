@@ -1,6 +1,8 @@
 #include "vessel/map_image.h"
 
 #include "vessel/errors.h"
+#include "vessel/pipeline.h"
+#include "vessel/properties.h"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
@@ -422,6 +424,25 @@ CairoPtr<cairo_surface_t> make_surface(Format format, const std::string& path, i
 }
 
 }  // namespace
+
+MapImageInput map_image_input(const FlattenResult& result)
+{
+    return {&result.mesh, result.uv, result.loops};
+}
+
+MapImageInput map_image_input(const Mesh& mesh)
+{
+    OpenMesh::VPropHandleT<OpenMesh::Vec2d> uv;
+    if (!mesh.get_property_handle(uv, prop::uv))
+        throw InvalidInputError(std::string("map_image_input: the mesh has no '") + prop::uv +
+                                "' vertex property; flatten it first or pass uv explicitly");
+    MapImageInput input;
+    input.mesh = &mesh;
+    input.uv.resize(mesh.n_vertices(), 2);
+    for (auto v : mesh.vertices())
+        input.uv.row(v.idx()) << mesh.property(uv, v)[0], mesh.property(uv, v)[1];
+    return input;
+}
 
 MapImageLayout render_map_image(const std::string& path, const MapImageInput& input,
                                 const Eigen::VectorXd& values, const MapImageOptions& options)

@@ -1,5 +1,6 @@
 // vessel-render: flatten a vessel surface and draw a field on the map (PNG, SVG or PDF), or a
 // time series of a synthetic pulse as frames (+ GIF/MP4 with ffmpeg).
+#include "flat_obj.h"
 #include "vessel/errors.h"
 #include "vessel/map_frames.h"
 #include "vessel/map_image.h"
@@ -10,6 +11,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -41,6 +43,21 @@ std::vector<double> read_column(const std::string& path)
                                     " does not start with a number: '" + line + "'");
     }
     return column;
+}
+
+//! True for an OBJ with `vt` lines: a map written by vessel-flatten, drawn without flattening.
+bool is_flat_obj(const std::string& path)
+{
+    std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext != ".obj")
+        return false;
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("vt ", 0) == 0)
+            return true;
+    return false;
 }
 
 //! A named vertex property as one entry per vertex, indexed by `v.idx()`.
@@ -149,7 +166,8 @@ int main(int argc, char** argv)
     vessel::FrameOptions frame_options;
     int steps = 90;
     double period = 1.8;
-    app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl)")
+    app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), or a map written "
+                                   "by vessel-flatten (.obj with vt lines)")
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("output", output, "Image (.png, .svg or .pdf)")->required();
@@ -186,11 +204,29 @@ int main(int argc, char** argv)
     }
     try
     {
-        const vessel::TreeSurface surface = vessel::load_tree_surface(input);
-        const vessel::FlattenResult flat = vessel::flatten(surface.mesh);
-        for (const auto& note : flat.notes)
-            std::fprintf(stderr, "note: %s\n", note.c_str());
-        const vessel::MapImageInput map{&flat.mesh, flat.uv, flat.loops};
+        // Either a map written by vessel-flatten, or a surface flattened here.
+        vessel::FlattenResult flat;
+        if (is_flat_obj(input))
+        {
+            vessel::cli::FlatObj obj = vessel::cli::read_flat_obj(input);
+            if (!csv.empty() || field == "x" || field == "y" || field == "z")
+            {
+                flat.mesh = std::move(obj.mesh);
+                flat.uv = std::move(obj.uv);
+                flat.loops = std::move(obj.loops);
+            }
+            else
+                throw InvalidInputError(input + " is a flattened map: draw --field x, y or z or "
+                                                "--values FILE.csv; geodesic, wss and --frames "
+                                                "need the surface");
+        }
+        else
+        {
+            flat = vessel::flatten(vessel::load_tree_surface(input).mesh);
+            for (const auto& note : flat.notes)
+                std::fprintf(stderr, "note: %s\n", note.c_str());
+        }
+        const vessel::MapImageInput map = vessel::map_image_input(flat);
         image.labels = labels;
         if (range.size() == 2)
         {

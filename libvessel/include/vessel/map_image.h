@@ -90,14 +90,26 @@ struct MapImageLayout
     }
 };
 
+struct FlattenResult;
+
 //! The inputs of one image: the flattened (cut, disk) mesh and a field on it.
 struct MapImageInput
 {
-    const Mesh* mesh = nullptr;  //!< cut mesh (e.g. FlattenResult::mesh); positions for 3D
+    //! Cut mesh (e.g. FlattenResult::mesh), not owned: it must outlive the input. Its points are
+    //! used by the 3D view.
+    const Mesh* mesh = nullptr;
     Eigen::MatrixX2d uv;         //!< |V| x 2, row `v.idx()` of *mesh
     //! Boundary loops to label (e.g. FlattenResult::loops; first = inlet); may be empty.
     std::vector<BoundaryLoop> loops;
 };
+
+//! The map of flatten()'s result: its mesh, uv and (pre-cut) loops, so openings are labelled.
+MapImageInput map_image_input(const FlattenResult& result);
+
+//! \brief The map stored in \p mesh's `prop::uv` vertex property (e.g. a mesh cut and flattened
+//! stage by stage); no loops, so no labels.
+//! \throw InvalidInputError if the property is missing.
+MapImageInput map_image_input(const Mesh& mesh);
 
 //! \brief Range and colour table the options give for \p values (what render_map_image() uses).
 //! \throw InvalidInputError if the options are invalid.
