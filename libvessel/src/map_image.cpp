@@ -423,6 +423,57 @@ CairoPtr<cairo_surface_t> make_surface(Format format, const std::string& path, i
     return surface;
 }
 
+//! Panels, left to right: map, 3D view, colorbar (bar, tick labels, rotated title); the map's
+//! uv -> pixel transform leaves room for the loop labels.
+void plan_panels(cairo_t* cr, const MapImageInput& input, const MapImageOptions& o,
+                 MapImageLayout& layout)
+{
+    const double m = o.margin_px, fs = o.font_size_px;
+    const Eigen::AlignedBox2d image = box(m, m, o.width_px - m, o.height_px - m);
+    double right = image.max().x();
+    if (o.colorbar)
+    {
+        const double strip = 22 + 8 + tick_labels_width(cr, layout) + 2 * fs;
+        const double x0 = image.max().x() - strip;
+        layout.colorbar_box = box(x0, image.min().y() + fs, x0 + 22, image.max().y() - fs);
+        right = x0 - fs;
+    }
+    double map_right = right;
+    if (o.view3d)
+    {
+        const double w = (right - image.min().x()) * 0.4;
+        layout.view3d_box = box(right - w, image.min().y(), right, image.max().y());
+        map_right = right - w - fs;
+    }
+    layout.map_box = box(image.min().x(), image.min().y(), map_right, image.max().y());
+    fit_map(layout, input.uv, shrink(layout.map_box, label_padding(cr, input, o)));
+}
+
+//! Writes (PNG) or finishes (SVG, PDF) \p tmp, then renames it to \p path; a failed write
+//! removes \p tmp, so no partial file is left behind.
+void finish_file(CairoPtr<cairo_surface_t> surface, Format format, const std::string& tmp,
+                 const std::string& path)
+{
+    cairo_status_t status = CAIRO_STATUS_SUCCESS;
+    if (format == Format::Png)
+        status = cairo_surface_write_to_png(surface.get(), tmp.c_str());
+    cairo_surface_finish(surface.get());
+    if (status == CAIRO_STATUS_SUCCESS)
+        status = cairo_surface_status(surface.get());
+    surface.reset();
+    std::error_code ec;
+    if (status != CAIRO_STATUS_SUCCESS)
+    {
+        std::filesystem::remove(tmp, ec);
+        throw IoError("render_map_image: cannot write " + tmp + ": " +
+                      cairo_status_to_string(status));
+    }
+    std::filesystem::rename(tmp, path, ec);
+    if (ec)
+        throw IoError("render_map_image: cannot rename " + tmp + " to " + path + ": " +
+                      ec.message());
+}
+
 }  // namespace
 
 MapImageInput map_image_input(const FlattenResult& result)
@@ -462,28 +513,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_set_font_size(cr, o.font_size_px);
 
-    // Panels, left to right: map, 3D view, colorbar (bar + tick labels, title above).
-    const double m = o.margin_px, fs = o.font_size_px;
-    const Eigen::AlignedBox2d image = box(m, m, o.width_px - m, o.height_px - m);
-    double right = image.max().x();
-    if (o.colorbar)
-    {
-        // Bar, ticks, tick labels, rotated title.
-        const double strip = 22 + 8 + tick_labels_width(cr, layout) + 2 * fs;
-        const double x0 = image.max().x() - strip;
-        layout.colorbar_box = box(x0, image.min().y() + fs, x0 + 22, image.max().y() - fs);
-        right = x0 - fs;
-    }
-    double map_right = right;
-    if (o.view3d)
-    {
-        const double w = (right - image.min().x()) * 0.4;
-        layout.view3d_box = box(right - w, image.min().y(), right, image.max().y());
-        map_right = right - w - fs;
-    }
-    layout.map_box = box(image.min().x(), image.min().y(), map_right, image.max().y());
-    // Room for the loop labels around the map.
-    fit_map(layout, input.uv, shrink(layout.map_box, label_padding(cr, input, o)));
+    plan_panels(cr, input, o, layout);
 
     const Mesh& mesh = *input.mesh;
     std::vector<Vec2> px(mesh.n_vertices());
@@ -506,23 +536,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
         draw_colorbar(cr, layout, o);
 
     context.reset();
-    if (format == Format::Png)
-    {
-        const cairo_status_t status = cairo_surface_write_to_png(surface.get(), tmp.c_str());
-        if (status != CAIRO_STATUS_SUCCESS)
-            throw IoError("render_map_image: cannot write " + tmp + ": " +
-                          cairo_status_to_string(status));
-    }
-    cairo_surface_finish(surface.get());
-    if (cairo_surface_status(surface.get()) != CAIRO_STATUS_SUCCESS)
-        throw IoError("render_map_image: cannot write " + tmp + ": " +
-                      cairo_status_to_string(cairo_surface_status(surface.get())));
-    surface.reset();
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec)
-        throw IoError("render_map_image: cannot rename " + tmp + " to " + path + ": " +
-                      ec.message());
+    finish_file(std::move(surface), format, tmp, path);
     return layout;
 }
 
