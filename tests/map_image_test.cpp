@@ -270,6 +270,54 @@ TEST_CASE("map_image: a linear field on an unrolled cylinder, pixel by pixel")
     CHECK(outside_error <= 1.0 / 255);
 }
 
+TEST_CASE("map_image: per-face values are drawn flat")
+{
+    const MapImageInput input = carotid_input();
+    const Mesh& mesh = *input.mesh;
+    Eigen::VectorXd values(mesh.n_faces());
+    for (auto f : mesh.faces())
+        values[f.idx()] = f.idx() % 7;  // neighbours differ: any bleeding would show
+    MapImageOptions options;
+    options.per_face = true;
+    options.outline = false;
+    options.width_px = 1400;
+    options.height_px = 900;
+    const std::string path = temp_dir("map_image_per_face") + "/faces.png";
+    const MapImageLayout layout = render_map_image(path, input, values, options);
+    const Png png(path);
+    const auto faces = face_pixels(input, layout);
+    const std::vector<int> count = coverage(faces, png.width(), png.height());
+    int checked = 0;
+    double max_error = 0;
+    for (auto f : mesh.faces())
+    {
+        const Eigen::Vector3d expected = colormap_rgb(layout.colormap, (f.idx() % 7) / 6.0);
+        const auto& p = faces[f.idx()];
+        // Pixels whose 3 x 3 neighbourhood lies inside the face, away from any overlap.
+        for (const Eigen::Vector3d& w : {Eigen::Vector3d(0.6, 0.2, 0.2), Eigen::Vector3d(0.2, 0.6, 0.2),
+                                         Eigen::Vector3d(0.2, 0.2, 0.6), Eigen::Vector3d(0.34, 0.33, 0.33)})
+        {
+            const Eigen::Vector2d q = w[0] * p[0] + w[1] * p[1] + w[2] * p[2];
+            const int x = int(q.x()), y = int(q.y());
+            bool clear = true;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx)
+                    clear = clear &&
+                            barycentric(p, Eigen::Vector2d(x + dx + 0.5, y + dy + 0.5)).minCoeff() >= 0 &&
+                            count[static_cast<std::size_t>(y + dy) * png.width() + x + dx] == 1;
+            if (!clear)
+                continue;
+            max_error = std::max(max_error, color_error(png.pixel(x, y), expected));
+            ++checked;
+        }
+    }
+    MESSAGE(checked << " pixels inside faces, max colour error " << max_error);
+    CHECK(checked > 1000);
+    CHECK(max_error <= 1.5 / 255);
+    options.per_face = false;  // now the sizes disagree
+    CHECK_THROWS_AS(render_map_image(path, input, values, options), InvalidInputError);
+}
+
 TEST_CASE("map_image: PNG of the flattened phantom shows the field, background and colorbar")
 {
     const MapImageInput input = carotid_input();

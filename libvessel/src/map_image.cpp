@@ -223,8 +223,14 @@ void fit_map(MapImageLayout& layout, const Eigen::MatrixX2d& uv, const Eigen::Al
                              panel.max().y() - (panel.sizes().y() - used.y()) / 2);
 }
 
+//! Value at corner \p v of face \p f: the vertex's, or the face's with per-face values.
+double corner_value(const Eigen::VectorXd& values, bool per_face, int f, int v)
+{
+    return values[per_face ? f : v];
+}
+
 void draw_map(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px,
-              const Eigen::VectorXd& values, const TrianglePainter& painter,
+              const Eigen::VectorXd& values, bool per_face, const TrianglePainter& painter,
               cairo_pattern_t* pattern, const Eigen::AlignedBox2d& panel)
 {
     for (auto f : mesh.faces())
@@ -235,7 +241,7 @@ void draw_map(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px,
         for (auto vh : f.vertices())
         {
             p[k] = px[vh.idx()];
-            v[k++] = values[vh.idx()];
+            v[k++] = corner_value(values, per_face, f.idx(), vh.idx());
         }
         painter.add(p, v, 1.0);
     }
@@ -370,7 +376,7 @@ void draw_view3d(cairo_t* cr, const MapImageInput& input, const Eigen::VectorXd&
         for (int k = 0; k < 3; ++k)
         {
             p[k] = px[F(f, k)];
-            v[k] = values[F(f, k)];
+            v[k] = corner_value(values, o.per_face, f, F(f, k));
         }
         double shade = 1.0;
         if (o.shade3d)
@@ -386,16 +392,20 @@ void draw_view3d(cairo_t* cr, const MapImageInput& input, const Eigen::VectorXd&
         draw_loop_labels(cr, input.loops, px, o, drawn, panel);
 }
 
-void check_input(const MapImageInput& input, const Eigen::VectorXd& values)
+void check_input(const MapImageInput& input, const Eigen::VectorXd& values, bool per_face)
 {
     if (input.mesh == nullptr)
         throw InvalidInputError("render_map_image: input.mesh is null; pass the cut mesh");
     const auto n = static_cast<Eigen::Index>(input.mesh->n_vertices());
-    if (input.uv.rows() != n || values.size() != n)
-        throw InvalidInputError("render_map_image: the mesh has " + std::to_string(n) +
-                                " vertices but uv has " + std::to_string(input.uv.rows()) +
-                                " rows and values " + std::to_string(values.size()) +
-                                " entries; give one per cut-mesh vertex");
+    const auto n_values =
+        per_face ? static_cast<Eigen::Index>(input.mesh->n_faces()) : n;
+    if (input.uv.rows() != n || values.size() != n_values)
+        throw InvalidInputError(
+            "render_map_image: the mesh has " + std::to_string(n) + " vertices and " +
+            std::to_string(input.mesh->n_faces()) + " faces but uv has " +
+            std::to_string(input.uv.rows()) + " rows and values " +
+            std::to_string(values.size()) + " entries; give uv per cut-mesh vertex and values " +
+            (per_face ? "per face (per_face is set)" : "per cut-mesh vertex (or set per_face)"));
     if (input.mesh->n_faces() == 0)
         throw InvalidInputError("render_map_image: the mesh has no faces");
     if (!input.uv.allFinite())
@@ -499,7 +509,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
                                 const Eigen::VectorXd& values, const MapImageOptions& options)
 {
     const Format format = format_of(path);
-    check_input(input, values);
+    check_input(input, values, options.per_face);
     MapImageLayout layout = map_image_range(values, options);
     MapImageOptions o = options;
     if (format != Format::Png)
@@ -523,7 +533,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     const Shader shader{&layout, o.nan_color};
     {
         CairoPtr<cairo_pattern_t> pattern(cairo_pattern_create_mesh());
-        draw_map(cr, mesh, px, values, TrianglePainter(shader, o.max_color_step, pattern.get()),
+        draw_map(cr, mesh, px, values, o.per_face, TrianglePainter(shader, o.max_color_step, pattern.get()),
                  pattern.get(), layout.map_box);
     }
     if (o.outline)

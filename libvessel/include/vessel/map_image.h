@@ -49,6 +49,9 @@ struct MapImageOptions
     double font_size_px = 16.0;  //!< labels, ticks and title
     Eigen::Vector3d background = Eigen::Vector3d::Ones();  //!< RGB in [0, 1]; white
     Eigen::Vector3d nan_color{0.6, 0.6, 0.6};  //!< colour of non-finite values
+    //! The values are one per face (row `f.idx()`), each face drawn in one flat colour; otherwise
+    //! one per vertex, interpolated across faces.
+    bool per_face = false;
     //! Draw the 3D cut mesh, orthographically projected, to the right of the map.
     bool view3d = false;
     //! Direction the 3D view looks along (from the eye into the scene); zero = the direction of
@@ -115,8 +118,9 @@ MapImageInput map_image_input(const Mesh& mesh);
 //! \throw InvalidInputError if the options are invalid.
 MapImageLayout map_image_range(const Eigen::VectorXd& values, const MapImageOptions& options);
 
-//! \brief Render \p values (one per cut-mesh vertex, row `v.idx()`) on the flattened map and
-//! write it to \p path; the format follows the extension: `.png`, `.svg` or `.pdf`.
+//! \brief Render \p values (one per cut-mesh vertex, row `v.idx()`, or with `per_face` one per
+//! face, row `f.idx()`) on the flattened map and write it to \p path; the format follows the
+//! extension: `.png`, `.svg` or `.pdf`.
 //!
 //! Colours are interpolated per vertex (Gouraud shading through cairo mesh patterns); the 3D
 //! view draws the faces back to front (painter's algorithm) with the same colours.
