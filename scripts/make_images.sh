@@ -21,6 +21,8 @@ for ext in svg pdf; do
 done
 $bin/vessel-render $data/vmtk-test-data/aorta-surface-open-ends.ply $out/map-aorta-geodesic.png \
   --field geodesic --units mm --view3d --labels "inlet (aorta)" "outlet 1" "outlet 2"
+$bin/vessel-render $data/svfsi-tests/pulmonary-glenn-wall.ply $out/map-glenn-geodesic.png \
+  --field geodesic --units mm --view3d
 
 # 90 steps over 1.8 s (the paper's heart cycle), shown 2x slower at 10 frames per second.
 $bin/vessel-render "$work/carotid.ply" unused.png --frames "$work/frames" --steps 90 --period 1.8 \

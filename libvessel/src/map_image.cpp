@@ -289,6 +289,7 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
                       const std::vector<Vec2>& px, const MapImageOptions& o,
                       const Eigen::AlignedBox2d& map_drawn, const Eigen::AlignedBox2d& image)
 {
+    std::vector<Eigen::AlignedBox2d> placed;
     for (std::size_t i = 0; i < loops.size(); ++i)
     {
         if (loops[i].vertices.empty())
@@ -309,10 +310,41 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
             std::abs(out.x()) > 1e-9 ? (0.5 * e.width + gap) / std::abs(out.x()) : big,
             std::abs(out.y()) > 1e-9 ? (0.5 * e.height + gap) / std::abs(out.y()) : big);
         Vec2 c = anchor + out * reach;
-        c.x() = std::clamp(c.x(), image.min().x() + e.width / 2, image.max().x() - e.width / 2);
-        c.y() = std::clamp(c.y(), image.min().y() + e.height / 2, image.max().y() - e.height / 2);
+        const Vec2 half(0.5 * e.width + 2, 0.5 * e.height + 1);
+        auto place = [&](const Vec2& at) {
+            Vec2 q(std::clamp(at.x(), image.min().x() + half.x(), image.max().x() - half.x()),
+                   std::clamp(at.y(), image.min().y() + half.y(), image.max().y() - half.y()));
+            return Eigen::AlignedBox2d(q - half, q + half);
+        };
+        // Many openings close together (e.g. 20 outlets): step further out, up to 12 lines'
+        // heights, until the label overlaps no label placed before it.
+        int steps = 0;
+        auto overlaps = [&](const Eigen::AlignedBox2d& b) {
+            return std::any_of(placed.begin(), placed.end(),
+                               [&](const Eigen::AlignedBox2d& p) { return p.intersects(b); });
+        };
+        while (steps < 12 && overlaps(place(c)))
+        {
+            c += out * (e.height + 3);
+            ++steps;
+        }
+        const Eigen::AlignedBox2d b = place(c);
+        placed.push_back(b);
+        if (steps > 0)
+        {
+            // A leader line says which opening a displaced label belongs to.
+            cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+            cairo_set_line_width(cr, 0.75);
+            cairo_move_to(cr, anchor.x(), anchor.y());
+            cairo_line_to(cr, b.center().x() - out.x() * half.x(), b.center().y() - out.y() * half.y());
+            cairo_stroke(cr);
+        }
+        // A translucent patch of background keeps a label readable where it lands on the map.
+        cairo_set_source_rgba(cr, o.background[0], o.background[1], o.background[2], 0.7);
+        cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
+        cairo_fill(cr);
         cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
-        draw_text(cr, text, c, 0.5, 0.5);
+        draw_text(cr, text, b.center(), 0.5, 0.5);
     }
 }
 

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -259,10 +260,14 @@ int main(int argc, char** argv)
         }
         image.field_name = title.empty() ? field_title : title;
         image.units = units.empty() ? field_units : units;
+        const auto start = std::chrono::steady_clock::now();
         const vessel::MapImageLayout layout = vessel::render_map_image(output, map, values, image);
-        std::printf("wrote %s: %zu triangles, range [%g, %g], %s colormap\n", output.c_str(),
-                    flat.mesh.n_faces(), layout.range_min, layout.range_max,
-                    layout.colormap == vessel::Colormap::Diverging ? "diverging" : "viridis");
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::printf("wrote %s: %zu triangles, range [%g, %g], %s colormap, %.2f s\n",
+                    output.c_str(), flat.mesh.n_faces(), layout.range_min, layout.range_max,
+                    layout.colormap == vessel::Colormap::Diverging ? "diverging" : "viridis",
+                    seconds);
     }
     catch (const std::exception& e)
     {
