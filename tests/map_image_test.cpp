@@ -36,7 +36,10 @@ const FlattenResult& flat_carotid()
     return result;
 }
 
-MapImageInput carotid_input() { return map_image_input(flat_carotid()); }
+MapImageInput carotid_input()
+{
+    return map_image_input(flat_carotid());
+}
 
 //! A smooth known field: a linear function of the 3D position.
 Eigen::VectorXd linear_field(const Mesh& mesh, const Eigen::Vector3d& a, double b)
@@ -118,8 +121,10 @@ std::vector<int> coverage(const std::vector<std::array<Eigen::Vector2d, 3>>& fac
         Eigen::AlignedBox2d b;
         for (const auto& q : p)
             b.extend(q);
-        for (int y = std::max(0, int(b.min().y())); y <= std::min(height - 1, int(b.max().y())); ++y)
-            for (int x = std::max(0, int(b.min().x())); x <= std::min(width - 1, int(b.max().x())); ++x)
+        for (int y = std::max(0, int(b.min().y())); y <= std::min(height - 1, int(b.max().y()));
+             ++y)
+            for (int x = std::max(0, int(b.min().x())); x <= std::min(width - 1, int(b.max().x()));
+                 ++x)
                 if (barycentric(p, Eigen::Vector2d(x + 0.5, y + 0.5)).minCoeff() >= 0)
                     ++count[static_cast<std::size_t>(y) * width + x];
     }
@@ -151,7 +156,8 @@ PixelCheck check_face_pixels(const Png& png, const MapImageInput& input,
         int overlap = 0;  // faces drawn over each other within 2 px
         for (int dy = -2; dy <= 2; ++dy)
             for (int dx = -2; dx <= 2; ++dx)
-                overlap = std::max(overlap, count[static_cast<std::size_t>(y + dy) * png.width() + x + dx]);
+                overlap = std::max(overlap,
+                                   count[static_cast<std::size_t>(y + dy) * png.width() + x + dx]);
         if (overlap > 1)
             continue;
         const double value = bary[0] * v[0] + bary[1] * v[1] + bary[2] * v[2];
@@ -175,8 +181,10 @@ std::string read_text(const std::string& path)
 TEST_CASE("map_image: colormap tables and automatic range")
 {
     // viridis runs from dark purple to yellow; cool-warm from blue through grey to red.
-    CHECK(colormap_rgb(Colormap::Viridis, 0).isApprox(Eigen::Vector3d(0.267004, 0.004874, 0.329415), 1e-5));
-    CHECK(colormap_rgb(Colormap::Viridis, 1).isApprox(Eigen::Vector3d(0.993248, 0.906157, 0.143936), 1e-5));
+    CHECK(colormap_rgb(Colormap::Viridis, 0)
+              .isApprox(Eigen::Vector3d(0.267004, 0.004874, 0.329415), 1e-5));
+    CHECK(colormap_rgb(Colormap::Viridis, 1)
+              .isApprox(Eigen::Vector3d(0.993248, 0.906157, 0.143936), 1e-5));
     const Eigen::Vector3d mid = colormap_rgb(Colormap::Diverging, 0.5);
     CHECK(mid.maxCoeff() - mid.minCoeff() < 0.1);
     CHECK(colormap_rgb(Colormap::Diverging, 0)[2] > colormap_rgb(Colormap::Diverging, 0)[0]);
@@ -235,28 +243,34 @@ TEST_CASE("map_image: a linear field on an unrolled cylinder, pixel by pixel")
     CHECK(layout.range_min == doctest::Approx(-2 * M_PI * 3));  // symmetric: max is 6 pi
     const Png png(path);
     const Eigen::Vector2d lo = layout.to_pixel(Eigen::Vector2d(0, 4)),
-                          hi = layout.to_pixel(Eigen::Vector2d(2 * M_PI, 0));  // top-left, bottom-right
+                          hi = layout.to_pixel(
+                              Eigen::Vector2d(2 * M_PI, 0));  // top-left, bottom-right
     int inside = 0, outside = 0;
     double inside_error = 0, outside_error = 0;
     for (int y = 0; y < png.height(); ++y)
         for (int x = 0; x < int(layout.map_box.max().x()); ++x)
         {
             const Eigen::Vector2d c(x + 0.5, y + 0.5);
-            if (c.x() > lo.x() + 2 && c.x() < hi.x() - 2 && c.y() > lo.y() + 2 && c.y() < hi.y() - 2)
+            if (c.x() > lo.x() + 2 && c.x() < hi.x() - 2 && c.y() > lo.y() + 2 &&
+                c.y() < hi.y() - 2)
             {
-                const Eigen::Vector2d q((c.x() - layout.map_origin.x()) / layout.scale + layout.uv_min.x(),
-                                        (layout.map_origin.y() - c.y()) / layout.scale + layout.uv_min.y());
+                const Eigen::Vector2d q(
+                    (c.x() - layout.map_origin.x()) / layout.scale + layout.uv_min.x(),
+                    (layout.map_origin.y() - c.y()) / layout.scale + layout.uv_min.y());
                 const double value = 3.0 * q.x() - 2.0 * q.y();
                 inside_error = std::max(
-                    inside_error, color_error(png.pixel(x, y),
-                                              colormap_rgb(layout.colormap,
-                                                           (value - layout.range_min) /
-                                                               (layout.range_max - layout.range_min))));
+                    inside_error,
+                    color_error(
+                        png.pixel(x, y),
+                        colormap_rgb(layout.colormap, (value - layout.range_min) /
+                                                          (layout.range_max - layout.range_min))));
                 ++inside;
             }
-            else if (c.x() < lo.x() - 2 || c.x() > hi.x() + 2 || c.y() < lo.y() - 2 || c.y() > hi.y() + 2)
+            else if (c.x() < lo.x() - 2 || c.x() > hi.x() + 2 || c.y() < lo.y() - 2 ||
+                     c.y() > hi.y() + 2)
             {
-                outside_error = std::max(outside_error, color_error(png.pixel(x, y), options.background));
+                outside_error =
+                    std::max(outside_error, color_error(png.pixel(x, y), options.background));
                 ++outside;
             }
         }
@@ -294,17 +308,20 @@ TEST_CASE("map_image: per-face values are drawn flat")
         const Eigen::Vector3d expected = colormap_rgb(layout.colormap, (f.idx() % 7) / 6.0);
         const auto& p = faces[f.idx()];
         // Pixels whose 3 x 3 neighbourhood lies inside the face, away from any overlap.
-        for (const Eigen::Vector3d& w : {Eigen::Vector3d(0.6, 0.2, 0.2), Eigen::Vector3d(0.2, 0.6, 0.2),
-                                         Eigen::Vector3d(0.2, 0.2, 0.6), Eigen::Vector3d(0.34, 0.33, 0.33)})
+        for (const Eigen::Vector3d& w :
+             {Eigen::Vector3d(0.6, 0.2, 0.2), Eigen::Vector3d(0.2, 0.6, 0.2),
+              Eigen::Vector3d(0.2, 0.2, 0.6), Eigen::Vector3d(0.34, 0.33, 0.33)})
         {
             const Eigen::Vector2d q = w[0] * p[0] + w[1] * p[1] + w[2] * p[2];
             const int x = int(q.x()), y = int(q.y());
             bool clear = true;
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx)
-                    clear = clear &&
-                            barycentric(p, Eigen::Vector2d(x + dx + 0.5, y + dy + 0.5)).minCoeff() >= 0 &&
-                            count[static_cast<std::size_t>(y + dy) * png.width() + x + dx] == 1;
+                    clear =
+                        clear &&
+                        barycentric(p, Eigen::Vector2d(x + dx + 0.5, y + dy + 0.5)).minCoeff() >=
+                            0 &&
+                        count[static_cast<std::size_t>(y + dy) * png.width() + x + dx] == 1;
             if (!clear)
                 continue;
             max_error = std::max(max_error, color_error(png.pixel(x, y), expected));
@@ -351,8 +368,10 @@ TEST_CASE("map_image: PNG of the flattened phantom shows the field, background a
         Eigen::AlignedBox2d b;
         for (auto v : f.vertices())
             b.extend(layout.to_pixel(input.uv.row(v.idx()).transpose()));
-        for (int y = std::max(0, int(b.min().y()) - 3); y <= std::min(png.height() - 1, int(b.max().y()) + 3); ++y)
-            for (int x = std::max(0, int(b.min().x()) - 3); x <= std::min(png.width() - 1, int(b.max().x()) + 3); ++x)
+        for (int y = std::max(0, int(b.min().y()) - 3);
+             y <= std::min(png.height() - 1, int(b.max().y()) + 3); ++y)
+            for (int x = std::max(0, int(b.min().x()) - 3);
+                 x <= std::min(png.width() - 1, int(b.max().x()) + 3); ++x)
                 near[static_cast<std::size_t>(y) * png.width() + x] = 1;
     }
     int background = 0;
@@ -361,8 +380,8 @@ TEST_CASE("map_image: PNG of the flattened phantom shows the field, background a
         for (int x = int(layout.map_box.min().x()); x < int(layout.map_box.max().x()); ++x)
             if (!near[static_cast<std::size_t>(y) * png.width() + x])
             {
-                background_error = std::max(background_error,
-                                            color_error(png.pixel(x, y), options.background));
+                background_error =
+                    std::max(background_error, color_error(png.pixel(x, y), options.background));
                 ++background;
             }
     CHECK(background > 10000);
@@ -431,7 +450,8 @@ TEST_CASE("map_image: 3D view beside the map, labels, SVG and PDF")
     const std::string pdf = read_text(dir + "/map.pdf");
     CHECK(pdf.rfind("%PDF-", 0) == 0);
     const std::regex page("/Type\\s*/Page[^s]");
-    CHECK(std::distance(std::sregex_iterator(pdf.begin(), pdf.end(), page), std::sregex_iterator()) == 1);
+    CHECK(std::distance(std::sregex_iterator(pdf.begin(), pdf.end(), page),
+                        std::sregex_iterator()) == 1);
     CHECK(pdf.find("%%EOF") != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(dir + "/map.pdf.tmp"));
 }
@@ -444,8 +464,9 @@ TEST_CASE("map_image: bad inputs are refused")
     CHECK_THROWS_AS(render_map_image(dir + "/a.jpg", input, values), InvalidInputError);
     CHECK_THROWS_AS(render_map_image(dir + "/a.png", input, values.head(10)), InvalidInputError);
     CHECK_THROWS_AS(render_map_image(dir + "/a.png", MapImageInput{}, values), InvalidInputError);
-    CHECK_THROWS_AS(render_map_image(dir + "/a.png", input, Eigen::VectorXd::Constant(values.size(), NAN)),
-                    InvalidInputError);
+    CHECK_THROWS_AS(
+        render_map_image(dir + "/a.png", input, Eigen::VectorXd::Constant(values.size(), NAN)),
+        InvalidInputError);
     MapImageOptions options;
     options.width_px = 10;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
@@ -594,7 +615,8 @@ TEST_CASE("vessel-render: draws a map written by vessel-flatten with values from
     std::ofstream(dir + "/short.csv") << "1\n2\n";
     CHECK(run(render + " " + dir + "/flat.obj --values " + dir + "/short.csv " + dir +
               "/x.png 2> /dev/null") == 1);
-    CHECK(run(render + " " + dir + "/flat.obj --field geodesic " + dir + "/x.png 2> /dev/null") == 1);
+    CHECK(run(render + " " + dir + "/flat.obj --field geodesic " + dir + "/x.png 2> /dev/null") ==
+          1);
     CHECK(run(render + common + " " + dir + "/x.bmp 2> /dev/null") == 1);
     CHECK_FALSE(std::filesystem::exists(dir + "/x.png"));
 }

@@ -11,14 +11,16 @@ namespace vessel {
 
 void MapImageOptions::validate() const
 {
-    auto fail = [](const std::string& what) { throw InvalidInputError("MapImageOptions: " + what); };
+    auto fail = [](const std::string& what) {
+        throw InvalidInputError("MapImageOptions: " + what);
+    };
     if (width_px < 64 || height_px < 64 || width_px > 16384 || height_px > 16384)
         fail("width_px and height_px must be in [64, 16384] (got " + std::to_string(width_px) +
              " x " + std::to_string(height_px) + ")");
     if (margin_px < 0 || 4 * margin_px >= std::min(width_px, height_px))
         fail("margin_px must be >= 0 and below a quarter of the image size");
-    if (!auto_range && !(std::isfinite(range_min) && std::isfinite(range_max) &&
-                         range_min < range_max))
+    if (!auto_range &&
+        !(std::isfinite(range_min) && std::isfinite(range_max) && range_min < range_max))
         fail("a fixed range needs finite range_min < range_max (got " + std::to_string(range_min) +
              ", " + std::to_string(range_max) + ")");
     if (!(outline_width_px > 0 && outline_width_px < 50))

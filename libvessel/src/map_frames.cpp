@@ -27,14 +27,18 @@ std::string shell_quote(const std::string& s)
     return q + "'";
 }
 
-bool ffmpeg_available() { return std::system("command -v ffmpeg >/dev/null 2>&1") == 0; }
+bool ffmpeg_available()
+{
+    return std::system("command -v ffmpeg >/dev/null 2>&1") == 0;
+}
 
 //! Encodes the frames with ffmpeg; GIF through a generated palette (far better colours than
 //! ffmpeg's default), MP4 as H.264 yuv420p with even dimensions (what players accept).
 void encode_animation(const std::string& dir, const std::string& out, double fps)
 {
     std::string ext = std::filesystem::path(out).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     const std::string input = "-framerate " + std::to_string(fps) + " -i " +
                               shell_quote((std::filesystem::path(dir) / "frame_%04d.png").string());
     std::string filter;
@@ -42,8 +46,8 @@ void encode_animation(const std::string& dir, const std::string& out, double fps
         filter = "-filter_complex \"[0:v]split[a][b];[a]palettegen[p];[b][p]paletteuse\"";
     else
         filter = "-vf \"scale=trunc(iw/2)*2:trunc(ih/2)*2\" -c:v libx264 -pix_fmt yuv420p";
-    const std::string cmd = "ffmpeg -y -loglevel error " + input + " " + filter + " " +
-                            shell_quote(out);
+    const std::string cmd =
+        "ffmpeg -y -loglevel error " + input + " " + filter + " " + shell_quote(out);
     if (std::system(cmd.c_str()) != 0)
         throw IoError("render_frames: ffmpeg failed to write " + out + " (command: " + cmd + ")");
 }
@@ -60,9 +64,10 @@ void FieldSeries::validate() const
     for (std::size_t k = 0; k < times.size(); ++k)
     {
         if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
-            throw InvalidInputError("FieldSeries: times must be finite and strictly increasing "
-                                    "(step " + std::to_string(k) + " is " +
-                                    std::to_string(times[k]) + ")");
+            throw InvalidInputError(
+                "FieldSeries: times must be finite and strictly increasing "
+                "(step " +
+                std::to_string(k) + " is " + std::to_string(times[k]) + ")");
         if (values[k].size() != values[0].size())
             throw InvalidInputError("FieldSeries: step " + std::to_string(k) + " has " +
                                     std::to_string(values[k].size()) + " values, step 0 has " +
@@ -80,7 +85,8 @@ void FrameOptions::validate() const
     if (!animation.empty())
     {
         std::string ext = std::filesystem::path(animation).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+        std::transform(ext.begin(), ext.end(), ext.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
         if (ext != ".gif" && ext != ".mp4")
             throw InvalidInputError("FrameOptions: animation '" + animation +
                                     "' must end in .gif or .mp4");
@@ -97,7 +103,8 @@ Eigen::VectorXd interpolate_series(const FieldSeries& series, double t)
         return series.values.front();
     if (t >= T.back())
         return series.values.back();
-    const std::size_t k = std::upper_bound(T.begin(), T.end(), t) - T.begin();  // T[k-1] <= t < T[k]
+    const std::size_t k =
+        std::upper_bound(T.begin(), T.end(), t) - T.begin();  // T[k-1] <= t < T[k]
     const double a = (t - T[k - 1]) / (T[k] - T[k - 1]);
     return (1.0 - a) * series.values[k - 1] + a * series.values[k];
 }
@@ -148,9 +155,9 @@ FramesSummary render_frames(const std::string& dir, const MapImageInput& input,
     for (std::size_t k = 0; k < summary.frame_times.size(); ++k)
     {
         const Eigen::VectorXd values = interpolate_series(series, summary.frame_times[k]);
-        const MapImageLayout layout =
-            render_map_image((std::filesystem::path(dir) / frame_name(static_cast<int>(k))).string(),
-                             input, values, frame_options);
+        const MapImageLayout layout = render_map_image(
+            (std::filesystem::path(dir) / frame_name(static_cast<int>(k))).string(), input, values,
+            frame_options);
         if (k == 0)
         {
             summary.range_min = layout.range_min;
@@ -166,8 +173,8 @@ FramesSummary render_frames(const std::string& dir, const MapImageInput& input,
             summary.animation_written = true;
         }
         else
-            summary.message = "ffmpeg not found on PATH; wrote the frames only, not " +
-                              options.animation;
+            summary.message =
+                "ffmpeg not found on PATH; wrote the frames only, not " + options.animation;
     }
     return summary;
 }

@@ -23,12 +23,18 @@ namespace {
 using Vec2 = Eigen::Vector2d;
 using Rgb = Eigen::Vector3d;
 
-enum class Format { Png, Svg, Pdf };
+enum class Format
+{
+    Png,
+    Svg,
+    Pdf
+};
 
 Format format_of(const std::string& path)
 {
     std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext == ".png")
         return Format::Png;
     if (ext == ".svg")
@@ -48,7 +54,10 @@ struct CairoDeleter
 template <class T>
 using CairoPtr = std::unique_ptr<T, CairoDeleter>;
 
-void set_rgb(cairo_t* cr, const Rgb& c) { cairo_set_source_rgb(cr, c[0], c[1], c[2]); }
+void set_rgb(cairo_t* cr, const Rgb& c)
+{
+    cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+}
 
 //! Maps values to colours with the range and table of a layout.
 struct Shader
@@ -59,8 +68,8 @@ struct Shader
     {
         if (!std::isfinite(value))
             return nan_color;
-        return colormap_rgb(layout->colormap, (value - layout->range_min) /
-                                                  (layout->range_max - layout->range_min));
+        return colormap_rgb(layout->colormap,
+                            (value - layout->range_min) / (layout->range_max - layout->range_min));
     }
 };
 
@@ -74,8 +83,8 @@ public:
     {}
     void add(const Vec2 (&p)[3], const double (&value)[3], double shade, int depth = 0) const
     {
-        const double span = std::max({value[0], value[1], value[2]}) -
-                            std::min({value[0], value[1], value[2]});
+        const double span =
+            std::max({value[0], value[1], value[2]}) - std::min({value[0], value[1], value[2]});
         const double range = shader_.layout->range_max - shader_.layout->range_min;
         if (depth < 4 && std::isfinite(span) && span > max_step_ * range)
         {
@@ -121,8 +130,7 @@ Eigen::AlignedBox2d box(double x0, double y0, double x1, double y1)
     return Eigen::AlignedBox2d(Vec2(x0, y0), Vec2(x1, y1));
 }
 
-void draw_text(cairo_t* cr, const std::string& text, const Vec2& at, double align_x,
-               double align_y)
+void draw_text(cairo_t* cr, const std::string& text, const Vec2& at, double align_x, double align_y)
 {
     cairo_text_extents_t e;
     cairo_text_extents(cr, text.c_str(), &e);
@@ -181,8 +189,7 @@ void draw_colorbar(cairo_t* cr, const MapImageLayout& layout, const MapImageOpti
     const std::string title = colorbar_title(o);
     const double ticks_width = tick_labels_width(cr, layout);
     const auto& b = layout.colorbar_box;
-    CairoPtr<cairo_pattern_t> gradient(
-        cairo_pattern_create_linear(0, b.max().y(), 0, b.min().y()));
+    CairoPtr<cairo_pattern_t> gradient(cairo_pattern_create_linear(0, b.max().y(), 0, b.min().y()));
     for (int i = 0; i < 256; ++i)
     {
         const Rgb c = colormap_rgb(layout.colormap, i / 255.0);
@@ -306,9 +313,9 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
         // Push the text centre out until its box clears the anchor by a font size, in x
         // or in y, whichever comes first along `out`.
         const double gap = o.font_size_px, big = 1e9;
-        const double reach = std::min(
-            std::abs(out.x()) > 1e-9 ? (0.5 * e.width + gap) / std::abs(out.x()) : big,
-            std::abs(out.y()) > 1e-9 ? (0.5 * e.height + gap) / std::abs(out.y()) : big);
+        const double reach =
+            std::min(std::abs(out.x()) > 1e-9 ? (0.5 * e.width + gap) / std::abs(out.x()) : big,
+                     std::abs(out.y()) > 1e-9 ? (0.5 * e.height + gap) / std::abs(out.y()) : big);
         Vec2 c = anchor + out * reach;
         const Vec2 half(0.5 * e.width + 2, 0.5 * e.height + 1);
         auto place = [&](const Vec2& at) {
@@ -336,7 +343,8 @@ void draw_loop_labels(cairo_t* cr, const std::vector<BoundaryLoop>& loops,
             cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
             cairo_set_line_width(cr, 0.75);
             cairo_move_to(cr, anchor.x(), anchor.y());
-            cairo_line_to(cr, b.center().x() - out.x() * half.x(), b.center().y() - out.y() * half.y());
+            cairo_line_to(cr, b.center().x() - out.x() * half.x(),
+                          b.center().y() - out.y() * half.y());
             cairo_stroke(cr);
         }
         // A translucent patch of background keeps a label readable where it lands on the map.
@@ -357,7 +365,8 @@ Eigen::Matrix3d view_frame(const Eigen::MatrixX3d& P, const MapImageInput& input
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(C.transpose() * C);
     Eigen::Vector3d d = o.view_direction.norm() > 0 ? o.view_direction.normalized()
                                                     : Eigen::Vector3d(eig.eigenvectors().col(0));
-    Eigen::Vector3d up = o.view_up.norm() > 0 ? o.view_up : Eigen::Vector3d(eig.eigenvectors().col(2));
+    Eigen::Vector3d up =
+        o.view_up.norm() > 0 ? o.view_up : Eigen::Vector3d(eig.eigenvectors().col(2));
     up = (up - up.dot(d) * d).normalized();
     if (o.view_up.norm() == 0 && !input.loops.empty() && !input.loops[0].vertices.empty())
     {
@@ -429,14 +438,13 @@ void check_input(const MapImageInput& input, const Eigen::VectorXd& values, bool
     if (input.mesh == nullptr)
         throw InvalidInputError("render_map_image: input.mesh is null; pass the cut mesh");
     const auto n = static_cast<Eigen::Index>(input.mesh->n_vertices());
-    const auto n_values =
-        per_face ? static_cast<Eigen::Index>(input.mesh->n_faces()) : n;
+    const auto n_values = per_face ? static_cast<Eigen::Index>(input.mesh->n_faces()) : n;
     if (input.uv.rows() != n || values.size() != n_values)
         throw InvalidInputError(
             "render_map_image: the mesh has " + std::to_string(n) + " vertices and " +
             std::to_string(input.mesh->n_faces()) + " faces but uv has " +
-            std::to_string(input.uv.rows()) + " rows and values " +
-            std::to_string(values.size()) + " entries; give uv per cut-mesh vertex and values " +
+            std::to_string(input.uv.rows()) + " rows and values " + std::to_string(values.size()) +
+            " entries; give uv per cut-mesh vertex and values " +
             (per_face ? "per face (per_face is set)" : "per cut-mesh vertex (or set per_face)"));
     if (input.mesh->n_faces() == 0)
         throw InvalidInputError("render_map_image: the mesh has no faces");
@@ -454,9 +462,15 @@ CairoPtr<cairo_surface_t> make_surface(Format format, const std::string& path, i
     cairo_surface_t* s = nullptr;
     switch (format)
     {
-        case Format::Png: s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h); break;
-        case Format::Svg: s = cairo_svg_surface_create(path.c_str(), w, h); break;
-        case Format::Pdf: s = cairo_pdf_surface_create(path.c_str(), w, h); break;
+        case Format::Png:
+            s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+            break;
+        case Format::Svg:
+            s = cairo_svg_surface_create(path.c_str(), w, h);
+            break;
+        case Format::Pdf:
+            s = cairo_pdf_surface_create(path.c_str(), w, h);
+            break;
     }
     CairoPtr<cairo_surface_t> surface(s);
     if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS)
@@ -565,8 +579,9 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     const Shader shader{&layout, o.nan_color};
     {
         CairoPtr<cairo_pattern_t> pattern(cairo_pattern_create_mesh());
-        draw_map(cr, mesh, px, values, o.per_face, TrianglePainter(shader, o.max_color_step, pattern.get()),
-                 pattern.get(), layout.map_box);
+        draw_map(cr, mesh, px, values, o.per_face,
+                 TrianglePainter(shader, o.max_color_step, pattern.get()), pattern.get(),
+                 layout.map_box);
     }
     if (o.outline)
         draw_outline(cr, mesh, px, o.outline_width_px);

@@ -62,8 +62,9 @@ std::vector<BoundaryLoop> openings(const Mesh& mesh)
             loop.centroid += to_eigen(mesh.point(v));
         loop.centroid /= static_cast<double>(loop.vertices.size());
     }
-    std::stable_sort(loops.begin(), loops.end(),
-                     [](const BoundaryLoop& a, const BoundaryLoop& b) { return a.arc_length > b.arc_length; });
+    std::stable_sort(loops.begin(), loops.end(), [](const BoundaryLoop& a, const BoundaryLoop& b) {
+        return a.arc_length > b.arc_length;
+    });
     return loops;
 }
 
@@ -135,13 +136,15 @@ FlatObj read_flat_obj(const std::string& path)
     for (std::size_t t = 0; t < uvs.size(); ++t)
     {
         // An unused vt still gets a vertex so that row t of uv stays vertex t.
-        const auto vh = flat.mesh.add_vertex(to_openmesh(input[t] >= 0 ? points[input[t]] : Eigen::Vector3d::Zero()));
+        const auto vh = flat.mesh.add_vertex(
+            to_openmesh(input[t] >= 0 ? points[input[t]] : Eigen::Vector3d::Zero()));
         index[vh] = input[t];
         flat.uv.row(static_cast<Eigen::Index>(t)) = uvs[t].transpose();
     }
     for (const auto& f : faces)
-        if (!flat.mesh.add_face(VertexHandle(f[0].second), VertexHandle(f[1].second),
-                                VertexHandle(f[2].second))
+        if (!flat.mesh
+                 .add_face(VertexHandle(f[0].second), VertexHandle(f[1].second),
+                           VertexHandle(f[2].second))
                  .is_valid())
             bad(path, 0, "the faces over the vt vertices are not a manifold mesh");
     flat.loops = openings(flat.mesh);

@@ -50,7 +50,8 @@ std::vector<double> read_column(const std::string& path)
 bool is_flat_obj(const std::string& path)
 {
     std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : "";
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     if (ext != ".obj")
         return false;
     std::ifstream in(path);
@@ -156,10 +157,11 @@ vessel::FieldSeries pulse_series(const vessel::Mesh& mesh, int steps, double per
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"vessel-render: flatten a vessel surface and draw a field on the map.\n"
-                 "Fields: geodesic (distance from the inlet), wss (synthetic 1/r^3), x, y, z, or "
-                 "--values FILE.csv (one row per input vertex).",
-                 "vessel-render"};
+    CLI::App app{
+        "vessel-render: flatten a vessel surface and draw a field on the map.\n"
+        "Fields: geodesic (distance from the inlet), wss (synthetic 1/r^3), x, y, z, or "
+        "--values FILE.csv (one row per input vertex).",
+        "vessel-render"};
     std::string input, output, field = "geodesic", csv, title, units, frames, animation;
     std::vector<std::string> labels;
     std::vector<double> range;
@@ -167,8 +169,9 @@ int main(int argc, char** argv)
     vessel::FrameOptions frame_options;
     int steps = 90;
     double period = 1.8;
-    app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), or a map written "
-                                   "by vessel-flatten (.obj with vt lines)")
+    app.add_option("input", input,
+                   "Vessel surface (.obj, .off, .ply, .stl), or a map written "
+                   "by vessel-flatten (.obj with vt lines)")
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("output", output, "Image (.png, .svg or .pdf)")->required();
@@ -179,16 +182,18 @@ int main(int argc, char** argv)
     app.add_option("--title", title, "Colorbar title (default: the field's name)");
     app.add_option("--units", units, "Units shown after the title");
     app.add_option("--range", range, "Fixed colour range LO HI")->expected(2);
-    app.add_option("--labels", labels, "Labels of the inlet and outlets, in loop order "
-                                       "(longest loop first)");
+    app.add_option("--labels", labels,
+                   "Labels of the inlet and outlets, in loop order "
+                   "(longest loop first)");
     app.add_flag("--view3d", image.view3d, "Draw the 3D mesh beside the map");
     app.add_option("--size", image.width_px, "Image width in pixels")->capture_default_str();
     app.add_option("--height", image.height_px, "Image height in pixels")->capture_default_str();
     app.add_option("--color-step", image.max_color_step,
                    "Split triangles whose values span more than this fraction of the range")
         ->capture_default_str();
-    app.add_option("--frames", frames, "Instead of one image: frames of a synthetic pulse "
-                                       "travelling from the inlet, written to DIR");
+    app.add_option("--frames", frames,
+                   "Instead of one image: frames of a synthetic pulse "
+                   "travelling from the inlet, written to DIR");
     app.add_option("--steps", steps, "Time steps of the pulse series")->capture_default_str();
     app.add_option("--period", period, "Seconds the series spans")->capture_default_str();
     app.add_option("--fps", frame_options.fps, "Frames per second")->capture_default_str();
@@ -217,9 +222,10 @@ int main(int argc, char** argv)
                 flat.loops = std::move(obj.loops);
             }
             else
-                throw InvalidInputError(input + " is a flattened map: draw --field x, y or z or "
-                                                "--values FILE.csv; geodesic, wss and --frames "
-                                                "need the surface");
+                throw InvalidInputError(input +
+                                        " is a flattened map: draw --field x, y or z or "
+                                        "--values FILE.csv; geodesic, wss and --frames "
+                                        "need the surface");
         }
         else
         {
@@ -241,8 +247,8 @@ int main(int argc, char** argv)
             image.units = units;
             const vessel::FramesSummary s = vessel::render_frames(
                 frames, map, pulse_series(flat.mesh, steps, period), image, frame_options);
-            std::printf("%d frames in %s, range [%g, %g]\n", s.frames, frames.c_str(),
-                        s.range_min, s.range_max);
+            std::printf("%d frames in %s, range [%g, %g]\n", s.frames, frames.c_str(), s.range_min,
+                        s.range_max);
             if (!s.message.empty())
                 std::fprintf(stderr, "note: %s\n", s.message.c_str());
             return 0;

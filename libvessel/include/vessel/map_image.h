@@ -26,9 +26,9 @@ Eigen::Vector3d colormap_rgb(Colormap map, double t);
 
 struct MapImageOptions
 {
-    int width_px = 1200;   //!< image width (for SVG/PDF: points)
-    int height_px = 800;   //!< image height
-    int margin_px = 24;    //!< free border around the panels
+    int width_px = 1200;  //!< image width (for SVG/PDF: points)
+    int height_px = 800;  //!< image height
+    int margin_px = 24;   //!< free border around the panels
     //! Colour table; Auto picks Diverging when the range straddles 0 (the range is then made
     //! symmetric, [-m, m], unless fixed), Viridis otherwise.
     Colormap colormap = Colormap::Auto;
@@ -36,19 +36,19 @@ struct MapImageOptions
     bool auto_range = true;
     double range_min = 0.0;  //!< lower end of a fixed range (auto_range = false)
     double range_max = 1.0;  //!< upper end of a fixed range (auto_range = false), > range_min
-    bool colorbar = true;            //!< draw a vertical colorbar at the right
+    bool colorbar = true;    //!< draw a vertical colorbar at the right
     std::string field_name = "value";  //!< colorbar title
-    std::string units;               //!< appended to the title as " [units]" when not empty
-    bool outline = true;             //!< stroke the boundary of the map
-    double outline_width_px = 1.5;   //!< outline line width
+    std::string units;                 //!< appended to the title as " [units]" when not empty
+    bool outline = true;               //!< stroke the boundary of the map
+    double outline_width_px = 1.5;     //!< outline line width
     //! Label each boundary loop next to its segment of the map's boundary (and next to its
     //! opening in the 3D view).
     bool loop_labels = true;
     //! Text per loop (same order as the loops passed in); empty = "inlet", "outlet 1", ...
     std::vector<std::string> labels;
-    double font_size_px = 16.0;  //!< labels, ticks and title
+    double font_size_px = 16.0;                            //!< labels, ticks and title
     Eigen::Vector3d background = Eigen::Vector3d::Ones();  //!< RGB in [0, 1]; white
-    Eigen::Vector3d nan_color{0.6, 0.6, 0.6};  //!< colour of non-finite values
+    Eigen::Vector3d nan_color{0.6, 0.6, 0.6};              //!< colour of non-finite values
     //! The values are one per face (row `f.idx()`), each face drawn in one flat colour; otherwise
     //! one per vertex, interpolated across faces.
     bool per_face = false;
@@ -79,11 +79,11 @@ struct MapImageLayout
     double scale = 1.0;
     Eigen::Vector2d uv_min = Eigen::Vector2d::Zero();
     Eigen::Vector2d map_origin = Eigen::Vector2d::Zero();
-    Eigen::AlignedBox2d map_box;       //!< pixel box of the map panel
-    Eigen::AlignedBox2d view3d_box;    //!< pixel box of the 3D view (empty if not drawn)
-    Eigen::AlignedBox2d colorbar_box;  //!< pixel box of the colour bar (empty if not drawn)
-    double range_min = 0.0;  //!< range used (bottom of the colorbar)
-    double range_max = 1.0;  //!< range used (top of the colorbar)
+    Eigen::AlignedBox2d map_box;            //!< pixel box of the map panel
+    Eigen::AlignedBox2d view3d_box;         //!< pixel box of the 3D view (empty if not drawn)
+    Eigen::AlignedBox2d colorbar_box;       //!< pixel box of the colour bar (empty if not drawn)
+    double range_min = 0.0;                 //!< range used (bottom of the colorbar)
+    double range_max = 1.0;                 //!< range used (top of the colorbar)
     Colormap colormap = Colormap::Viridis;  //!< table used (never Auto)
     //! Pixel position of a uv point.
     Eigen::Vector2d to_pixel(const Eigen::Vector2d& uv) const
@@ -101,7 +101,7 @@ struct MapImageInput
     //! Cut mesh (e.g. FlattenResult::mesh), not owned: it must outlive the input. Its points are
     //! used by the 3D view.
     const Mesh* mesh = nullptr;
-    Eigen::MatrixX2d uv;         //!< |V| x 2, row `v.idx()` of *mesh
+    Eigen::MatrixX2d uv;  //!< |V| x 2, row `v.idx()` of *mesh
     //! Boundary loops to label (e.g. FlattenResult::loops; first = inlet); may be empty.
     std::vector<BoundaryLoop> loops;
 };
