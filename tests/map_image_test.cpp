@@ -15,6 +15,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -586,6 +587,18 @@ TEST_CASE("map_frames: frames of a travelling pulse show the interpolated values
     options.slowdown = 1.0 / 6;  // frames at 0 and 0.3 s
     const FramesSummary own = render_frames(dir + "_own", input, series, image, options);
     REQUIRE(own.frames == 2);
+
+    // Without ffmpeg on PATH the frames are still written and the summary says why there is no
+    // animation (whether or not this machine has ffmpeg).
+    const std::string path_before = std::getenv("PATH") ? std::getenv("PATH") : "";
+    setenv("PATH", dir.c_str(), 1);
+    options.animation = dir + "/none.gif";
+    const FramesSummary without = render_frames(dir + "_noffmpeg", input, series, image, options);
+    setenv("PATH", path_before.c_str(), 1);
+    CHECK(without.frames == 2);
+    CHECK_FALSE(without.animation_written);
+    CHECK(without.message.find("ffmpeg") != std::string::npos);
+    CHECK_FALSE(std::filesystem::exists(options.animation));
     CHECK(own.range_min == doctest::Approx(series.values[0].minCoeff()));
     CHECK(own.range_max == doctest::Approx(series.values[0].maxCoeff()));
 }
