@@ -1,0 +1,163 @@
+// End-to-end test of the viewer in headless Chromium (Debian's /usr/bin/chromium driven by
+// playwright-core; no browser download). Generates a page from a real mesh with vessel-view,
+// then checks that both views draw coloured pixels, that moving the time slider changes the map,
+// and that hovering one view marks the same wall point on the other. Saves a screenshot.
+//
+//   node test/e2e.mjs --exe build/bin/vessel-view --mesh MESH.ply --workdir DIR
+//                     [--screenshot docs/images/viewer.png] [--chromium /usr/bin/chromium]
+import { chromium } from 'playwright-core';
+import { execFileSync } from 'node:child_process';
+import { mkdirSync, mkdtempSync, rmSync, existsSync } from 'node:fs';
+import { join, resolve, dirname } from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+function parseArgs(argv) {
+  const args = { chromium: process.env.VESSEL_CHROMIUM || '/usr/bin/chromium' };
+  for (let i = 0; i < argv.length; i += 2) args[argv[i].replace(/^--/, '')] = argv[i + 1];
+  for (const key of ['exe', 'mesh', 'workdir'])
+    if (!args[key]) throw new Error(`missing --${key}; see the usage at the top of e2e.mjs`);
+  return args;
+}
+
+const args = parseArgs(process.argv.slice(2));
+let failures = 0;
+const started = Date.now();
+function check(ok, what, detail) {
+  const s = ((Date.now() - started) / 1000).toFixed(1);
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}${detail ? ': ' + detail : ''} [${s} s]`);
+  if (!ok) failures++;
+}
+
+if (!existsSync(args.chromium))
+  throw new Error(`no Chromium at ${args.chromium}; run scripts/install-deps.sh (Debian package chromium)`);
+mkdirSync(args.workdir, { recursive: true });
+const html = resolve(args.workdir, 'viewer-e2e.html');
+execFileSync(args.exe, [args.mesh, '-o', html, '--demo-field', '-q'], { stdio: 'inherit' });
+
+const profile = mkdtempSync(join(args.workdir, 'chromium-profile-'));
+// A fresh profile directory (playwright passes it as --user-data-dir).
+const browser = await chromium.launchPersistentContext(profile, {
+  executablePath: args.chromium,
+  headless: true,
+  viewport: { width: 1500, height: 820 },
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync',
+    '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  const page = browser.pages()[0] || await browser.newPage();
+  const errors = [];
+  page.on('pageerror', (err) => errors.push(String(err)));
+  page.on('console', (msg) => { if (msg.type() === 'error') errors.push(msg.text()); });
+  // Offline: any request that is not the page itself or a data: URL fails the test.
+  const requests = [];
+  page.on('request', (req) => {
+    const url = req.url();
+    if (!url.startsWith('file:') && !url.startsWith('data:')) requests.push(url);
+  });
+  await page.goto(pathToFileURL(html).href);
+  await page.waitForFunction(() => document.body.dataset.ready || document.body.dataset.error, null, { timeout: 60000 });
+  const bootError = await page.evaluate(() => document.body.dataset.error || '');
+  check(!bootError, 'page starts', bootError);
+  if (bootError) throw new Error('the page did not start: ' + bootError);
+
+  // Renders both views, then counts pixels of each canvas: non-background, coloured (saturated)
+  // and hover-marker magenta. Also returns the raw pixels of the 2D view for comparisons.
+  const frame = () => page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  const snapshot = async () => {
+    await frame();
+    return page.evaluate(() => {
+      window.vesselViewer.renderNow();
+      const out = {};
+      for (const id of ['vv-canvas3d', 'vv-canvas2d']) {
+        const canvas = document.getElementById(id);
+        const copy = document.createElement('canvas');
+        copy.width = canvas.width;
+        copy.height = canvas.height;
+        const ctx = copy.getContext('2d');
+        ctx.drawImage(canvas, 0, 0);
+        const px = ctx.getImageData(0, 0, copy.width, copy.height).data;
+        let foreground = 0, coloured = 0, magenta = 0;
+        for (let i = 0; i < px.length; i += 4) {
+          const r = px[i], g = px[i + 1], b = px[i + 2];
+          if (Math.abs(r - 27) + Math.abs(g - 30) + Math.abs(b - 36) > 12) foreground++;
+          if (Math.max(r, g, b) - Math.min(r, g, b) > 40) coloured++;
+          if (r > 200 && g < 80 && b > 200) magenta++;
+        }
+        out[id] = { total: px.length / 4, foreground, coloured, magenta };
+        if (id === 'vv-canvas2d') {
+          // Pixels that changed since the previous snapshot (by more than 30 in R+G+B).
+          const last = window.e2eLast2d;
+          let changed = 0;
+          for (let i = 0; last && i < px.length; i += 4)
+            if (Math.abs(px[i] - last[i]) + Math.abs(px[i + 1] - last[i + 1]) + Math.abs(px[i + 2] - last[i + 2]) > 30) changed++;
+          out[id].changed = changed;
+          window.e2eLast2d = px;
+        }
+      }
+      return out;
+    });
+  };
+
+  const first = await snapshot();
+  for (const id of ['vv-canvas3d', 'vv-canvas2d']) {
+    const s = first[id];
+    check(s.coloured > 0.02 * s.total, `${id} draws coloured pixels`,
+      `${s.coloured} coloured, ${s.foreground} non-background of ${s.total}`);
+  }
+
+  // Time slider, moved with the mouse: a click at 40% of its track.
+  const before = await page.evaluate(() => window.vesselViewer.state.time);
+  const slider = await page.locator('#vv-time').boundingBox();
+  await page.mouse.click(slider.x + slider.width * 0.4, slider.y + slider.height / 2);
+  const after = await page.evaluate(() => window.vesselViewer.state.time);
+  const moved = await snapshot();
+  const diff = moved['vv-canvas2d'].changed;
+  check(after > before, 'the time slider moves the time', `${before.toFixed(3)} s -> ${after.toFixed(3)} s`);
+  check(diff > 0.01 * first['vv-canvas2d'].total, 'moving the time slider changes the 2D map',
+    `${diff} of ${first['vv-canvas2d'].total} pixels changed`);
+
+  // Hover the map at the centroid of a mid-index triangle: the 3D view shows the marker.
+  check(moved['vv-canvas3d'].magenta === 0, 'no marker before hovering', `${moved['vv-canvas3d'].magenta} magenta pixels`);
+  const box2d = await page.locator('#vv-canvas2d').boundingBox();
+  const [mx, my] = await page.evaluate(() => window.vesselViewer.faceOnMap(Math.floor(window.vesselViewer.nFaces / 2)));
+  await page.mouse.move(box2d.x + mx, box2d.y + my);
+  const hovered = await snapshot();
+  const readout = await page.locator('#vv-readout').textContent();
+  const hover = await page.evaluate(() => ({ face: window.vesselViewer.state.hover?.face, marker: window.vesselViewer.view3d.marker.visible }));
+  check(hover.marker && hovered['vv-canvas3d'].magenta > 0, 'hovering the map marks the wall point in 3D',
+    `face ${hover.face}, ${hovered['vv-canvas3d'].magenta} marker pixels in 3D`);
+  check(/=\s*-?[\d.]/.test(readout), 'hovering shows the value', readout);
+
+  // Hover the 3D view where a vertex projects (the surface is under it); the map then shows
+  // the marker.
+  const box3d = await page.locator('#vv-canvas3d').boundingBox();
+  let hit3d = null;
+  for (let k = 0; k < 10 && !hit3d; k++) {
+    const [x, y] = await page.evaluate((i) => window.vesselViewer.vertexOn3d(i), k * 997);
+    await page.mouse.move(box3d.x + x, box3d.y + y);
+    if (await page.evaluate(() => window.vesselViewer.state.hoverSource === '3d')) hit3d = [x, y];
+  }
+  const hovered3d = await snapshot();
+  check(hit3d !== null && hovered3d['vv-canvas2d'].magenta > 0, 'hovering the 3D view marks the map point',
+    hit3d ? `${hovered3d['vv-canvas2d'].magenta} marker pixels on the map` : 'no surface under the scanned points');
+
+  // Screenshot: mid-cycle, a hovered point, both views.
+  if (args.screenshot) {
+    await page.mouse.move(box2d.x + mx, box2d.y + my);
+    await frame();
+    mkdirSync(dirname(resolve(args.screenshot)), { recursive: true });
+    await page.screenshot({ path: args.screenshot });
+    console.log(`screenshot: ${args.screenshot}`);
+  }
+  check(errors.length === 0, 'no page errors', errors.join(' | '));
+  check(requests.length === 0, 'no network requests', requests.join(' '));
+} finally {
+  await browser.close();
+  rmSync(profile, { recursive: true, force: true });
+}
+if (failures) {
+  console.log(`${failures} check(s) failed`);
+  process.exit(1);
+}
+console.log('all viewer checks passed');
