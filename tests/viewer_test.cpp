@@ -215,3 +215,33 @@ TEST_CASE("viewer: malformed fields and options are refused")
     bare.mesh = carotid_phantom();
     CHECK_THROWS_AS(geodesic_field(bare), InvalidInputError);
 }
+
+TEST_CASE("viewer: vessel-view and vessel-flatten --html write pages with the re-cut command")
+{
+    const std::string dir = test::temp_dir("viewer-cli");
+    const std::string mesh = std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply";
+    if (!viewer_available())
+    {
+        // A build without node/npm: the tool says so and fails.
+        CHECK(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir + "/v.html") != 0);
+        return;
+    }
+    REQUIRE(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir +
+                      "/view.html --demo-field --viewpoint 10 -40 5 -q") == 0);
+    const std::string view = read_file(dir + "/view.html");
+    const nlohmann::json meta = nlohmann::json::parse(script_text(view, "vessel-meta"));
+    CHECK(meta["fields"].size() == 2);
+    CHECK(meta["fields"][1]["times"].size() == 90);
+    CHECK(meta["camera"].is_array());  // starts at the viewpoint
+    const std::string flatten = meta["flatten_command"];
+    CHECK(flatten.rfind("vessel-flatten " + mesh + " -o artery-coarse-flat.obj", 0) == 0);
+    CHECK(meta["view_command"].get<std::string>().find("--viewpoint") == std::string::npos);
+
+    REQUIRE(test::run(std::string(VESSEL_FLATTEN_EXE) + " " + mesh + " -o " + dir +
+                      "/flat.obj --html " + dir + "/flat.html -q") == 0);
+    const nlohmann::json flat_meta =
+        nlohmann::json::parse(script_text(read_file(dir + "/flat.html"), "vessel-meta"));
+    CHECK(flat_meta["fields"].size() == 1);
+    CHECK(flat_meta["flatten_command"].get<std::string>().find("--html") != std::string::npos);
+    CHECK(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir + "/x.obj -q") != 0);
+}

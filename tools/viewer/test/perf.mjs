@@ -1,0 +1,50 @@
+// Measures a generated page in headless Chromium: load time (decode + first frame) and the time
+// per animation frame (time step change + both views rendered and finished). Not a test: with
+// --disable-gpu the figures are SwiftShader's (CPU) ones, far slower than any real GPU.
+//   node test/perf.mjs PAGE.html [--chromium /usr/bin/chromium] [--frames 30]
+import { chromium } from 'playwright-core';
+import { mkdtempSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, resolve } from 'node:path';
+import { pathToFileURL } from 'node:url';
+
+const [page_path, ...rest] = process.argv.slice(2);
+const opts = { chromium: '/usr/bin/chromium', frames: '30' };
+for (let i = 0; i < rest.length; i += 2) opts[rest[i].replace(/^--/, '')] = rest[i + 1];
+const profile = mkdtempSync(join(tmpdir(), 'vv-perf-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: opts.chromium,
+  headless: true,
+  viewport: { width: 1500, height: 820 },
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync',
+    '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  const page = context.pages()[0] || await context.newPage();
+  const t0 = Date.now();
+  await page.goto(pathToFileURL(resolve(page_path)).href);
+  await page.waitForFunction(() => document.body.dataset.ready || document.body.dataset.error, null, { timeout: 300000 });
+  const loaded = Date.now() - t0;
+  const result = await page.evaluate((frames) => {
+    const v = window.vesselViewer;
+    const gl = v.view2d.renderer.getContext(), gl3 = v.view3d.renderer.getContext();
+    const px = new Uint8Array(4);
+    const times = [];
+    for (let i = 0; i < frames; i++) {
+      const start = performance.now();
+      v.setTime(1.8 * i / frames);
+      v.renderNow();
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px); // waits for the frame
+      gl3.readPixels(0, 0, 1, 1, gl3.RGBA, gl3.UNSIGNED_BYTE, px);
+      times.push(performance.now() - start);
+    }
+    times.sort((a, b) => a - b);
+    return { faces: v.nFaces, median: times[times.length >> 1], max: times[times.length - 1],
+      renderer: gl.getParameter(gl.getExtension('WEBGL_debug_renderer_info')?.UNMASKED_RENDERER_WEBGL ?? gl.RENDERER) };
+  }, Number(opts.frames));
+  console.log(JSON.stringify({ page: page_path, load_ms: loaded, ...result }));
+} finally {
+  await context.close();
+  rmSync(profile, { recursive: true, force: true });
+}
