@@ -5,11 +5,11 @@
 //
 //   node test/e2e.mjs --exe build/bin/vessel-view --mesh MESH.ply --workdir DIR
 //                     [--screenshot docs/images/viewer.png] [--chromium /usr/bin/chromium]
-import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
-import { mkdirSync, mkdtempSync, rmSync, existsSync } from 'node:fs';
-import { join, resolve, dirname } from 'node:path';
+import { mkdirSync } from 'node:fs';
+import { resolve, dirname } from 'node:path';
 import { pathToFileURL } from 'node:url';
+import { launchChromium } from './browser.mjs';
 
 function parseArgs(argv) {
   const args = { chromium: process.env.VESSEL_CHROMIUM || '/usr/bin/chromium' };
@@ -28,24 +28,13 @@ function check(ok, what, detail) {
   if (!ok) failures++;
 }
 
-if (!existsSync(args.chromium))
-  throw new Error(`no Chromium at ${args.chromium}; run scripts/install-deps.sh (Debian package chromium)`);
 mkdirSync(args.workdir, { recursive: true });
 const html = resolve(args.workdir, 'viewer-e2e.html');
 execFileSync(args.exe, [args.mesh, '-o', html, '--demo-field', '-q'], { stdio: 'inherit' });
 
-const profile = mkdtempSync(join(args.workdir, 'chromium-profile-'));
-// A fresh profile directory (playwright passes it as --user-data-dir).
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: args.chromium,
-  headless: true,
-  viewport: { width: 1500, height: 820 },
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync',
-    '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchChromium(args.chromium, args.workdir);
 try {
-  const page = browser.pages()[0] || await browser.newPage();
+  const { page } = browser;
   const errors = [];
   page.on('pageerror', (err) => errors.push(String(err)));
   page.on('console', (msg) => { if (msg.type() === 'error') errors.push(msg.text()); });
@@ -154,7 +143,6 @@ try {
   check(requests.length === 0, 'no network requests', requests.join(' '));
 } finally {
   await browser.close();
-  rmSync(profile, { recursive: true, force: true });
 }
 if (failures) {
   console.log(`${failures} check(s) failed`);

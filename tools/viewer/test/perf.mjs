@@ -2,26 +2,17 @@
 // per animation frame (time step change + both views rendered and finished). Not a test: with
 // --disable-gpu the figures are SwiftShader's (CPU) ones, far slower than any real GPU.
 //   node test/perf.mjs PAGE.html [--chromium /usr/bin/chromium] [--frames 30]
-import { chromium } from 'playwright-core';
-import { mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join, resolve } from 'node:path';
+import { resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
+import { launchChromium } from './browser.mjs';
 
 const [page_path, ...rest] = process.argv.slice(2);
 const opts = { chromium: '/usr/bin/chromium', frames: '30' };
 for (let i = 0; i < rest.length; i += 2) opts[rest[i].replace(/^--/, '')] = rest[i + 1];
-const profile = mkdtempSync(join(tmpdir(), 'vv-perf-'));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: opts.chromium,
-  headless: true,
-  viewport: { width: 1500, height: 820 },
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync',
-    '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
-});
+const browser = await launchChromium(opts.chromium, tmpdir());
 try {
-  const page = context.pages()[0] || await context.newPage();
+  const { page } = browser;
   const t0 = Date.now();
   await page.goto(pathToFileURL(resolve(page_path)).href);
   await page.waitForFunction(() => document.body.dataset.ready || document.body.dataset.error, null, { timeout: 300000 });
@@ -45,6 +36,5 @@ try {
   }, Number(opts.frames));
   console.log(JSON.stringify({ page: page_path, load_ms: loaded, ...result }));
 } finally {
-  await context.close();
-  rmSync(profile, { recursive: true, force: true });
+  await browser.close();
 }
