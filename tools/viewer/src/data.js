@@ -4,7 +4,9 @@
 const TYPES = { f32: Float32Array, u32: Uint32Array, u16: Uint16Array };
 
 async function decodeBase64(text) {
-  // fetch() on a data: URL decodes natively and works offline from file://; atob is the fallback.
+  // The native decoder where there is one (Chrome 140+, Firefox 133+, Safari 18.2+); else fetch()
+  // on a data: URL, which also decodes natively and works offline from file://; else atob.
+  if (typeof Uint8Array.fromBase64 === 'function') return Uint8Array.fromBase64(text).buffer;
   try {
     const response = await fetch('data:application/octet-stream;base64,' + text);
     return await response.arrayBuffer();

@@ -2,7 +2,7 @@
 import * as THREE from 'three';
 import { loadData } from './data.js';
 import { buildLayout, showError } from './ui.js';
-import { COLORMAP_NAMES, DIVERGING, colormapTexture, drawColorbar, formatValue } from './colormaps.js';
+import { COLORMAP_NAMES, DIVERGING, colormapBytes, colormapTexture, drawColorbar, formatValue } from './colormaps.js';
 import { fieldUniforms } from './material.js';
 import { MapLocator } from './locate.js';
 import { View3d } from './view3d.js';
@@ -28,7 +28,11 @@ function fixed(x, radius) {
 }
 
 async function start() {
+  const timings = {};
+  let clock = performance.now();
+  const lap = (name) => { const now = performance.now(); timings[name] = now - clock; clock = now; };
   const data = await loadData();
+  lap('decode_ms');
   const { meta } = data;
   const $ = buildLayout(meta.title);
   const nv = data.positions.length / 3;
@@ -37,6 +41,7 @@ async function start() {
   const uniforms = fieldUniforms(texture);
   const shared = { index: new THREE.BufferAttribute(data.indices, 1), uniforms };
   const locator = new MapLocator(data.uv, data.indices);
+  lap('grid_ms');
   shared.mapUv = new Float32Array(2 * nv);
   for (let i = 0; i < nv; i++) {
     shared.mapUv[2 * i] = (data.uv[2 * i] - locator.min[0]) / locator.size[0];
@@ -167,21 +172,35 @@ async function start() {
     requestRender();
   }
 
-  $('canvas2d').addEventListener('pointermove', (event) => {
-    const [u, v] = view2d.toMap(event.offsetX, event.offsetY);
-    setHover(locator.locate(u, v), '2d');
-  });
-  $('canvas3d').addEventListener('pointermove', (event) => {
-    if (event.buttons) return; // orbiting
-    const q = view3d.pick(event.offsetX, event.offsetY);
+  // Hover is resolved once per animation frame for the latest pointer position: the 3D pick is a
+  // render plus a pixel read-back, too costly for every pointer event.
+  let pendingHover = null;
+  function resolveHover() {
+    const { view, x, y } = pendingHover;
+    pendingHover = null;
+    if (view === '2d') {
+      const [u, v] = view2d.toMap(x, y);
+      setHover(locator.locate(u, v), '2d');
+      return;
+    }
+    const q = view3d.pick(x, y);
     if (!q) {
       setHover(null, '3d');
       return;
     }
     const u = locator.min[0] + q[0] * locator.size[0], v = locator.min[1] + q[1] * locator.size[1];
     setHover(locator.locate(u, v, 1), '3d');
+  }
+  $('canvas2d').addEventListener('pointermove', (event) => {
+    pendingHover = { view: '2d', x: event.offsetX, y: event.offsetY };
   });
-  for (const id of ['canvas2d', 'canvas3d']) $(id).addEventListener('pointerleave', () => setHover(null, id));
+  $('canvas3d').addEventListener('pointermove', (event) => {
+    if (event.buttons) return; // orbiting
+    pendingHover = { view: '3d', x: event.offsetX, y: event.offsetY };
+  });
+  for (const id of ['canvas2d', 'canvas3d']) {
+    $(id).addEventListener('pointerleave', () => { pendingHover = null; setHover(null, id); });
+  }
 
   function updateRecut() {
     const p = view3d.camera.position;
@@ -232,6 +251,7 @@ async function start() {
 
   let lastFrame = null;
   function frame(now) {
+    if (pendingHover) resolveHover();
     if (state.playing) {
       const times = currentField().times;
       const t0 = times[0], t1 = times[times.length - 1];
@@ -254,6 +274,10 @@ async function start() {
   $('field').value = String(Math.max(initial, 0));
   selectField(Math.max(initial, 0));
   updateRecut();
+  lap('setup_ms');
+  view3d.render();
+  view2d.render();
+  lap('first_frame_ms');
   requestAnimationFrame(frame);
 
   // Hooks for the end-to-end test and for scripting the page from the console.
@@ -261,6 +285,8 @@ async function start() {
     state,
     view2d,
     view3d,
+    locator,
+    timings,
     setTime(t) { state.time = t; applyTime(); },
     renderNow() { view3d.render(); view2d.render(); },
     // Canvas (CSS pixel) position in the 2D view of the centroid of face f.
@@ -273,12 +299,42 @@ async function start() {
       }
       return view2d.toCanvas(u, v);
     },
-    // Canvas (CSS pixel) position in the 3D view of vertex k (modulo the vertex count).
+    // Canvas (CSS pixel) position in the 3D view of a point (centre-relative, as stored).
+    pointOn3d(p) {
+      const q = new THREE.Vector3(p[0], p[1], p[2]).project(view3d.camera);
+      return [(q.x + 1) / 2 * view3d.canvas.clientWidth, (1 - q.y) / 2 * view3d.canvas.clientHeight];
+    },
     vertexOn3d(k) {
       const i = k % nv;
-      const p = new THREE.Vector3(data.positions[3 * i], data.positions[3 * i + 1], data.positions[3 * i + 2]);
-      p.project(view3d.camera);
-      return [(p.x + 1) / 2 * view3d.canvas.clientWidth, (1 - p.y) / 2 * view3d.canvas.clientHeight];
+      return this.pointOn3d([data.positions[3 * i], data.positions[3 * i + 1], data.positions[3 * i + 2]]);
+    },
+    // The colour the views give `value` with the current colormap and range (8-bit RGB).
+    colourOf(value) {
+      const lut = colormapBytes($('colormap').value);
+      const { rangeMin, rangeMax } = uniforms;
+      const s = Math.min(Math.max((value - rangeMin.value) / (rangeMax.value - rangeMin.value), 0), 1);
+      const x = s * 255, i = Math.min(Math.floor(x), 254), f = x - i;
+      return [0, 1, 2].map((c) => lut[4 * i + c] * (1 - f) + lut[4 * i + 4 + c] * f);
+    },
+    fieldRange(index) { return [fields[index].lo, fields[index].hi]; },
+    // Field `index` at face f's centroid and time t, from the stored steps (linear in time).
+    valueAtCentroid(index, f, t) {
+      const field = fields[index];
+      const [a, b, w] = stepsAt(field.times, t, true);
+      let value = 0;
+      for (let k = 0; k < 3; k++) {
+        const vtx = data.indices[3 * f + k];
+        const qa = field.values[a * nv + vtx] / QMAX, qb = field.values[b * nv + vtx] / QMAX;
+        value += (field.lo + (qa + (qb - qa) * w) * (field.hi - field.lo)) / 3;
+      }
+      return value;
+    },
+    // Centroid of face f in 3D (centre-relative).
+    faceCentroid3d(f) {
+      const c = [0, 0, 0];
+      for (let k = 0; k < 3; k++)
+        for (let d = 0; d < 3; d++) c[d] += data.positions[3 * data.indices[3 * f + k] + d] / 3;
+      return c;
     },
     nFaces: data.indices.length / 3,
   };

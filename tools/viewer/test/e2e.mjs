@@ -113,10 +113,43 @@ try {
   await page.mouse.move(box2d.x + mx, box2d.y + my);
   const hovered = await snapshot();
   const readout = await page.locator('#vv-readout').textContent();
-  const hover = await page.evaluate(() => ({ face: window.vesselViewer.state.hover?.face, marker: window.vesselViewer.view3d.marker.visible }));
+  const hover = await page.evaluate(() => {
+    const v = window.vesselViewer, f = Math.floor(v.nFaces / 2);
+    const m = v.view3d.marker.position, c = v.faceCentroid3d(f);
+    return { face: v.state.hover?.face, expected: f, marker: v.view3d.marker.visible,
+      offset: Math.hypot(m.x - c[0], m.y - c[1], m.z - c[2]) / v.view3d.radius };
+  });
   check(hover.marker && hovered['vv-canvas3d'].magenta > 0, 'hovering the map marks the wall point in 3D',
-    `face ${hover.face}, ${hovered['vv-canvas3d'].magenta} marker pixels in 3D`);
+    `${hovered['vv-canvas3d'].magenta} marker pixels in 3D`);
+  // The map point hovered is face f's centroid: the 3D marker must sit at f's 3D centroid.
+  check(hover.face === hover.expected && hover.offset < 1e-3, 'the 3D marker is the hovered wall point',
+    `face ${hover.face} (expected ${hover.expected}), marker off the 3D centroid by ${hover.offset.toExponential(2)} x mesh radius`);
   check(/=\s*-?[\d.]/.test(readout), 'hovering shows the value', readout);
+  // The GPU blend of the two steps around t: the map's pixel at the hovered point (the ring
+  // marker leaves its centre free) has the colour of the value expected there. The expected value
+  // is the demo pulse computed from the geodesic field: sin(2 pi (t / 1.8 - 1.5 d / d_max)).
+  const colour = await page.evaluate(([x, y]) => {
+    const v = window.vesselViewer, f = Math.floor(v.nFaces / 2), t = v.state.time;
+    const canvas = document.getElementById('vv-canvas2d');
+    const copy = document.createElement('canvas');
+    copy.width = canvas.width;
+    copy.height = canvas.height;
+    const ctx = copy.getContext('2d');
+    ctx.drawImage(canvas, 0, 0);
+    const r = canvas.width / canvas.clientWidth;
+    const px = ctx.getImageData(Math.floor(x * r), Math.floor(y * r), 1, 1).data;
+    const d = v.valueAtCentroid(0, f, 0), dMax = v.fieldRange(0)[1];
+    const expected = Math.sin(2 * Math.PI * (t / 1.8 - 1.5 * d / dMax));
+    return { pixel: Array.from(px.slice(0, 3)), want: v.colourOf(expected), expected, shown: v.state.hoverValue, t,
+      between: v.state.steps };
+  }, [mx, my]);
+  const colourError = Math.max(...colour.pixel.map((c, i) => Math.abs(c - colour.want[i])));
+  check(colour.between[2] > 0 && colour.between[2] < 1 && colourError <= 8,
+    'the map shows the value interpolated between two steps',
+    `t = ${colour.t.toFixed(3)} s between steps ${colour.between[0] + 1} and ${colour.between[1] + 1}; expected ${colour.expected.toFixed(4)} ` +
+    `-> rgb(${colour.want.map(Math.round)}), pixel rgb(${colour.pixel}), read-out ${colour.shown.toFixed(4)}`);
+  check(Math.abs(colour.shown - colour.expected) < 0.01, 'the read-out value is the pulse at that point',
+    `${colour.shown.toFixed(4)} vs ${colour.expected.toFixed(4)}`);
 
   // Hover the 3D view where a vertex projects (the surface is under it); the map then shows
   // the marker.
@@ -125,11 +158,18 @@ try {
   for (let k = 0; k < 10 && !hit3d; k++) {
     const [x, y] = await page.evaluate((i) => window.vesselViewer.vertexOn3d(i), k * 997);
     await page.mouse.move(box3d.x + x, box3d.y + y);
+    await frame();
     if (await page.evaluate(() => window.vesselViewer.state.hoverSource === '3d')) hit3d = [x, y];
   }
   const hovered3d = await snapshot();
   check(hit3d !== null && hovered3d['vv-canvas2d'].magenta > 0, 'hovering the 3D view marks the map point',
     hit3d ? `${hovered3d['vv-canvas2d'].magenta} marker pixels on the map` : 'no surface under the scanned points');
+  if (hit3d) {
+    // The wall point found through the GPU pick and the map must project back under the mouse.
+    const [px, py] = await page.evaluate(() => window.vesselViewer.pointOn3d(window.vesselViewer.state.hover.point));
+    const miss = Math.hypot(px - hit3d[0], py - hit3d[1]);
+    check(miss < 3, 'the 3D pick finds the wall point under the mouse', `${miss.toFixed(2)} px from the mouse`);
+  }
 
   // Screenshot: mid-cycle, a hovered point, both views.
   if (args.screenshot) {
