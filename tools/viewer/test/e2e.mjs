@@ -171,6 +171,27 @@ try {
     check(miss < 3, 'the 3D pick finds the wall point under the mouse', `${miss.toFixed(2)} px from the mouse`);
   }
 
+  // Play advances the time; pause stops it.
+  await page.click('#vv-play');
+  const t0 = await page.evaluate(() => window.vesselViewer.state.time);
+  await page.waitForTimeout(700);
+  await page.click('#vv-play');
+  const t1 = await page.evaluate(() => window.vesselViewer.state.time);
+  await page.waitForTimeout(300);
+  const t2 = await page.evaluate(() => window.vesselViewer.state.time);
+  check(t1 !== t0 && t2 === t1, 'play advances the time and pause stops it',
+    `${t0.toFixed(3)} s -> ${t1.toFixed(3)} s, then ${t2.toFixed(3)} s after pausing`);
+
+  // The field selector: the static geodesic distance, with viridis, redraws the map.
+  await snapshot();
+  await page.selectOption('#vv-field', '0');
+  const geodesic = await snapshot();
+  const cmap = await page.locator('#vv-colormap').inputValue();
+  check(cmap === 'viridis' && geodesic['vv-canvas2d'].changed > 0.01 * geodesic['vv-canvas2d'].total,
+    'the field selector switches field and colormap', `${cmap}, ${geodesic['vv-canvas2d'].changed} map pixels changed`);
+  await page.selectOption('#vv-field', '1');
+  await page.evaluate(() => window.vesselViewer.setTime(0.708));
+
   // Screenshot: mid-cycle, a hovered point, both views.
   if (args.screenshot) {
     await page.mouse.move(box2d.x + mx, box2d.y + my);

@@ -1,7 +1,7 @@
 // Measures a generated page in headless Chromium: load time (decode + first frame) and the time
 // per animation frame (time step change + both views rendered and finished). Not a test: with
 // --disable-gpu the figures are SwiftShader's (CPU) ones, far slower than any real GPU.
-//   node test/perf.mjs PAGE.html [--chromium /usr/bin/chromium] [--frames 30]
+//   node test/perf.mjs PAGE.html [--chromium /usr/bin/chromium] [--frames 30] [--screenshot PNG]
 import { tmpdir } from 'node:os';
 import { resolve } from 'node:path';
 import { pathToFileURL } from 'node:url';
@@ -52,6 +52,11 @@ try {
       renderer: gl.getParameter(gl.getExtension('WEBGL_debug_renderer_info')?.UNMASKED_RENDERER_WEBGL ?? gl.RENDERER) };
   }, Number(opts.frames));
   console.log(JSON.stringify({ page: page_path, load_ms: loaded, ...result }));
+  if (opts.screenshot) {
+    await page.evaluate(() => window.vesselViewer.setTime(0.5));
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+    await page.screenshot({ path: opts.screenshot });
+  }
 } finally {
   await browser.close();
 }
