@@ -146,11 +146,13 @@ TEST_CASE("viewer: the page embeds the cut mesh, the seam and every field step")
     // Positions are stored relative to meta.centre.
     const auto p0 = r.mesh.point(VertexHandle(0));
     for (int d = 0; d < 3; ++d)
-        CHECK(positions[d] + meta["centre"][d].get<double>() == doctest::Approx(p0[d]).epsilon(1e-5));
+        CHECK(positions[d] + meta["centre"][d].get<double>() ==
+              doctest::Approx(p0[d]).epsilon(1e-5));
     double worst_norm = 0;
     for (std::size_t v = 0; v < nv; ++v)
         worst_norm = std::max<double>(
-            worst_norm, std::abs(std::hypot(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]) - 1));
+            worst_norm,
+            std::abs(std::hypot(normals[3 * v], normals[3 * v + 1], normals[3 * v + 2]) - 1));
     CHECK(worst_norm < 1e-4);
     std::size_t seam_halfedges = 0;
     for (const auto& p : r.plan.paths)
@@ -169,8 +171,8 @@ TEST_CASE("viewer: the page embeds the cut mesh, the seam and every field step")
         double worst = 0;
         for (std::size_t s = 0; s < field.steps.size(); ++s)
             for (std::size_t v = 0; v < nv; ++v)
-                worst = std::max(worst, std::abs(lo + q[s * nv + v] * (hi - lo) / 65535.0 -
-                                                 field.steps[s][v]));
+                worst = std::max(
+                    worst, std::abs(lo + q[s * nv + v] * (hi - lo) / 65535.0 - field.steps[s][v]));
         CHECK(worst <= (hi - lo) / 65535.0);
     }
 }

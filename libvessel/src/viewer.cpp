@@ -70,13 +70,13 @@ std::string json_number(double x)
 
 void check_field(const ViewerField& field, std::size_t index, std::size_t n_vertices)
 {
-    const std::string who = "write_viewer_html: field " + std::to_string(index) + " ('" +
-                            field.name + "')";
+    const std::string who =
+        "write_viewer_html: field " + std::to_string(index) + " ('" + field.name + "')";
     if (field.name.empty())
         throw InvalidInputError(who + " has no name; set ViewerField::name");
     if (field.steps.empty() || field.steps.size() != field.times.size())
-        throw InvalidInputError(who + " has " + std::to_string(field.steps.size()) +
-                                " steps and " + std::to_string(field.times.size()) +
+        throw InvalidInputError(who + " has " + std::to_string(field.steps.size()) + " steps and " +
+                                std::to_string(field.times.size()) +
                                 " times; give one time per step (at least one)");
     for (std::size_t i = 0; i < field.times.size(); ++i)
     {
@@ -158,7 +158,10 @@ void ViewerOptions::validate() const
         throw InvalidInputError("ViewerOptions::viewpoint must be finite");
 }
 
-bool viewer_available() { return !detail::viewer_bundle().empty(); }
+bool viewer_available()
+{
+    return !detail::viewer_bundle().empty();
+}
 
 void write_viewer_html(const std::string& path, const FlattenResult& result,
                        const std::vector<ViewerField>& fields, const ViewerOptions& options)
@@ -167,8 +170,9 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
     const Mesh& mesh = result.mesh;
     const std::size_t nv = mesh.n_vertices();
     if (fields.empty())
-        throw InvalidInputError("write_viewer_html: no fields; pass at least one, e.g. "
-                                "geodesic_field(result)");
+        throw InvalidInputError(
+            "write_viewer_html: no fields; pass at least one, e.g. "
+            "geodesic_field(result)");
     if (static_cast<std::size_t>(result.uv.rows()) != nv)
         throw InvalidInputError("write_viewer_html: uv has " + std::to_string(result.uv.rows()) +
                                 " rows for " + std::to_string(nv) + " vertices");
@@ -176,8 +180,9 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
         check_field(fields[i], i, nv);
     const std::string bundle = detail::viewer_bundle();
     if (bundle.empty())
-        throw IoError("write_viewer_html: libvessel was built without the viewer (node and npm "
-                      "were not found); install nodejs and npm and rebuild");
+        throw IoError(
+            "write_viewer_html: libvessel was built without the viewer (node and npm "
+            "were not found); install nodejs and npm and rebuild");
 
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
     for (auto v : mesh.vertices())
@@ -240,8 +245,8 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
             double field_lo = 0, field_hi = 0;
             write_buffer(out, "field" + std::to_string(i), quantize(fields[i], field_lo, field_hi));
             meta << (i ? "," : "") << "{\"name\":" << json_string(fields[i].name)
-                 << ",\"unit\":" << json_string(fields[i].unit) << ",\"lo\":"
-                 << json_number(field_lo) << ",\"hi\":" << json_number(field_hi)
+                 << ",\"unit\":" << json_string(fields[i].unit)
+                 << ",\"lo\":" << json_number(field_lo) << ",\"hi\":" << json_number(field_hi)
                  << ",\"colormap\":"
                  << (fields[i].diverging ? "\"blue-white-red (diverging)\"" : "\"viridis\"")
                  << ",\"times\":[";

@@ -178,7 +178,8 @@ int main(int argc, char** argv)
         {
             vessel::ViewerOptions view;
             view.title = std::filesystem::path(input).filename().string();
-            view.flatten_command = vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
+            view.flatten_command =
+                vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
             view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
             view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
                                  ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)

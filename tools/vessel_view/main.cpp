@@ -12,22 +12,25 @@
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"Flatten a vessel tree surface and write one self-contained HTML page with the "
-                 "3D surface and its flattened map in linked views (fields colormapped on both, "
-                 "animated over time)."};
+    CLI::App app{
+        "Flatten a vessel tree surface and write one self-contained HTML page with the "
+        "3D surface and its flattened map in linked views (fields colormapped on both, "
+        "animated over time)."};
     std::string input, output, cost = "curvature", title;
     std::vector<double> viewpoint;
     bool demo_field = false, quiet = false;
     vessel::FlattenOptions options;
     vessel::PulseOptions pulse;
-    app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), open at inlet and "
-                                   "outlets")
+    app.add_option("input", input,
+                   "Vessel surface (.obj, .off, .ply, .stl), open at inlet and "
+                   "outlets")
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("-o,--output", output, "The HTML page to write")->required();
-    app.add_option("--viewpoint", viewpoint, "Start/end cuts at the loop vertices nearest this "
-                                             "3D point (the page shows the one of its camera); "
-                                             "the 3D view starts looking from there")
+    app.add_option("--viewpoint", viewpoint,
+                   "Start/end cuts at the loop vertices nearest this "
+                   "3D point (the page shows the one of its camera); "
+                   "the 3D view starts looking from there")
         ->expected(3);
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature, geodesic or blend")
         ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
@@ -35,8 +38,9 @@ int main(int argc, char** argv)
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str();
-    app.add_flag("--demo-field", demo_field, "Add a synthetic travelling pulse (90 steps over "
-                                             "1.8 s) to try the time controls");
+    app.add_flag("--demo-field", demo_field,
+                 "Add a synthetic travelling pulse (90 steps over "
+                 "1.8 s) to try the time controls");
     app.add_option("--title", title, "Page title (default: the input file name)");
     app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
     try
@@ -62,8 +66,9 @@ int main(int argc, char** argv)
             view.viewpoint = options.cuts.viewpoint;
         }
         if (!vessel::viewer_available())
-            throw vessel::IoError("this build has no viewer bundle (node and npm were not found "
-                                  "when libvessel was built); install nodejs and npm and rebuild");
+            throw vessel::IoError(
+                "this build has no viewer bundle (node and npm were not found "
+                "when libvessel was built); install nodejs and npm and rebuild");
         const vessel::TreeSurface surface = vessel::load_tree_surface(input);
         if (!quiet)
             std::fprintf(stderr, "read %zu vertices, %zu faces; flattening...\n",

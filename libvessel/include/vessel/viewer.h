@@ -57,8 +57,8 @@ ViewerField geodesic_field(const FlattenResult& result, const std::string& unit 
 //! A synthetic travelling wave for trying the viewer without CFD data.
 struct PulseOptions
 {
-    int steps = 90;           //!< time steps over one period
-    double period_s = 1.8;    //!< one heart cycle, seconds
+    int steps = 90;            //!< time steps over one period
+    double period_s = 1.8;     //!< one heart cycle, seconds
     double wavelengths = 1.5;  //!< waves along the longest geodesic distance from the inlet
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
