@@ -317,6 +317,7 @@ async function start() {
       return [0, 1, 2].map((c) => lut[4 * i + c] * (1 - f) + lut[4 * i + 4 + c] * f);
     },
     fieldRange(index) { return [fields[index].lo, fields[index].hi]; },
+    fieldTimes(index) { return fields[index].times; },
     // Field `index` at face f's centroid and time t, from the stored steps (linear in time).
     valueAtCentroid(index, f, t) {
       const field = fields[index];

@@ -140,14 +140,20 @@ try {
     const px = ctx.getImageData(Math.floor(x * r), Math.floor(y * r), 1, 1).data;
     const d = v.valueAtCentroid(0, f, 0), dMax = v.fieldRange(0)[1];
     const expected = Math.sin(2 * Math.PI * (t / 1.8 - 1.5 * d / dMax));
+    // The colours of the two stored steps around t, which a nearest-step display would show.
+    const times = v.fieldTimes(1), [a, b] = v.state.steps;
+    const stepColours = [times[a], times[b]].map((ts) => v.colourOf(v.valueAtCentroid(1, f, ts)));
     return { pixel: Array.from(px.slice(0, 3)), want: v.colourOf(expected), expected, shown: v.state.hoverValue, t,
-      between: v.state.steps };
+      between: v.state.steps, stepColours };
   }, [mx, my]);
-  const colourError = Math.max(...colour.pixel.map((c, i) => Math.abs(c - colour.want[i])));
-  check(colour.between[2] > 0 && colour.between[2] < 1 && colourError <= 8,
+  const distance = (p, q) => Math.max(...p.map((c, i) => Math.abs(c - q[i])));
+  const colourError = distance(colour.pixel, colour.want);
+  const stepErrors = colour.stepColours.map((c) => distance(colour.pixel, c));
+  check(colour.between[2] > 0 && colour.between[2] < 1 && colourError <= 3 && Math.min(...stepErrors) > colourError,
     'the map shows the value interpolated between two steps',
     `t = ${colour.t.toFixed(3)} s between steps ${colour.between[0] + 1} and ${colour.between[1] + 1}; expected ${colour.expected.toFixed(4)} ` +
-    `-> rgb(${colour.want.map(Math.round)}), pixel rgb(${colour.pixel}), read-out ${colour.shown.toFixed(4)}`);
+    `-> rgb(${colour.want.map(Math.round)}), pixel rgb(${colour.pixel}); the steps' own colours are ` +
+    `${stepErrors.map((e) => e.toFixed(1)).join(' and ')} levels away`);
   check(Math.abs(colour.shown - colour.expected) < 0.01, 'the read-out value is the pulse at that point',
     `${colour.shown.toFixed(4)} vs ${colour.expected.toFixed(4)}`);
 
