@@ -1,10 +1,12 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
+#include "../vessel_view/command.h"
 #include "batch.h"
 #include "vessel/errors.h"
 #include "vessel/flat_io.h"
 #include "vessel/io.h"
 #include "vessel/pipeline.h"
 #include "vessel/validation.h"
+#include "vessel/viewer.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -32,7 +34,7 @@ int main(int argc, char** argv)
     CLI::App app{"Cut a vessel tree surface open along natural vessel cuts and flatten it into "
                  "one 2D patch.\nWrites OBJ in seam form: v = input positions (input order), "
                  "vt = (u, v) per cut vertex, f v/vt."};
-    std::string input, output, report_path, cost = "curvature", solver = "local-global",
+    std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
                                             init = "layout-lscm", refine = "injective",
                                             overlaps = "restart";
     std::vector<double> viewpoint;
@@ -57,6 +59,8 @@ int main(int argc, char** argv)
     app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
                                            "<stem>.json already exist in OUTDIR");
     app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
+    app.add_option("--html", html, "Also write an interactive HTML viewer of the result (single "
+                                   "input only; see vessel-view for more fields)");
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature (E_c), geodesic (E_g) or "
                                    "blend (E_cg)")
         ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
@@ -184,6 +188,18 @@ int main(int argc, char** argv)
 
         start = Clock::now();
         vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);
+        if (!html.empty())
+        {
+            vessel::ViewerOptions view;
+            view.title = std::filesystem::path(input).filename().string();
+            view.flatten_command =
+                vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
+            view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
+            view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
+                                 ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
+                                 : std::nullopt;
+            vessel::write_viewer_html(html, result, {vessel::geodesic_field(result)}, view);
+        }
         const double write_s = seconds_since(start);
         if (!report_path.empty())
         {
