@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
+  libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev libcgal-dev
   doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev
   python3 python3-numpy python3-matplotlib
 )
