@@ -33,7 +33,8 @@ int main(int argc, char** argv)
                  "one 2D patch.\nWrites OBJ in seam form: v = input positions (input order), "
                  "vt = (u, v) per cut vertex, f v/vt."};
     std::string input, output, report_path, cost = "curvature", solver = "ceres",
-                                            init = "layout-lscm", refine = "injective";
+                                            init = "layout-lscm", refine = "injective",
+                                            layout = "fan";
     std::vector<double> viewpoint;
     bool quiet = false;
     vessel::FlattenOptions options;
@@ -69,6 +70,11 @@ int main(int argc, char** argv)
         ->expected(3);
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
+        ->capture_default_str();
+    app.add_option("--layout", layout, "Layout of the loops before the map: fan (the paper) or "
+                                       "sector (each subtree in its own angular sector; pinned "
+                                       "segments never cross)")
+        ->check(CLI::IsMember({"fan", "sector"}))
         ->capture_default_str();
     app.add_option("--curvature-scale", options.curvature.scale,
                    "Curvature fitting radius in mean edge lengths")
@@ -128,6 +134,7 @@ int main(int argc, char** argv)
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
                                  : init == "tutte"  ? vessel::Initialization::Tutte
                                                     : vessel::Initialization::LayoutLscm;
+        options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {
             options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
