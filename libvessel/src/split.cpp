@@ -1,6 +1,7 @@
 #include "vessel/split.h"
 
 #include "vessel/boundary.h"
+#include "detail/union_find.h"
 #include "vessel/errors.h"
 #include "vessel/geodesic.h"
 
@@ -32,28 +33,7 @@ struct Soup
     std::vector<std::array<int, 3>> faces;
 };
 
-class UnionFind
-{
-public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-    int find(int x)
-    {
-        while (parent_[x] != x)
-            x = parent_[x] = parent_[parent_[x]];
-        return x;
-    }
-    // Returns the surviving root.
-    int unite(int a, int b)
-    {
-        a = find(a), b = find(b);
-        if (a != b)
-            parent_[b] = a;
-        return a;
-    }
-
-private:
-    std::vector<int> parent_;
-};
+using detail::UnionFind;
 
 std::string list(const std::set<int>& s)
 {

@@ -4,6 +4,7 @@
 #include "vessel/flat_io.h"
 #include "vessel/io.h"
 #include "vessel/pipeline.h"
+#include "vessel/split.h"
 #include "vessel/validation.h"
 
 #include <CLI/CLI.hpp>
@@ -36,6 +37,7 @@ int main(int argc, char** argv)
                                             init = "layout-lscm", refine = "injective",
                                             layout = "fan";
     std::vector<double> viewpoint;
+    std::vector<std::vector<int>> split_at;
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
@@ -76,6 +78,14 @@ int main(int argc, char** argv)
                                        "segments never cross)")
         ->check(CLI::IsMember({"fan", "sector"}))
         ->capture_default_str();
+    app.add_option("--split-at", split_at, "Cut off the subtree carrying these outlets (loop "
+                                           "indices, 1 = largest outlet; e.g. 3,5) just past "
+                                           "its branch point and flatten it as its own map; "
+                                           "repeat for several. Writes OUTPUT.pieceN.obj (the "
+                                           "last piece keeps the inlet)")
+        ->delimiter(',')
+        ->type_size(1, -1)
+        ->allow_extra_args(false);
     app.add_option("--curvature-scale", options.curvature.scale,
                    "Curvature fitting radius in mean edge lengths")
         ->check(CLI::PositiveNumber)
@@ -140,6 +150,8 @@ int main(int argc, char** argv)
             options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
             options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
         }
+        if (!batch.inputs.empty() && !split_at.empty())
+            throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
         if (!batch.inputs.empty())
         {
             batch.output_dir = output;
@@ -170,29 +182,54 @@ int main(int argc, char** argv)
             for (const auto& note : surface.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
-        const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
-        if (!quiet)
-            for (const auto& note : result.notes)
-                std::fprintf(stderr, "note: %s\n", note.c_str());
+        // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
+        const auto flatten_piece = [&](const vessel::TreeSurface& piece,
+                                       const std::vector<Eigen::Vector3d>& points,
+                                       const std::string& out, const std::string& report) {
+            const vessel::FlattenResult result = vessel::flatten(piece.mesh, options);
+            if (!quiet)
+                for (const auto& note : result.notes)
+                    std::fprintf(stderr, "note: %s\n", note.c_str());
 
-        start = Clock::now();
-        vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);
-        const double write_s = seconds_since(start);
-        if (!report_path.empty())
+            start = Clock::now();
+            vessel::write_flat_obj(out, points, result.mesh, result.uv);
+            const double write_s = seconds_since(start);
+            if (!report.empty())
+            {
+                const std::string tmp = report + ".tmp";
+                std::ofstream(tmp) << vessel::cli::report_json(input, piece, result, read_s, write_s).dump(2)
+                                   << "\n";
+                std::filesystem::rename(tmp, report);
+            }
+            if (!quiet)
+            {
+                const auto& q = result.quality;
+                std::fprintf(stderr,
+                             "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
+                             "%.3f, total %.3f s -> %s\n",
+                             q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
+                             q.mean_conformal, result.timings.total(), out.c_str());
+            }
+        };
+        if (split_at.empty())
         {
-            const std::string tmp = report_path + ".tmp";
-            std::ofstream(tmp) << vessel::cli::report_json(input, surface, result, read_s, write_s).dump(2)
-                               << "\n";
-            std::filesystem::rename(tmp, report_path);
+            flatten_piece(surface, raw.points, output, report_path);
+            return 0;
         }
-        if (!quiet)
+        const auto pieces = vessel::split_tree(surface.mesh, split_at);
+        for (std::size_t i = 0; i < pieces.size(); ++i)
         {
-            const auto& q = result.quality;
-            std::fprintf(stderr,
-                         "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
-                         "%.3f, total %.3f s -> %s\n",
-                         q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
-                         q.mean_conformal, result.timings.total(), output.c_str());
+            const auto named = [&](const std::string& path) {
+                if (path.empty())
+                    return path;
+                std::filesystem::path p(path);
+                return (p.parent_path() / p.stem()).string() + ".piece" + std::to_string(i) +
+                       p.extension().string();
+            };
+            if (!quiet)
+                std::fprintf(stderr, "piece %zu: %zu faces\n", i, pieces[i].mesh.faces.size());
+            flatten_piece(vessel::make_tree_surface(pieces[i].mesh), pieces[i].mesh.points,
+                          named(output), named(report_path));
         }
         return 0;
     }
