@@ -42,8 +42,11 @@ bool separated_by_edge_of(const OrientedTriangle& a, const OrientedTriangle& b)
         const Point& from = a.p[i];
         const Point& to = a.p[(i + 1) % 3];
         bool any_inside = false;
+        // A shared corner is on the line; skipping it spares the exact fallback that the
+        // filter needs for every zero determinant (neighbours share two corners).
         for (const Point& q : b.p)
-            any_inside = any_inside || CGAL::orientation(from, to, q) == CGAL::LEFT_TURN;
+            any_inside = any_inside || (q != from && q != to &&
+                                        CGAL::orientation(from, to, q) == CGAL::LEFT_TURN);
         if (!any_inside)
             return true;
     }
