@@ -177,7 +177,7 @@ TEST_CASE("overlap: the report's exact fraction agrees with flatcheck.py's raste
         const auto check = nlohmann::json::parse(std::ifstream(dir + "/check.json"));
         const double exact = report["quality"]["overlap_fraction"];
         const double raster = check["overlap_fraction"];
-        MESSAGE(relative << ": exact " << exact << ", flatcheck " << raster << ", "
+        MESSAGE(std::string(relative) << ": exact " << exact << ", flatcheck " << raster << ", "
                          << report["quality"]["overlapping_triangles"] << " faces");
         CHECK(std::abs(exact - raster) <= 0.002 + 0.1 * raster);
         CHECK((exact > 0) == (report["overlaps"]["triangles"].size() > 0));
