@@ -24,6 +24,8 @@ done
 printf "%-34s %7s %5s %7s %10s %10s %8s %9s\n" mesh faces flips overlap area fraction logarea flatcheck
 for input in "${inputs[@]}"; do
   stem=$(basename "${input%.*}")
+  # SKIP: an extended regex of stems to leave out (e.g. the 277k-face mesh on a busy machine).
+  if [ -n "${SKIP:-}" ] && [[ $stem =~ $SKIP ]]; then continue; fi
   if ! "$build/bin/vessel-flatten" "$input" -o "$out/$stem.obj" --report "$out/$stem.json" -q "$@" \
       2> "$out/$stem.err"; then
     printf "%-34s failed: %s\n" "$stem" "$(tail -1 "$out/$stem.err")"; continue
