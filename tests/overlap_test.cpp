@@ -26,14 +26,6 @@ void add_square(std::vector<Triangle2>& soup, double x0, double y0, double s)
     soup.push_back({a, c, d});
 }
 
-// The planar grid's own (x, y) as its map.
-Eigen::MatrixX2d planar_uv(const Mesh& mesh)
-{
-    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
-    for (auto v : mesh.vertices())
-        uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
-    return uv;
-}
 
 }  // namespace
 
@@ -77,7 +69,7 @@ TEST_CASE("overlap: a strip folded back over itself overlaps by the folded area"
     // A 8 x 8 grid of side 4, folded at x = 3: the last column of quads (x in [3, 4]) is mirrored
     // onto [2, 3] and covers it a second time: overlap area 1 x 4, and those faces are flipped.
     const Mesh grid = plane_grid(4.0, 8);
-    Eigen::MatrixX2d uv = planar_uv(grid);
+    Eigen::MatrixX2d uv = test::planar_uv(grid);
     for (Eigen::Index i = 0; i < uv.rows(); ++i)
         if (uv(i, 0) > 3.0)
             uv(i, 0) = 6.0 - uv(i, 0);
@@ -152,7 +144,7 @@ TEST_CASE("overlap: bad input is refused")
 {
     const Mesh grid = plane_grid(1.0, 2);
     CHECK_THROWS_AS(find_overlaps(grid, Eigen::MatrixX2d(3, 2)), InvalidInputError);
-    Eigen::MatrixX2d uv = planar_uv(grid);
+    Eigen::MatrixX2d uv = test::planar_uv(grid);
     uv(0, 0) = NAN;
     CHECK_THROWS_AS(find_overlaps(grid, uv), InvalidInputError);
     CHECK(find_overlaps(std::vector<Triangle2>{}).pairs.empty());
