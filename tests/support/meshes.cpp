@@ -107,4 +107,12 @@ std::vector<VertexHandle> boundary_vertices(const Mesh& mesh)
     return out;
 }
 
+Eigen::MatrixX2d planar_uv(const Mesh& mesh)
+{
+    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
+    for (auto v : mesh.vertices())
+        uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
+    return uv;
+}
+
 }  // namespace vessel::test

@@ -23,6 +23,9 @@ Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose);
 //! centre (a non-developable disk). Vertex (i, j) has index j * (n + 1) + i.
 Mesh bumped_grid(double size, int n, double height);
 
+//! The (x, y) of a mesh lying in the z = 0 plane (e.g. plane_grid()) as its map: |V| x 2.
+Eigen::MatrixX2d planar_uv(const Mesh& mesh);
+
 //! Signed area of every face of the map \p uv (|V| x 2, row `v.idx()`), indexed by `f.idx()`;
 //! negative means the triangle is flipped.
 Eigen::VectorXd uv_signed_areas(const Mesh& mesh, const Eigen::MatrixX2d& uv);
