@@ -107,6 +107,8 @@ struct Settings
     std::vector<int> solver_iterations;  // empty = library defaults only
     bool peer = true;                    // also run the CGAL peer on each mesh
     double curve_budget_s = 60.0;        // solver curves: seconds per solver and mesh
+    double peer_timeout_s = 900.0;       // kill the peer's child after this long
+    long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
 };
 
 double median(std::vector<double> v)
@@ -742,6 +744,8 @@ void print_peer(const std::vector<json>& results, bool markdown, std::ostream& o
         std::string failed;
         if (p.contains("error"))
             failed = p["error"].get<std::string>();
+        if (p.contains("skipped"))
+            failed = "not run: " + p["skipped"].get<std::string>();
         const json errors = p.value("errors", json::object());
         for (const auto& [stage, message] : errors.items())
             failed += (failed.empty() ? "" : "; ") + stage + ": " + message.get<std::string>();
@@ -975,6 +979,10 @@ int main(int argc, char** argv)
     bool no_peer = false, skip_1m = false;
     app.add_flag("--no-peer", no_peer, "Do not run the CGAL peer pipeline");
     app.add_flag("--skip-1m", skip_1m, "Leave out the 1M-triangle phantom");
+    app.add_option("--peer-timeout", s.peer_timeout_s,
+                   "Kill the CGAL peer's child for a mesh after this long (s); recorded, not fatal")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--json", json_path, "Also write all results (every sample) as JSON");
     app.add_flag("--solvers", solvers, "Solver study: each refinement variant on the real meshes");
     std::string curves_csv;
@@ -993,6 +1001,10 @@ int main(int argc, char** argv)
                    "Stop repeating a mesh after a run longer than this (s); it is then reported "
                    "from the runs made, marked *")
         ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--peer-max-faces", s.peer_max_faces,
+                   "Skip the CGAL peer on meshes with more triangles (0 = no limit)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--timeout", s.timeout_s, "Kill a mesh's child process after this long (s)")
         ->check(CLI::PositiveNumber)
@@ -1065,7 +1077,11 @@ int main(int argc, char** argv)
                            : in_child(c, s, run_table_case);
         if (s.peer && !solvers && !r.contains("skipped"))
         {
-            r["peer"] = in_child(c, s, on_mesh(run_peer_case));
+            Settings peer_settings = s;
+            peer_settings.timeout_s = s.peer_timeout_s;
+            if (s.peer_max_faces > 0)
+                peer_settings.max_faces = s.peer_max_faces;
+            r["peer"] = in_child(c, peer_settings, on_mesh(run_peer_case));
             std::fprintf(stderr, "    CGAL peer: %s, peak RSS %.0f MB\n",
                          r["peer"].contains("error") ? r["peer"]["error"].get<std::string>().c_str()
                          : r["peer"].value("errors", json::object()).empty() ? "ok" : "a stage failed",
