@@ -765,7 +765,7 @@ void print_peer(const std::vector<json>& results, bool markdown, std::ostream& o
         row.push_back(failed.empty() ? "" : failed);
         med.push_back(row);
         char rss[32] = "-";
-        if (r.contains("peak_rss_mb") && p.contains("peak_rss_mb"))
+        if (r.contains("peak_rss_mb") && p.contains("peak_rss_mb") && !p.contains("skipped"))
             std::snprintf(rss, sizeof rss, "%.2f",
                           p["peak_rss_mb"].get<double>() / r["peak_rss_mb"].get<double>());
         rrow.push_back(rss);
