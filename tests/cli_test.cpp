@@ -330,6 +330,21 @@ TEST_CASE("cli: NaN and infinite coordinates are refused")
         write_text(dir + "/in.off", off.str());
         check_bad(dir, dir + "/in.off", "vertex 3 of " + dir + "/in.off has a NaN, infinite");
     }
+    SUBCASE("nan written as text in an ASCII PLY")
+    {
+        std::ostringstream ply;
+        ply << "ply\nformat ascii 1.0\nelement vertex " << s.v.size()
+            << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+            << s.f.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+        for (std::size_t i = 0; i < s.v.size(); ++i)
+            ply << s.v[i].x() << " " << (i == 9 ? std::string("-nan") : std::to_string(s.v[i].y()))
+                << " " << s.v[i].z() << "\n";
+        for (const auto& face : s.f)
+            ply << "3 " << face[0] << " " << face[1] << " " << face[2] << "\n";
+        write_text(dir + "/in.ply", ply.str());
+        check_bad(dir, dir + "/in.ply", "vertex 9 of " + dir + "/in.ply has a NaN, infinite or "
+                                        "unreadable coordinate ('-nan')");
+    }
 }
 
 TEST_CASE("cli: a zero-area face is refused")
@@ -366,22 +381,121 @@ TEST_CASE("cli: a face repeating a vertex is refused")
               "face 10 uses vertex " + std::to_string(s.f[10][0]) + " twice (degenerate face)");
 }
 
+TEST_CASE("cli: an OBJ face repeating a vertex is refused (OpenMesh would drop it silently)")
+{
+    const auto dir = temp_dir("cli_obj_repeated_vertex");
+    Soup s = tube();
+    s.f[10][2] = s.f[10][0];
+    write_obj(dir + "/in.obj", s);
+    check_bad(dir, dir + "/in.obj",
+              "read_raw_mesh: face 10 of " + dir + "/in.obj uses vertex " +
+                  std::to_string(s.f[10][0]) + " twice (degenerate face)");
+}
+
+TEST_CASE("cli: a duplicate face is refused")
+{
+    const auto dir = temp_dir("cli_duplicate_face");
+    Soup s = tube();
+    s.f.push_back({s.f[30][1], s.f[30][2], s.f[30][0]});  // same triangle, rotated corners
+    write_obj(dir + "/in.obj", s);
+    check_bad(dir, dir + "/in.obj",
+              "1 duplicate face (same three vertices as another face), first is face " +
+                  std::to_string(s.f.size() - 1) + " (a copy of face 30); remove them");
+}
+
+namespace {
+
+// The tube cut at its middle ring (ring 3 of 0..6, vertices 36-47): the faces above it use
+// copies of that ring's vertices, at the same positions.
+Soup split_tube()
+{
+    Soup s = tube();
+    const int n = static_cast<int>(s.v.size());
+    for (int i = 36; i < 48; ++i)
+        s.v.push_back(s.v[i]);
+    for (auto& face : s.f)
+        if (*std::max_element(face.begin(), face.end()) >= 48)
+            for (int& i : face)
+                if (i >= 36 && i < 48)
+                    i = n + i - 36;
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE("cli: coincident boundary loops are refused")
+{
+    const auto dir = temp_dir("cli_coincident_loops");
+    write_obj(dir + "/in.obj", split_tube());
+    check_bad(dir, dir + "/in.obj",
+              "not a valid vessel tree surface: coincident boundary loops: 24 boundary vertices lie "
+              "exactly on other boundary vertices (first: vertices 36 and 84 at (1, 0, 2)), so "
+              "pieces of the surface only touch along a seam; stitch them (vessel-flatten "
+              "--repair)");
+}
+
+TEST_CASE("cli: polygons are refused with --refuse-polygons")
+{
+    const auto dir = temp_dir("cli_refuse_polygons");
+    Soup s = tube();
+    s.f[0].push_back(s.f[1][2]);  // face 0 becomes a quad (p, q, r, x) over faces 0 and 1
+    s.f.erase(s.f.begin() + 1);
+    write_obj(dir + "/in.obj", s);
+    const std::string out = dir + "/flat.obj";
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + out + " --refuse-polygons");
+    CHECK(o.status == 1);
+    CHECK_MESSAGE(o.err.find("not a valid vessel tree surface: face 0 has 4 corners; triangulate "
+                             "the surface first") != std::string::npos,
+                  o.err);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(flatten_cli(dir, dir + "/in.obj -o " + out + " -q").status == 0);
+}
+
+namespace {
+
+// Adds \p piece moved by \p shift to \p s as a separate component, its faces before or after.
+void add_piece(Soup& s, const Soup& piece, const Eigen::Vector3d& shift, bool faces_first)
+{
+    const int n = static_cast<int>(s.v.size());
+    for (const auto& p : piece.v)
+        s.v.push_back(p + shift);
+    std::vector<std::vector<int>> faces = piece.f;
+    for (auto& face : faces)
+        for (int& i : face)
+            i += n;
+    s.f.insert(faces_first ? s.f.begin() : s.f.end(), faces.begin(), faces.end());
+}
+
+}  // namespace
+
 TEST_CASE("cli: several components are refused")
 {
     const auto dir = temp_dir("cli_components");
     Soup s = tube();
-    const Soup t = tube();
-    const int n = static_cast<int>(s.v.size());
-    for (const auto& p : t.v)
-        s.v.push_back(p + Eigen::Vector3d(10, 0, 0));
-    for (auto face : t.f)
-    {
-        for (int& i : face)
-            i += n;
-        s.f.push_back(face);
-    }
+    add_piece(s, tube(), Eigen::Vector3d(10, 0, 0), false);
     write_obj(dir + "/in.obj", s);
-    check_bad(dir, dir + "/in.obj", "2 connected components (faces per component: 144, 144)");
+    check_bad(dir, dir + "/in.obj",
+              "2 connected components (faces per component: 144, 144); keep only the vessel "
+              "surface (one piece), e.g. with vessel-flatten --largest-component");
+}
+
+TEST_CASE("cli: --largest-component keeps the largest piece with a note")
+{
+    const auto dir = temp_dir("cli_largest_component");
+    Soup s = tube();
+    // 32 faces, first in the file, so the largest piece is not simply the first.
+    add_piece(s, soup(open_cylinder(0.5, 1.0, 8, 2)), Eigen::Vector3d(10, 0, 0), true);
+    write_obj(dir + "/in.obj", s);
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.obj --largest-component "
+                                       "--report " + dir + "/r.json");
+    CHECK(o.status == 0);
+    CHECK_MESSAGE(o.err.find("note: kept the largest of 2 connected components (faces per "
+                             "component: 144, 32); dropped 32 faces") != std::string::npos,
+                  o.err);
+    const auto flat = read_flat_obj(dir + "/flat.obj");
+    CHECK(check_flat_obj(flat).euler == 1);
+    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    CHECK(report["counts"]["faces"] == 144);
 }
 
 TEST_CASE("cli: a closed surface is refused")

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -266,35 +267,41 @@ void check_stl(const std::string& path, std::uintmax_t file_size)
 }
 
 // OpenMesh's text readers cannot parse "nan" or "inf": they drop or misread the vertex and the
-// faces then point at the wrong vertices. Check the coordinates of OBJ `v` lines and of the
-// vertex lines of an ASCII OFF ourselves, so the user hears about the coordinate.
-void check_text_coordinates(const std::string& path, const std::string& ext)
+// faces then point at the wrong vertices. So the coordinates of OBJ `v` lines and of the vertex
+// lines of an ASCII OFF or PLY are checked here, and the user hears about the coordinate.
+void check_coordinate_words(const std::string& path, const std::string& text, std::size_t vertex,
+                            const std::vector<int>& columns)
+{
+    std::istringstream words(text);
+    std::vector<std::string> all{std::istream_iterator<std::string>(words), {}};
+    for (const int k : columns)
+    {
+        const std::string word = static_cast<std::size_t>(k) < all.size() ? all[k] : "";
+        char* end = nullptr;
+        const double value = std::strtod(word.c_str(), &end);
+        if (word.empty() || *end != '\0' || !std::isfinite(value))
+            throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
+                          " has a NaN, infinite or unreadable coordinate ('" + word +
+                          "'); fix or remove it in the source");
+    }
+}
+
+// The next non-empty, non-comment line of \p in, trimmed; false at the end of the file.
+bool next_data_line(std::istream& in, std::string& line)
+{
+    while (std::getline(in, line))
+    {
+        line = trimmed(line);
+        if (!line.empty() && line[0] != '#')
+            return true;
+    }
+    return false;
+}
+
+void check_off_coordinates(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
     std::string line;
-    const auto check = [&](const std::string& text, std::size_t vertex) {
-        std::istringstream words(text);
-        for (int k = 0; k < 3; ++k)
-        {
-            std::string word;
-            words >> word;
-            char* end = nullptr;
-            const double value = std::strtod(word.c_str(), &end);
-            if (word.empty() || *end != '\0' || !std::isfinite(value))
-                throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
-                              " has a NaN, infinite or unreadable coordinate ('" + word +
-                              "'); fix or remove it in the source");
-        }
-    };
-    if (ext == ".obj")
-    {
-        std::size_t vertex = 0;
-        while (std::getline(in, line))
-            if (line.size() > 2 && line[0] == 'v' && (line[1] == ' ' || line[1] == '\t'))
-                check(line.substr(2), vertex++);
-        return;
-    }
-    // Plain ASCII OFF: "OFF", optional counts on the same line or the next data line.
     std::getline(in, line);
     line = trimmed(line);
     if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
@@ -303,22 +310,97 @@ void check_text_coordinates(const std::string& path, const std::string& ext)
     std::uintmax_t vertices = 0;
     if (!(counts >> vertices))
     {
-        do
-        {
-            if (!std::getline(in, line))
-                return;  // check_off reports the missing counts
-            line = trimmed(line);
-        } while (line.empty() || line[0] == '#');
+        if (!next_data_line(in, line))
+            return;  // check_off reports the missing counts
         std::istringstream second(line);
         if (!(second >> vertices))
             return;
     }
-    for (std::size_t vertex = 0; vertex < vertices && std::getline(in, line);)
+    for (std::size_t vertex = 0; vertex < vertices && next_data_line(in, line); ++vertex)
+        check_coordinate_words(path, line, vertex, {0, 1, 2});
+}
+
+// ASCII PLY: the x, y, z columns of the vertex element (after the lines of earlier elements).
+void check_ply_coordinates(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line, format;
+    std::vector<std::pair<std::string, std::uintmax_t>> elements;
+    std::vector<int> columns;  // of x, y, z in the vertex element
+    int column = 0;
+    while (std::getline(in, line))
     {
-        line = trimmed(line);
-        if (line.empty() || line[0] == '#')
+        std::istringstream words(trimmed(line));
+        std::string keyword, type, name;
+        words >> keyword;
+        if (keyword == "end_header")
+            break;
+        if (keyword == "format")
+            words >> format;
+        else if (keyword == "element")
+        {
+            std::uintmax_t count = 0;
+            words >> name >> count;
+            elements.emplace_back(name, count);
+            column = 0;
+        }
+        else if (keyword == "property" && !elements.empty())
+        {
+            words >> type >> name;
+            if (elements.back().first == "vertex" && type != "list" &&
+                (name == "x" || name == "y" || name == "z"))
+                columns.push_back(column);
+            ++column;
+        }
+    }
+    if (format != "ascii" || columns.empty())
+        return;
+    for (const auto& [name, count] : elements)
+    {
+        for (std::uintmax_t i = 0; i < count; ++i)
+        {
+            if (!std::getline(in, line))
+                return;  // check_ply reports the missing lines
+            if (name == "vertex")
+                check_coordinate_words(path, line, i, columns);
+        }
+        if (name == "vertex")
+            return;
+    }
+}
+
+// OBJ: `v` lines, and `f` lines that name a vertex twice (OpenMesh's OBJ reader drops such a
+// face without a word, which leaves a hole that would be reported as something else).
+void check_obj(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    long vertices = 0;
+    std::size_t face = 0;
+    while (std::getline(in, line))
+    {
+        if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t'))
             continue;
-        check(line, vertex++);
+        if (line[0] == 'v')
+            check_coordinate_words(path, line.substr(2), static_cast<std::size_t>(vertices++),
+                                   {0, 1, 2});
+        else if (line[0] == 'f')
+        {
+            std::istringstream words(line.substr(2));
+            std::vector<long> corners;
+            for (std::string word; words >> word;)
+            {
+                const long i = std::strtol(word.c_str(), nullptr, 10);  // "v", "v/t", "v//n"
+                corners.push_back(i < 0 ? vertices + i : i - 1);
+            }
+            for (std::size_t a = 0; a < corners.size(); ++a)
+                for (std::size_t b = a + 1; b < corners.size(); ++b)
+                    if (corners[a] >= 0 && corners[a] == corners[b])
+                        throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " +
+                                      path + " uses vertex " + std::to_string(corners[a]) +
+                                      " twice (degenerate face); remove degenerate faces first");
+            ++face;
+        }
     }
 }
 
@@ -337,12 +419,18 @@ RawMesh read_raw_mesh(const std::string& path)
                       "); use .obj, .off, .ply or .stl");
     const std::uintmax_t size = std::filesystem::file_size(path);
     if (ext == ".ply")
+    {
         check_ply(path, size);
+        check_ply_coordinates(path);
+    }
     else if (ext == ".off")
+    {
         check_off(path);
-    if (ext == ".obj" || ext == ".off")
-        check_text_coordinates(path, ext);
-    else if (ext == ".stl")
+        check_off_coordinates(path);
+    }
+    else if (ext == ".obj")
+        check_obj(path);
+    else
         check_stl(path, size);
     RawMesh raw;
     ScratchMesh scratch;

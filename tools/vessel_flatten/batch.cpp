@@ -347,7 +347,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
                 std::lock_guard<std::mutex> lock(read_mutex);
                 raw = read_raw_mesh(row.file);
             }
-            const TreeSurface surface = make_tree_surface(raw);
+            const TreeSurface surface = make_tree_surface(raw, batch.surface);
             validated = true;
             const double read_s = seconds_since(start);
             const FlattenResult result = flatten(surface.mesh, mesh_options);

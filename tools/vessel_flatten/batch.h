@@ -23,6 +23,7 @@ struct BatchOptions
     int jobs = 2;            //!< worker threads, each flattening one mesh at a time
     bool resume = false;     //!< keep inputs whose <stem>.obj and <stem>.json already exist
     bool quiet = false;      //!< no progress lines on stderr
+    TreeSurfaceOptions surface;  //!< how every input is validated (and repaired)
 };
 
 //! \brief Flatten every input of \p batch with \p options (its `on_stage` is ignored) and write

@@ -55,6 +55,13 @@ int main(int argc, char** argv)
         ->capture_default_str();
     app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
                                            "<stem>.json already exist in OUTDIR");
+    vessel::TreeSurfaceOptions& surface_options = batch.surface;
+    app.add_flag("--largest-component", surface_options.keep_largest_component,
+                 "Keep only the largest connected component of the input (noted) instead of "
+                 "refusing a surface in several pieces");
+    bool refuse_polygons = false;
+    app.add_flag("--refuse-polygons", refuse_polygons,
+                 "Refuse faces with more than 3 corners instead of triangulating them (noted)");
     app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature (E_c), geodesic (E_g) or "
                                    "blend (E_cg)")
@@ -116,6 +123,7 @@ int main(int argc, char** argv)
         if (batch.inputs.empty() && std::filesystem::path(output).extension() != ".obj")
             throw vessel::InvalidInputError("the output must be an .obj file (seam form), got " +
                                             output);
+        surface_options.triangulate_polygons = !refuse_polygons;
         options.refinement = options.arap.max_iterations == 0 ? vessel::Refinement::None
                              : refine == "arap"           ? vessel::Refinement::Arap
                                                           : vessel::Refinement::Injective;
@@ -154,7 +162,7 @@ int main(int argc, char** argv)
 
         auto start = Clock::now();
         const vessel::RawMesh raw = vessel::read_raw_mesh(input);
-        const vessel::TreeSurface surface = vessel::make_tree_surface(raw);
+        const vessel::TreeSurface surface = vessel::make_tree_surface(raw, surface_options);
         const double read_s = seconds_since(start);
         if (!quiet)
         {
