@@ -246,11 +246,51 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
 
 }  // namespace
 
-nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair)
+{
+    PreparedInput in;
+    if (repair)
+    {
+        RepairedMesh repaired = repair_raw_mesh(raw);
+        raw = std::move(repaired.mesh);
+        in.repairs = repaired.summary;
+    }
+    in.raw = std::move(raw);
+    const std::vector<std::string> notes = in.repairs ? in.repairs->notes() : std::vector<std::string>{};
+    try
+    {
+        in.surface = make_tree_surface(in.raw, options);
+    }
+    catch (const InvalidInputError& e)
+    {
+        if (!in.repairs)
+            throw;
+        std::string done;
+        for (const auto& note : notes)
+            done += (done.empty() ? "" : "; ") + note.substr(note.find(' ') + 1);
+        throw InvalidInputError(std::string(e.what()) + " [still, after --repair " +
+                                (done.empty() ? "changed nothing" : "(" + done + ")") + "]");
+    }
+    in.surface.notes.insert(in.surface.notes.begin(), notes.begin(), notes.end());
+    return in;
+}
+
+nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                            const FlattenResult& r, double read_s, double write_s)
 {
+    const TreeSurface& surface = in.surface;
     nlohmann::json j;
     j["input"] = input;
+    if (in.repairs)
+    {
+        const RepairSummary& s = *in.repairs;
+        j["repairs"] = {{"degenerate_faces_removed", s.degenerate_faces},
+                        {"duplicate_faces_removed", s.duplicate_faces},
+                        {"faces_reoriented", s.reoriented_faces},
+                        {"vertices_split", s.split_vertices},
+                        {"edges_stitched", s.stitched_edges},
+                        {"vertices_removed", s.removed_vertices}};
+    }
     const auto& t = r.timings;
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
                     {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
@@ -347,14 +387,15 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
                 std::lock_guard<std::mutex> lock(read_mutex);
                 raw = read_raw_mesh(row.file);
             }
-            const TreeSurface surface = make_tree_surface(raw, batch.surface);
+            const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair);
+            const TreeSurface& surface = in.surface;
             validated = true;
             const double read_s = seconds_since(start);
             const FlattenResult result = flatten(surface.mesh, mesh_options);
             start = Clock::now();
-            write_flat_obj(obj.string(), raw.points, result.mesh, result.uv);
+            write_flat_obj(obj.string(), in.raw.points, result.mesh, result.uv);
             const double write_s = seconds_since(start);
-            nlohmann::json report = report_json(row.file, surface, result, read_s, write_s);
+            nlohmann::json report = report_json(row.file, in, result, read_s, write_s);
             report["status"] = "ok";
             write_atomically(json, report.dump(2) + "\n");
             row.status = "ok";

@@ -59,6 +59,9 @@ int main(int argc, char** argv)
     app.add_flag("--largest-component", surface_options.keep_largest_component,
                  "Keep only the largest connected component of the input (noted) instead of "
                  "refusing a surface in several pieces");
+    app.add_flag("--repair", batch.repair,
+                 "Apply the safe repairs (CGAL): remove degenerate and duplicate faces, orient "
+                 "the faces consistently, stitch coincident borders; each is reported");
     bool refuse_polygons = false;
     app.add_flag("--refuse-polygons", refuse_polygons,
                  "Refuse faces with more than 3 corners instead of triangulating them (noted)");
@@ -161,8 +164,9 @@ int main(int argc, char** argv)
             };
 
         auto start = Clock::now();
-        const vessel::RawMesh raw = vessel::read_raw_mesh(input);
-        const vessel::TreeSurface surface = vessel::make_tree_surface(raw, surface_options);
+        const vessel::cli::PreparedInput in = vessel::cli::prepare_input(
+            vessel::read_raw_mesh(input), surface_options, batch.repair);
+        const vessel::TreeSurface& surface = in.surface;
         const double read_s = seconds_since(start);
         if (!quiet)
         {
@@ -177,12 +181,12 @@ int main(int argc, char** argv)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
 
         start = Clock::now();
-        vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);
+        vessel::write_flat_obj(output, in.raw.points, result.mesh, result.uv);
         const double write_s = seconds_since(start);
         if (!report_path.empty())
         {
             const std::string tmp = report_path + ".tmp";
-            std::ofstream(tmp) << vessel::cli::report_json(input, surface, result, read_s, write_s).dump(2)
+            std::ofstream(tmp) << vessel::cli::report_json(input, in, result, read_s, write_s).dump(2)
                                << "\n";
             std::filesystem::rename(tmp, report_path);
         }
