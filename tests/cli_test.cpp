@@ -752,21 +752,34 @@ TEST_CASE("cli: an interrupted batch keeps whole outputs only and resumes to the
               read_text(dir + "/fresh/" + name + ".obj"));
 }
 
-TEST_CASE("cli: a batch with two inputs of the same stem is refused before any work")
+TEST_CASE("cli: a batch with two inputs of the same file name is refused before any work")
 {
     const auto dir = temp_dir("cli_batch_stems");
     fs::create_directories(dir + "/a");
     fs::create_directories(dir + "/b");
-    write_obj(dir + "/a/vessel.obj", tube());
+    write_mesh(open_cylinder(1.0, 4.0, 12, 6), dir + "/a/vessel.ply");
     write_mesh(open_cylinder(1.0, 4.0, 12, 6), dir + "/b/vessel.ply");
-    write_text(dir + "/list.txt", "# two meshes\na/vessel.obj\n\nb/vessel.ply\n");
+    write_text(dir + "/list.txt", "# two meshes\na/vessel.ply\n\nb/vessel.ply\n");
     const Outcome o = flatten_cli(dir, "--batch " + dir + "/list.txt -o " + dir + "/out");
     CHECK(o.status == 1);
-    CHECK_MESSAGE(o.err.find("have the same stem 'vessel', so both would write vessel.obj") !=
+    CHECK_MESSAGE(o.err.find("have the same file name, so both would write vessel.ply.obj") !=
                       std::string::npos,
                   o.err);
-    CHECK_FALSE(fs::exists(dir + "/out/vessel.obj"));
     CHECK_FALSE(fs::exists(dir + "/out/summary.csv"));
+}
+
+TEST_CASE("cli: a batch searches a directory recursively and names same-stem outputs by file name")
+{
+    const auto dir = temp_dir("cli_batch_same_stem");
+    fs::create_directories(dir + "/in/sub");
+    write_obj(dir + "/in/vessel.obj", tube());
+    write_mesh(open_cylinder(1.0, 4.0, 12, 6), dir + "/in/sub/vessel.stl");
+    write_obj(dir + "/in/sub/other.obj", tube());
+    const Outcome o = flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out -q");
+    CHECK(o.status == 0);
+    for (const auto& name : {"vessel.obj.obj", "vessel.stl.obj", "other.obj"})
+        CHECK_MESSAGE(check_flat_obj(read_flat_obj(dir + "/out/" + name)).euler == 1, name);
+    CHECK(read_csv_rows(dir + "/out/summary.csv").size() == 4);
 }
 
 TEST_CASE("cli: a batch list names meshes relative to the list file")

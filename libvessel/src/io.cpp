@@ -13,6 +13,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <regex>
 #include <sstream>
 
 namespace vessel {
@@ -90,6 +91,20 @@ std::string trimmed(std::string line)
     return line.substr(start);
 }
 
+// More elements than any surface mesh has; larger (or negative) counts are corrupt headers, and
+// OpenMesh would try to allocate them.
+constexpr long long kMaxElements = 1LL << 31;
+
+// \p text cut to 40 characters with control bytes shown as '?', to quote it in a message.
+std::string printable(const std::string& text)
+{
+    std::string out = trimmed(text).substr(0, 40);
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
+            c = '?';
+    return out;
+}
+
 // Counts the non-empty lines left in \p in (comments starting with '#' excluded).
 std::uintmax_t count_data_lines(std::istream& in)
 {
@@ -140,6 +155,8 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
     bool ended = false;
     while (std::getline(in, line))
     {
+        if (in.eof())
+            break;  // a header line cut by the end of the file: reported as truncated below
         std::istringstream words(trimmed(line));
         std::string keyword;
         words >> keyword;
@@ -150,10 +167,20 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         }
         if (keyword == "format")
             words >> format;
+        else if (keyword == "property" && elements.empty())
+            truncated(path, "the PLY header has a property before any element");
+        else if (keyword != "element" && keyword != "property" && keyword != "comment" &&
+                 keyword != "obj_info" && !keyword.empty())
+            truncated(path, "the PLY header has an unknown line '" + printable(line) + "'");
         else if (keyword == "element")
         {
             Element e;
-            words >> e.name >> e.count;
+            long long count = -1;
+            words >> e.name >> count;
+            if (count < 0 || count > kMaxElements)
+                truncated(path, "the PLY header declares " + std::to_string(count) + " " +
+                                    printable(e.name) + " elements");
+            e.count = static_cast<std::uintmax_t>(count);
             elements.push_back(e);
         }
         else if (keyword == "property" && !elements.empty())
@@ -178,6 +205,8 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
     }
     if (!ended)
         truncated(path, "the PLY header has no 'end_header' line");
+    if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        truncated(path, "the PLY header has no valid 'format' line");
     std::string counts;
     for (const auto& e : elements)
         counts += (counts.empty() ? "elements " : ", ") + e.name + " " + std::to_string(e.count);
@@ -213,13 +242,34 @@ void check_off(const std::string& path)
     std::string line;
     std::getline(in, line);
     line = trimmed(line);
-    // Only plain ASCII "OFF" (optionally with counts on the same line) is checked; OpenMesh
-    // handles the variants (COFF, NOFF, binary) and their errors itself.
-    if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
+    // The header keyword is [ST][C][N]OFF, optionally followed by BINARY. Plain ASCII "OFF"
+    // (optionally with counts on the same line) is checked line by line; for the other variants
+    // only the counts are checked (OpenMesh allocates them before reading anything).
+    std::istringstream first(line);
+    std::string keyword, second_word;
+    first >> keyword >> second_word;
+    static const std::regex off_keyword("(ST)?C?N?OFF");
+    if (!std::regex_match(keyword, off_keyword))
+        truncated(path, "the first line '" + printable(line) + "' is not an OFF header");
+    if (second_word == "BINARY")
+    {
+        in.seekg(static_cast<std::streamoff>(line.size()) + 1);
+        std::int32_t counts[3] = {0, 0, 0};
+        in.read(reinterpret_cast<char*>(counts), sizeof(counts));
+        if (!in || counts[0] < 0 || counts[1] < 0)
+            truncated(path, "the binary OFF header has no valid vertex and face counts");
+        const std::uintmax_t min_bytes = line.size() + 1 + 12 + 12ULL * counts[0] + 16ULL * counts[1];
+        if (std::filesystem::file_size(path) < min_bytes)
+            truncated(path, "the binary OFF header declares " + std::to_string(counts[0]) +
+                                " vertices and " + std::to_string(counts[1]) +
+                                " faces, more than the file can hold");
+        return;
+    }
+    if (keyword != "OFF")
         return;
     std::istringstream counts(line.substr(3));
-    std::uintmax_t vertices = 0, faces = 0;
-    if (!(counts >> vertices >> faces))
+    long long v = 0, f = 0;
+    if (!(counts >> v >> f))
     {
         do
         {
@@ -228,9 +278,13 @@ void check_off(const std::string& path)
             line = trimmed(line);
         } while (line.empty() || line[0] == '#');
         std::istringstream second(line);
-        if (!(second >> vertices >> faces))
+        if (!(second >> v >> f))
             truncated(path, "the OFF header has no vertex and face counts");
     }
+    if (v < 0 || f < 0 || v > kMaxElements || f > kMaxElements)
+        truncated(path, "the OFF header declares " + std::to_string(v) + " vertices and " +
+                            std::to_string(f) + " faces");
+    const auto vertices = static_cast<std::uintmax_t>(v), faces = static_cast<std::uintmax_t>(f);
     const std::uintmax_t found = count_data_lines(in);
     if (found < vertices + faces)
         truncated(path, "the OFF header declares " + std::to_string(vertices) + " vertices and " +
@@ -318,6 +372,24 @@ void check_off_coordinates(const std::string& path)
     }
     for (std::size_t vertex = 0; vertex < vertices && next_data_line(in, line); ++vertex)
         check_coordinate_words(path, line, vertex, {0, 1, 2});
+    // Face lines: a corner count, then that many vertex indices (colours may follow). OpenMesh
+    // loops for a very long time on a count it cannot read.
+    for (std::size_t face = 0; next_data_line(in, line); ++face)
+    {
+        std::istringstream words(line);
+        long corners = 0;
+        bool ok = static_cast<bool>(words >> corners) && corners >= 3 && corners <= 1000;
+        for (long k = 0; ok && k < corners; ++k)
+        {
+            long index = -1;
+            ok = (words >> index) && index >= 0 && static_cast<std::uintmax_t>(index) < vertices;
+        }
+        if (!ok)
+            throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
+                          " is malformed ('" + printable(line) + "'): an OFF face is a corner "
+                          "count (3 to 1000) and that many vertex indices below " +
+                          std::to_string(vertices) + "; the file is corrupt");
+    }
 }
 
 // ASCII PLY: the x, y, z columns of the vertex element (after the lines of earlier elements).
@@ -390,8 +462,18 @@ void check_obj(const std::string& path)
             std::vector<long> corners;
             for (std::string word; words >> word;)
             {
-                const long i = std::strtol(word.c_str(), nullptr, 10);  // "v", "v/t", "v//n"
-                corners.push_back(i < 0 ? vertices + i : i - 1);
+                // "v", "v/t", "v/t/n" or "v//n"; only the vertex index is checked (OpenMesh's
+                // reader asserts on indices it cannot resolve).
+                char* end = nullptr;
+                const long i = std::strtol(word.c_str(), &end, 10);
+                const long index = i < 0 ? vertices + i : i - 1;
+                if (end == word.c_str() || (*end != '\0' && *end != '/') || i == 0 ||
+                    index < 0 || index >= vertices)
+                    throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
+                                  " refers to vertex '" + printable(word) + "', which is not one "
+                                  "of the " + std::to_string(vertices) +
+                                  " vertices before it; the file is corrupt");
+                corners.push_back(index);
             }
             for (std::size_t a = 0; a < corners.size(); ++a)
                 for (std::size_t b = a + 1; b < corners.size(); ++b)

@@ -88,12 +88,21 @@ std::string trimmed(const std::string& s)
     return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
 }
 
-std::vector<std::string> collect_inputs(const std::string& spec)
+// An input and the base name of its outputs (<name>.obj, <name>.json).
+struct Input
+{
+    std::string file;
+    std::string name;
+};
+
+// A directory is searched recursively. Outputs are named by the input's stem, or by its file
+// name when several inputs share the stem (x.ply -> x.ply.obj next to x.stl -> x.stl.obj).
+std::vector<Input> collect_inputs(const std::string& spec)
 {
     std::vector<std::string> files;
     if (fs::is_directory(spec))
     {
-        for (const auto& entry : fs::directory_iterator(spec))
+        for (const auto& entry : fs::recursive_directory_iterator(spec))
             if (entry.is_regular_file() && is_mesh_file(entry.path()))
                 files.push_back(entry.path().string());
         if (files.empty())
@@ -121,21 +130,28 @@ std::vector<std::string> collect_inputs(const std::string& spec)
         const auto na = fs::path(a).filename().string(), nb = fs::path(b).filename().string();
         return na != nb ? na < nb : a < b;
     });
-    std::map<std::string, std::string> by_stem;
+    std::map<std::string, int> stems;
+    for (const auto& f : files)
+        ++stems[fs::path(f).stem().string()];
+    std::vector<Input> inputs;
+    std::map<std::string, std::string> by_name;
     for (const auto& f : files)
     {
-        const std::string stem = fs::path(f).stem().string();
-        if (stem == "summary")
+        const fs::path p(f);
+        const std::string name =
+            stems[p.stem().string()] > 1 ? p.filename().string() : p.stem().string();
+        if (name == "summary")
             throw InvalidInputError("--batch: input " + f +
                                     " has the stem 'summary', which would overwrite the batch "
                                     "summary; rename it");
-        const auto [it, inserted] = by_stem.emplace(stem, f);
+        const auto [it, inserted] = by_name.emplace(name, f);
         if (!inserted)
             throw InvalidInputError("--batch: inputs " + it->second + " and " + f +
-                                    " have the same stem '" + stem + "', so both would write " +
-                                    stem + ".obj; rename one of them");
+                                    " have the same file name, so both would write " + name +
+                                    ".obj; rename one of them");
+        inputs.push_back({f, name});
     }
-    return files;
+    return inputs;
 }
 
 void write_atomically(const fs::path& path, const std::string& text)
@@ -335,7 +351,7 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
 
 int run_batch(const BatchOptions& batch, const FlattenOptions& options)
 {
-    std::vector<std::string> files;
+    std::vector<Input> files;
     try
     {
         files = collect_inputs(batch.inputs);
@@ -352,8 +368,8 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     for (std::size_t i = 0; i < files.size(); ++i)
     {
         Row& row = rows[i];
-        row.file = files[i];
-        row.stem = fs::path(files[i]).stem().string();
+        row.file = files[i].file;
+        row.stem = files[i].name;
         // Leftovers of an abandoned run (a second interrupt) are never valid outputs.
         remove_quietly(dir / (row.stem + ".obj.tmp"));
         remove_quietly(dir / (row.stem + ".json.tmp"));

@@ -29,11 +29,13 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
 
 struct BatchOptions
 {
-    //! A directory (its .obj/.off/.ply/.stl files) or a text file with one mesh path per line
+    //! A directory (its .obj/.off/.ply/.stl files, searched recursively) or a text file with one mesh path per line
     //! (blank lines and lines starting with '#' skipped; relative paths are relative to the
     //! list file's directory).
     std::string inputs;
-    std::string output_dir;  //!< receives <stem>.obj, <stem>.json, summary.csv, summary.json
+    //! Receives <stem>.obj, <stem>.json (<file name>.obj/.json for inputs whose stems repeat,
+    //! e.g. x.ply.obj and x.stl.obj), summary.csv and summary.json.
+    std::string output_dir;
     int jobs = 2;            //!< worker threads, each flattening one mesh at a time
     bool resume = false;     //!< keep inputs whose <stem>.obj and <stem>.json already exist
     bool quiet = false;      //!< no progress lines on stderr

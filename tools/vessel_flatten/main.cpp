@@ -46,9 +46,10 @@ int main(int argc, char** argv)
                                           "directory")
         ->required();
     app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
-                                            ".ply/.stl files) or a text file with one path per "
-                                            "line; writes OUTDIR/<stem>.obj, <stem>.json and "
-                                            "summary.csv/.json")
+                                            ".ply/.stl files, recursively) or a text file with "
+                                            "one path per line; writes OUTDIR/<stem>.obj, "
+                                            "<stem>.json (<file name>.obj/.json where stems "
+                                            "repeat) and summary.csv/.json")
         ->excludes(input_option);
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
