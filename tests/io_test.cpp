@@ -92,6 +92,9 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
         {"off_unreadable_face_count.off", "is malformed ('3850651 0'): an OFF face is a corner count"},
         // A header "OFFSt9tyBINARY...": OpenMesh read garbage counts and allocated 13 GB.
         {"off_bad_header.off", "the first line 'OFFSt9tyBINARYm"},
+        // "element vertet x" (no count) and a property type "floty": OpenMesh's PLY reader hung.
+        {"ply_unreadable_element_count.ply",
+         "the PLY header line 'element vertet x' does not declare a valid element count"},
         // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
         // OpenMesh tried to allocate them (out of memory).
         {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},

@@ -176,10 +176,9 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         {
             Element e;
             long long count = -1;
-            words >> e.name >> count;
-            if (count < 0 || count > kMaxElements)
-                truncated(path, "the PLY header declares " + std::to_string(count) + " " +
-                                    printable(e.name) + " elements");
+            if (!(words >> e.name >> count) || count < 0 || count > kMaxElements)
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' does not declare a valid element count");
             e.count = static_cast<std::uintmax_t>(count);
             elements.push_back(e);
         }
@@ -187,10 +186,17 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         {
             std::string type, index_type, name;
             words >> type;
+            // OpenMesh's PLY reader can loop forever on a type it does not know.
+            if (ply_type_size(type) == 0 && type != "list")
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' has an unknown property type");
             Element& e = elements.back();
             if (type == "list")
             {
                 words >> type >> index_type >> name;
+                if (ply_type_size(type) == 0 || ply_type_size(index_type) == 0)
+                    truncated(path, "the PLY header line '" + printable(line) +
+                                        "' has an unknown list type");
                 // A face lists at least three corners; other lists may be empty.
                 const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
                 e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
