@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 using namespace vessel;
 
@@ -73,4 +76,46 @@ TEST_CASE("io: faces OpenMesh cannot add are still recorded in file indices")
     CHECK(raw.points.size() == 5);
     CHECK(raw.faces[2] == std::vector<int>{0, 1, 4});
     CHECK(raw.faces[3] == std::vector<int>{3, 0, 2});
+}
+
+// Inputs found by the fuzzers (fuzz/), kept as files in tests/data/fuzz: each crashed or hung
+// OpenMesh's readers before read_raw_mesh() checked them; now each is refused with IoError.
+TEST_CASE("io: fuzzer findings are refused with a clear IoError")
+{
+    const std::string dir = std::string(VESSEL_TEST_DATA) + "/fuzz/";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        // OpenMesh's PLY reader dereferenced a missing element (SEGV).
+        {"ply_property_before_element.ply", "the PLY header has an unknown line 'elem????ent"},
+        // OpenMesh's OBJ reader failed an assertion on the corner "/1/1".
+        {"obj_bad_face_index.obj", "face 0 of " + dir + "obj_bad_face_index.obj refers to vertex '/1/1'"},
+        // OpenMesh's OFF reader read the count "3OFF" and looped for minutes.
+        {"off_unreadable_face_count.off", "is malformed ('3850651 0'): an OFF face is a corner count"},
+        // A header "OFFSt9tyBINARY...": OpenMesh read garbage counts and allocated 13 GB.
+        {"off_bad_header.off", "the first line 'OFFSt9tyBINARYm"},
+        // "element vertet x" (no count) and a property type "floty": OpenMesh's PLY reader hung.
+        {"ply_unreadable_element_count.ply",
+         "the PLY header line 'element vertet x' does not declare a valid element count"},
+        // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
+        // OpenMesh tried to allocate them (out of memory).
+        {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},
+    };
+    // The negative count itself, behind a valid header line.
+    std::ofstream(temp_path("negative.off")) << "OFF\n-1 1 0\n0 0 0\n3 0 0 0\n";
+    CHECK_THROWS_WITH_AS(read_raw_mesh(temp_path("negative.off")),
+                         doctest::Contains("the OFF header declares -1 vertices and 1 faces"),
+                         IoError);
+    for (const auto& [file, message] : cases)
+    {
+        CAPTURE(file);
+        std::string what;
+        try
+        {
+            read_raw_mesh(dir + file);
+        }
+        catch (const IoError& e)
+        {
+            what = e.what();
+        }
+        CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+    }
 }

@@ -11,7 +11,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <regex>
 #include <sstream>
 
 namespace vessel {
@@ -89,6 +91,20 @@ std::string trimmed(std::string line)
     return line.substr(start);
 }
 
+// More elements than any surface mesh has; larger (or negative) counts are corrupt headers, and
+// OpenMesh would try to allocate them.
+constexpr long long kMaxElements = 1LL << 31;
+
+// \p text cut to 40 characters with control bytes shown as '?', to quote it in a message.
+std::string printable(const std::string& text)
+{
+    std::string out = trimmed(text).substr(0, 40);
+    for (char& c : out)
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
+            c = '?';
+    return out;
+}
+
 // Counts the non-empty lines left in \p in (comments starting with '#' excluded).
 std::uintmax_t count_data_lines(std::istream& in)
 {
@@ -139,6 +155,8 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
     bool ended = false;
     while (std::getline(in, line))
     {
+        if (in.eof())
+            break;  // a header line cut by the end of the file: reported as truncated below
         std::istringstream words(trimmed(line));
         std::string keyword;
         words >> keyword;
@@ -149,20 +167,36 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         }
         if (keyword == "format")
             words >> format;
+        else if (keyword == "property" && elements.empty())
+            truncated(path, "the PLY header has a property before any element");
+        else if (keyword != "element" && keyword != "property" && keyword != "comment" &&
+                 keyword != "obj_info" && !keyword.empty())
+            truncated(path, "the PLY header has an unknown line '" + printable(line) + "'");
         else if (keyword == "element")
         {
             Element e;
-            words >> e.name >> e.count;
+            long long count = -1;
+            if (!(words >> e.name >> count) || count < 0 || count > kMaxElements)
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' does not declare a valid element count");
+            e.count = static_cast<std::uintmax_t>(count);
             elements.push_back(e);
         }
         else if (keyword == "property" && !elements.empty())
         {
             std::string type, index_type, name;
             words >> type;
+            // OpenMesh's PLY reader can loop forever on a type it does not know.
+            if (ply_type_size(type) == 0 && type != "list")
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' has an unknown property type");
             Element& e = elements.back();
             if (type == "list")
             {
                 words >> type >> index_type >> name;
+                if (ply_type_size(type) == 0 || ply_type_size(index_type) == 0)
+                    truncated(path, "the PLY header line '" + printable(line) +
+                                        "' has an unknown list type");
                 // A face lists at least three corners; other lists may be empty.
                 const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
                 e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
@@ -177,6 +211,8 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
     }
     if (!ended)
         truncated(path, "the PLY header has no 'end_header' line");
+    if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        truncated(path, "the PLY header has no valid 'format' line");
     std::string counts;
     for (const auto& e : elements)
         counts += (counts.empty() ? "elements " : ", ") + e.name + " " + std::to_string(e.count);
@@ -212,13 +248,34 @@ void check_off(const std::string& path)
     std::string line;
     std::getline(in, line);
     line = trimmed(line);
-    // Only plain ASCII "OFF" (optionally with counts on the same line) is checked; OpenMesh
-    // handles the variants (COFF, NOFF, binary) and their errors itself.
-    if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
+    // The header keyword is [ST][C][N]OFF, optionally followed by BINARY. Plain ASCII "OFF"
+    // (optionally with counts on the same line) is checked line by line; for the other variants
+    // only the counts are checked (OpenMesh allocates them before reading anything).
+    std::istringstream first(line);
+    std::string keyword, second_word;
+    first >> keyword >> second_word;
+    static const std::regex off_keyword("(ST)?C?N?OFF");
+    if (!std::regex_match(keyword, off_keyword))
+        truncated(path, "the first line '" + printable(line) + "' is not an OFF header");
+    if (second_word == "BINARY")
+    {
+        in.seekg(static_cast<std::streamoff>(line.size()) + 1);
+        std::int32_t counts[3] = {0, 0, 0};
+        in.read(reinterpret_cast<char*>(counts), sizeof(counts));
+        if (!in || counts[0] < 0 || counts[1] < 0)
+            truncated(path, "the binary OFF header has no valid vertex and face counts");
+        const std::uintmax_t min_bytes = line.size() + 1 + 12 + 12ULL * counts[0] + 16ULL * counts[1];
+        if (std::filesystem::file_size(path) < min_bytes)
+            truncated(path, "the binary OFF header declares " + std::to_string(counts[0]) +
+                                " vertices and " + std::to_string(counts[1]) +
+                                " faces, more than the file can hold");
+        return;
+    }
+    if (keyword != "OFF")
         return;
     std::istringstream counts(line.substr(3));
-    std::uintmax_t vertices = 0, faces = 0;
-    if (!(counts >> vertices >> faces))
+    long long v = 0, f = 0;
+    if (!(counts >> v >> f))
     {
         do
         {
@@ -227,9 +284,13 @@ void check_off(const std::string& path)
             line = trimmed(line);
         } while (line.empty() || line[0] == '#');
         std::istringstream second(line);
-        if (!(second >> vertices >> faces))
+        if (!(second >> v >> f))
             truncated(path, "the OFF header has no vertex and face counts");
     }
+    if (v < 0 || f < 0 || v > kMaxElements || f > kMaxElements)
+        truncated(path, "the OFF header declares " + std::to_string(v) + " vertices and " +
+                            std::to_string(f) + " faces");
+    const auto vertices = static_cast<std::uintmax_t>(v), faces = static_cast<std::uintmax_t>(f);
     const std::uintmax_t found = count_data_lines(in);
     if (found < vertices + faces)
         truncated(path, "the OFF header declares " + std::to_string(vertices) + " vertices and " +
@@ -266,35 +327,41 @@ void check_stl(const std::string& path, std::uintmax_t file_size)
 }
 
 // OpenMesh's text readers cannot parse "nan" or "inf": they drop or misread the vertex and the
-// faces then point at the wrong vertices. Check the coordinates of OBJ `v` lines and of the
-// vertex lines of an ASCII OFF ourselves, so the user hears about the coordinate.
-void check_text_coordinates(const std::string& path, const std::string& ext)
+// faces then point at the wrong vertices. So the coordinates of OBJ `v` lines and of the vertex
+// lines of an ASCII OFF or PLY are checked here, and the user hears about the coordinate.
+void check_coordinate_words(const std::string& path, const std::string& text, std::size_t vertex,
+                            const std::vector<int>& columns)
+{
+    std::istringstream words(text);
+    std::vector<std::string> all{std::istream_iterator<std::string>(words), {}};
+    for (const int k : columns)
+    {
+        const std::string word = static_cast<std::size_t>(k) < all.size() ? all[k] : "";
+        char* end = nullptr;
+        const double value = std::strtod(word.c_str(), &end);
+        if (word.empty() || *end != '\0' || !std::isfinite(value))
+            throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
+                          " has a NaN, infinite or unreadable coordinate ('" + word +
+                          "'); fix or remove it in the source");
+    }
+}
+
+// The next non-empty, non-comment line of \p in, trimmed; false at the end of the file.
+bool next_data_line(std::istream& in, std::string& line)
+{
+    while (std::getline(in, line))
+    {
+        line = trimmed(line);
+        if (!line.empty() && line[0] != '#')
+            return true;
+    }
+    return false;
+}
+
+void check_off_coordinates(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
     std::string line;
-    const auto check = [&](const std::string& text, std::size_t vertex) {
-        std::istringstream words(text);
-        for (int k = 0; k < 3; ++k)
-        {
-            std::string word;
-            words >> word;
-            char* end = nullptr;
-            const double value = std::strtod(word.c_str(), &end);
-            if (word.empty() || *end != '\0' || !std::isfinite(value))
-                throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
-                              " has a NaN, infinite or unreadable coordinate ('" + word +
-                              "'); fix or remove it in the source");
-        }
-    };
-    if (ext == ".obj")
-    {
-        std::size_t vertex = 0;
-        while (std::getline(in, line))
-            if (line.size() > 2 && line[0] == 'v' && (line[1] == ' ' || line[1] == '\t'))
-                check(line.substr(2), vertex++);
-        return;
-    }
-    // Plain ASCII OFF: "OFF", optional counts on the same line or the next data line.
     std::getline(in, line);
     line = trimmed(line);
     if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
@@ -303,22 +370,125 @@ void check_text_coordinates(const std::string& path, const std::string& ext)
     std::uintmax_t vertices = 0;
     if (!(counts >> vertices))
     {
-        do
-        {
-            if (!std::getline(in, line))
-                return;  // check_off reports the missing counts
-            line = trimmed(line);
-        } while (line.empty() || line[0] == '#');
+        if (!next_data_line(in, line))
+            return;  // check_off reports the missing counts
         std::istringstream second(line);
         if (!(second >> vertices))
             return;
     }
-    for (std::size_t vertex = 0; vertex < vertices && std::getline(in, line);)
+    for (std::size_t vertex = 0; vertex < vertices && next_data_line(in, line); ++vertex)
+        check_coordinate_words(path, line, vertex, {0, 1, 2});
+    // Face lines: a corner count, then that many vertex indices (colours may follow). OpenMesh
+    // loops for a very long time on a count it cannot read.
+    for (std::size_t face = 0; next_data_line(in, line); ++face)
     {
-        line = trimmed(line);
-        if (line.empty() || line[0] == '#')
+        std::istringstream words(line);
+        long corners = 0;
+        bool ok = static_cast<bool>(words >> corners) && corners >= 3 && corners <= 1000;
+        for (long k = 0; ok && k < corners; ++k)
+        {
+            long index = -1;
+            ok = (words >> index) && index >= 0 && static_cast<std::uintmax_t>(index) < vertices;
+        }
+        if (!ok)
+            throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
+                          " is malformed ('" + printable(line) + "'): an OFF face is a corner "
+                          "count (3 to 1000) and that many vertex indices below " +
+                          std::to_string(vertices) + "; the file is corrupt");
+    }
+}
+
+// ASCII PLY: the x, y, z columns of the vertex element (after the lines of earlier elements).
+void check_ply_coordinates(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line, format;
+    std::vector<std::pair<std::string, std::uintmax_t>> elements;
+    std::vector<int> columns;  // of x, y, z in the vertex element
+    int column = 0;
+    while (std::getline(in, line))
+    {
+        std::istringstream words(trimmed(line));
+        std::string keyword, type, name;
+        words >> keyword;
+        if (keyword == "end_header")
+            break;
+        if (keyword == "format")
+            words >> format;
+        else if (keyword == "element")
+        {
+            std::uintmax_t count = 0;
+            words >> name >> count;
+            elements.emplace_back(name, count);
+            column = 0;
+        }
+        else if (keyword == "property" && !elements.empty())
+        {
+            words >> type >> name;
+            if (elements.back().first == "vertex" && type != "list" &&
+                (name == "x" || name == "y" || name == "z"))
+                columns.push_back(column);
+            ++column;
+        }
+    }
+    if (format != "ascii" || columns.empty())
+        return;
+    for (const auto& [name, count] : elements)
+    {
+        for (std::uintmax_t i = 0; i < count; ++i)
+        {
+            if (!std::getline(in, line))
+                return;  // check_ply reports the missing lines
+            if (name == "vertex")
+                check_coordinate_words(path, line, i, columns);
+        }
+        if (name == "vertex")
+            return;
+    }
+}
+
+// OBJ: `v` lines, and `f` lines that name a vertex twice (OpenMesh's OBJ reader drops such a
+// face without a word, which leaves a hole that would be reported as something else).
+void check_obj(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    long vertices = 0;
+    std::size_t face = 0;
+    while (std::getline(in, line))
+    {
+        if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t'))
             continue;
-        check(line, vertex++);
+        if (line[0] == 'v')
+            check_coordinate_words(path, line.substr(2), static_cast<std::size_t>(vertices++),
+                                   {0, 1, 2});
+        else if (line[0] == 'f')
+        {
+            std::istringstream words(line.substr(2));
+            std::vector<long> corners;
+            for (std::string word; words >> word;)
+            {
+                // "v", "v/t", "v/t/n" or "v//n"; only the vertex index is checked (OpenMesh's
+                // reader asserts on indices it cannot resolve).
+                char* end = nullptr;
+                const long i = std::strtol(word.c_str(), &end, 10);
+                const long index = i < 0 ? vertices + i : i - 1;
+                if (end == word.c_str() || (*end != '\0' && *end != '/') || i == 0 ||
+                    index < 0 || index >= vertices)
+                    throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
+                                  " refers to vertex '" + printable(word) + "', which is not one "
+                                  "of the " + std::to_string(vertices) +
+                                  " vertices before it; the file is corrupt");
+                corners.push_back(index);
+            }
+            for (std::size_t a = 0; a < corners.size(); ++a)
+                for (std::size_t b = a + 1; b < corners.size(); ++b)
+                    if (corners[a] >= 0 && corners[a] == corners[b])
+                        throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " +
+                                      path + " uses vertex " + std::to_string(corners[a]) +
+                                      " twice (degenerate face); remove degenerate faces first");
+            ++face;
+        }
     }
 }
 
@@ -337,12 +507,18 @@ RawMesh read_raw_mesh(const std::string& path)
                       "); use .obj, .off, .ply or .stl");
     const std::uintmax_t size = std::filesystem::file_size(path);
     if (ext == ".ply")
+    {
         check_ply(path, size);
+        check_ply_coordinates(path);
+    }
     else if (ext == ".off")
+    {
         check_off(path);
-    if (ext == ".obj" || ext == ".off")
-        check_text_coordinates(path, ext);
-    else if (ext == ".stl")
+        check_off_coordinates(path);
+    }
+    else if (ext == ".obj")
+        check_obj(path);
+    else
         check_stl(path, size);
     RawMesh raw;
     ScratchMesh scratch;

@@ -29,8 +29,9 @@ std::string plural(std::size_t n, const std::string& word)
 {
     if (n == 1)
         return "1 " + word;
-    if (word == "vertex")
-        return std::to_string(n) + " vertices";
+    const std::string vertex = "vertex";
+    if (word.size() >= vertex.size() && word.compare(word.size() - vertex.size(), vertex.size(), vertex) == 0)
+        return std::to_string(n) + " " + word.substr(0, word.size() - vertex.size()) + "vertices";
     return std::to_string(n) + " " + word + "s";
 }
 
@@ -77,7 +78,8 @@ Triangulated triangulate(const RawMesh& raw, const TreeSurfaceOptions& options)
         {
             if (!options.triangulate_polygons)
                 refuse("face " + std::to_string(f) + " has " + plural(face.size(), "corner") +
-                       "; triangulate the surface or allow triangulation");
+                       "; triangulate the surface first (or allow vessel-flatten to do it: drop "
+                       "--refuse-polygons)");
             ++out.polygons;
         }
         for (std::size_t i = 1; i + 1 < face.size(); ++i)
@@ -120,12 +122,81 @@ void check_degenerate(const RawMesh& raw, const Triangulated& tri,
     if (count > 0)
         refuse(plural(count, "degenerate (zero-area) face") + ", first is face " +
                std::to_string(tri.source_face[first]) +
-               "; remove degenerate faces (e.g. MeshLab 'Remove Zero Area Faces')");
+               "; remove degenerate faces (vessel-flatten --repair, or MeshLab 'Remove Zero Area "
+               "Faces')");
 }
 
-// Checks edges and vertices for 2-manifoldness and consistent orientation, and that the faces
-// form one edge-connected component.
-void check_manifold(const RawMesh& raw, const Triangulated& tri)
+// Two triangles with the same three vertices (in either winding) are duplicates; they would
+// otherwise be reported as non-manifold edges, which hides the simple fix.
+void check_duplicates(const Triangulated& tri)
+{
+    std::vector<std::pair<Triangle, int>> sorted;
+    sorted.reserve(tri.triangles.size());
+    for (std::size_t t = 0; t < tri.triangles.size(); ++t)
+    {
+        Triangle key = tri.triangles[t];
+        std::sort(key.begin(), key.end());
+        sorted.emplace_back(key, static_cast<int>(t));
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::size_t count = 0;
+    int first = -1, original = -1;
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first && count++ == 0)
+        {
+            original = std::min(sorted[i - 1].second, sorted[i].second);
+            first = std::max(sorted[i - 1].second, sorted[i].second);
+        }
+    if (count > 0)
+        refuse(plural(count, "duplicate face") + " (same three vertices as another face), first is "
+               "face " + std::to_string(tri.source_face[first]) + " (a copy of face " +
+               std::to_string(tri.source_face[original]) +
+               "); remove them (vessel-flatten --repair, or MeshLab 'Remove Duplicate Faces')");
+}
+
+// Boundary vertices at exactly the same position as another boundary vertex: the surface was
+// split along a seam (e.g. vmtk's branch clipper) and its pieces only touch there.
+void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
+{
+    std::sort(border.begin(), border.end());
+    border.erase(std::unique(border.begin(), border.end()), border.end());
+    const auto& P = raw.points;
+    std::sort(border.begin(), border.end(), [&](int a, int b) {
+        return std::lexicographical_compare(P[a].data(), P[a].data() + 3, P[b].data(),
+                                            P[b].data() + 3);
+    });
+    std::size_t count = 0;
+    int first_a = -1, first_b = -1;
+    for (std::size_t i = 0; i < border.size();)
+    {
+        std::size_t j = i + 1;
+        while (j < border.size() && P[border[j]] == P[border[i]])
+            ++j;
+        if (j - i > 1)
+        {
+            // Report the group with the lowest vertex index, by its two lowest indices.
+            std::vector<int> group(border.begin() + i, border.begin() + j);
+            std::sort(group.begin(), group.end());
+            if (count == 0 || group[0] < first_a)
+                first_a = group[0], first_b = group[1];
+            count += j - i;
+        }
+        i = j;
+    }
+    if (count == 0)
+        return;
+    std::ostringstream where;
+    where << "(" << P[first_a].x() << ", " << P[first_a].y() << ", " << P[first_a].z() << ")";
+    refuse("coincident boundary loops: " + plural(count, "boundary vertex") +
+           " lie exactly on other boundary vertices (first: vertices " + std::to_string(first_a) +
+           " and " + std::to_string(first_b) + " at " + where.str() +
+           "), so pieces of the surface only touch along a seam; stitch them (vessel-flatten "
+           "--repair)");
+}
+
+// Checks edges and vertices for 2-manifoldness and consistent orientation and that no boundary
+// loops coincide; returns the edge-connected component of every triangle (a union-find root).
+std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
 {
     const auto& T = tri.triangles;
     const std::uint64_t n = raw.points.size();
@@ -197,29 +268,56 @@ void check_manifold(const RawMesh& raw, const Triangulated& tri)
                        "remove the pinched part");
         }
 
-    std::vector<std::size_t> sizes;
-    std::vector<int> slot(T.size(), -1);
+    std::vector<int> border;
+    for_each_edge([&](std::size_t i, std::size_t count, const std::string&) {
+        if (count == 1)
+            border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
+                                         T[corners[i].triangle][(corners[i].local + 1) % 3]});
+    });
+    check_coincident_borders(raw, std::move(border));
+
+    std::vector<int> component(T.size());
     for (std::size_t t = 0; t < T.size(); ++t)
-    {
-        const int root = faces.find(static_cast<int>(t));
-        if (slot[root] < 0)
-        {
-            slot[root] = static_cast<int>(sizes.size());
-            sizes.push_back(0);
-        }
-        ++sizes[slot[root]];
-    }
-    if (sizes.size() > 1)
-    {
-        std::sort(sizes.rbegin(), sizes.rend());
-        std::ostringstream list;
-        for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 4); ++i)
-            list << (i ? ", " : "") << sizes[i];
-        if (sizes.size() > 4)
-            list << ", ...";
+        component[t] = faces.find(static_cast<int>(t));
+    return component;
+}
+
+// Refuses several components or, with `keep_largest_component`, keeps the largest (noted).
+void select_component(Triangulated& tri, const std::vector<int>& component,
+                      const TreeSurfaceOptions& options, std::vector<std::string>& notes)
+{
+    std::vector<std::size_t> size(component.size(), 0);
+    std::vector<std::size_t> sizes;
+    for (const int root : component)
+        ++size[root];
+    for (const std::size_t n : size)
+        if (n > 0)
+            sizes.push_back(n);
+    if (sizes.size() < 2)
+        return;
+    std::sort(sizes.rbegin(), sizes.rend());
+    std::ostringstream list;
+    for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 4); ++i)
+        list << (i ? ", " : "") << sizes[i];
+    if (sizes.size() > 4)
+        list << ", ...";
+    if (!options.keep_largest_component)
         refuse(plural(sizes.size(), "connected component") + " (faces per component: " +
-               list.str() + "); keep only the vessel surface (one piece)");
-    }
+               list.str() + "); keep only the vessel surface (one piece), e.g. with "
+               "vessel-flatten --largest-component");
+    const int largest = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+    Triangulated kept;
+    kept.polygons = tri.polygons;
+    for (std::size_t t = 0; t < component.size(); ++t)
+        if (component[t] == largest)
+        {
+            kept.triangles.push_back(tri.triangles[t]);
+            kept.source_face.push_back(tri.source_face[t]);
+        }
+    notes.push_back("kept the largest of " + plural(sizes.size(), "connected component") +
+                    " (faces per component: " + list.str() + "); dropped " +
+                    plural(tri.triangles.size() - kept.triangles.size(), "face"));
+    tri = std::move(kept);
 }
 
 Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
@@ -275,9 +373,10 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
     check_coordinates(raw);
     Triangulated tri = triangulate(raw, options);
     check_degenerate(raw, tri, options);
-    check_manifold(raw, tri);
-
+    check_duplicates(tri);
     TreeSurface out;
+    select_component(tri, check_manifold(raw, tri), options, out.notes);
+
     out.input_vertices = static_cast<int>(raw.points.size());
     out.mesh = build(raw, tri.triangles, false);
     const auto loops = boundary_loops(out.mesh);

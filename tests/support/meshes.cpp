@@ -1,5 +1,7 @@
 #include "support/meshes.h"
 
+#include "vessel/phantom.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -113,6 +115,20 @@ Eigen::MatrixX2d planar_uv(const Mesh& mesh)
     for (auto v : mesh.vertices())
         uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
     return uv;
+}
+
+RawMesh split_tube()
+{
+    RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 12, 6));
+    const int n = static_cast<int>(raw.points.size());
+    for (int i = 36; i < 48; ++i)
+        raw.points.push_back(raw.points[i]);
+    for (auto& face : raw.faces)
+        if (*std::max_element(face.begin(), face.end()) >= 48)
+            for (int& i : face)
+                if (i >= 36 && i < 48)
+                    i = n + i - 36;
+    return raw;
 }
 
 }  // namespace vessel::test

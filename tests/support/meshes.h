@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/io.h"
 #include "vessel/mesh.h"
 
 #include <Eigen/Geometry>
@@ -38,5 +39,10 @@ double max_edge_length_error(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 
 //! Vertices on a boundary loop, in index order.
 std::vector<VertexHandle> boundary_vertices(const Mesh& mesh);
+
+//! \brief open_cylinder(1, 4, 12, 6) (7 rings of 12 vertices, 144 faces) cut at its middle ring
+//! (ring 3, vertices 36-47): the faces above it use copies of that ring (vertices 84-95, same
+//! positions), so two pieces touch along coincident boundary loops.
+RawMesh split_tube();
 
 }  // namespace vessel::test

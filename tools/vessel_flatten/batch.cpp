@@ -89,12 +89,21 @@ std::string trimmed(const std::string& s)
     return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
 }
 
-std::vector<std::string> collect_inputs(const std::string& spec)
+// An input and the base name of its outputs (<name>.obj, <name>.json).
+struct Input
+{
+    std::string file;
+    std::string name;
+};
+
+// A directory is searched recursively. Outputs are named by the input's stem, or by its file
+// name when several inputs share the stem (x.ply -> x.ply.obj next to x.stl -> x.stl.obj).
+std::vector<Input> collect_inputs(const std::string& spec)
 {
     std::vector<std::string> files;
     if (fs::is_directory(spec))
     {
-        for (const auto& entry : fs::directory_iterator(spec))
+        for (const auto& entry : fs::recursive_directory_iterator(spec))
             if (entry.is_regular_file() && is_mesh_file(entry.path()))
                 files.push_back(entry.path().string());
         if (files.empty())
@@ -122,21 +131,28 @@ std::vector<std::string> collect_inputs(const std::string& spec)
         const auto na = fs::path(a).filename().string(), nb = fs::path(b).filename().string();
         return na != nb ? na < nb : a < b;
     });
-    std::map<std::string, std::string> by_stem;
+    std::map<std::string, int> stems;
+    for (const auto& f : files)
+        ++stems[fs::path(f).stem().string()];
+    std::vector<Input> inputs;
+    std::map<std::string, std::string> by_name;
     for (const auto& f : files)
     {
-        const std::string stem = fs::path(f).stem().string();
-        if (stem == "summary")
+        const fs::path p(f);
+        const std::string name =
+            stems[p.stem().string()] > 1 ? p.filename().string() : p.stem().string();
+        if (name == "summary")
             throw InvalidInputError("--batch: input " + f +
                                     " has the stem 'summary', which would overwrite the batch "
                                     "summary; rename it");
-        const auto [it, inserted] = by_stem.emplace(stem, f);
+        const auto [it, inserted] = by_name.emplace(name, f);
         if (!inserted)
             throw InvalidInputError("--batch: inputs " + it->second + " and " + f +
-                                    " have the same stem '" + stem + "', so both would write " +
-                                    stem + ".obj; rename one of them");
+                                    " have the same file name, so both would write " + name +
+                                    ".obj; rename one of them");
+        inputs.push_back({f, name});
     }
-    return files;
+    return inputs;
 }
 
 void write_atomically(const fs::path& path, const std::string& text)
@@ -247,11 +263,51 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
 
 }  // namespace
 
-nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair)
+{
+    PreparedInput in;
+    if (repair)
+    {
+        RepairedMesh repaired = repair_raw_mesh(raw);
+        raw = std::move(repaired.mesh);
+        in.repairs = repaired.summary;
+    }
+    in.raw = std::move(raw);
+    const std::vector<std::string> notes = in.repairs ? in.repairs->notes() : std::vector<std::string>{};
+    try
+    {
+        in.surface = make_tree_surface(in.raw, options);
+    }
+    catch (const InvalidInputError& e)
+    {
+        if (!in.repairs)
+            throw;
+        std::string done;
+        for (const auto& note : notes)
+            done += (done.empty() ? "" : "; ") + note.substr(note.find(' ') + 1);
+        throw InvalidInputError(std::string(e.what()) + " [still, after --repair " +
+                                (done.empty() ? "changed nothing" : "(" + done + ")") + "]");
+    }
+    in.surface.notes.insert(in.surface.notes.begin(), notes.begin(), notes.end());
+    return in;
+}
+
+nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                            const FlattenResult& r, double read_s, double write_s)
 {
+    const TreeSurface& surface = in.surface;
     nlohmann::json j;
     j["input"] = input;
+    if (in.repairs)
+    {
+        const RepairSummary& s = *in.repairs;
+        j["repairs"] = {{"degenerate_faces_removed", s.degenerate_faces},
+                        {"duplicate_faces_removed", s.duplicate_faces},
+                        {"faces_reoriented", s.reoriented_faces},
+                        {"vertices_split", s.split_vertices},
+                        {"edges_stitched", s.stitched_edges},
+                        {"vertices_removed", s.removed_vertices}};
+    }
     const auto& t = r.timings;
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
                     {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
@@ -311,7 +367,7 @@ nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
 
 int run_batch(const BatchOptions& batch, const FlattenOptions& options)
 {
-    std::vector<std::string> files;
+    std::vector<Input> files;
     try
     {
         files = collect_inputs(batch.inputs);
@@ -328,8 +384,8 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     for (std::size_t i = 0; i < files.size(); ++i)
     {
         Row& row = rows[i];
-        row.file = files[i];
-        row.stem = fs::path(files[i]).stem().string();
+        row.file = files[i].file;
+        row.stem = files[i].name;
         // Leftovers of an abandoned run (a second interrupt) are never valid outputs.
         remove_quietly(dir / (row.stem + ".obj.tmp"));
         remove_quietly(dir / (row.stem + ".json.tmp"));
@@ -363,14 +419,15 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
                 std::lock_guard<std::mutex> lock(read_mutex);
                 raw = read_raw_mesh(row.file);
             }
-            const TreeSurface surface = make_tree_surface(raw);
+            const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair);
+            const TreeSurface& surface = in.surface;
             validated = true;
             const double read_s = seconds_since(start);
             const FlattenResult result = flatten(surface.mesh, mesh_options);
             start = Clock::now();
-            write_flat_obj(obj.string(), raw.points, result.mesh, result.uv);
+            write_flat_obj(obj.string(), in.raw.points, result.mesh, result.uv);
             const double write_s = seconds_since(start);
-            nlohmann::json report = report_json(row.file, surface, result, read_s, write_s);
+            nlohmann::json report = report_json(row.file, in, result, read_s, write_s);
             report["status"] = "ok";
             write_atomically(json, report.dump(2) + "\n");
             row.status = "ok";

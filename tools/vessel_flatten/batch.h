@@ -1,28 +1,46 @@
 #pragma once
 
 #include "vessel/pipeline.h"
+#include "vessel/repair.h"
 #include "vessel/validation.h"
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 
 namespace vessel::cli {
 
-//! The `--report` JSON of one flattened mesh (timings, counts, cuts, quality, notes).
-nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
+//! An input mesh as read, repaired (with `--repair`) and validated.
+struct PreparedInput
+{
+    RawMesh raw;  //!< the repaired mesh when repaired (its vertices are the output's `v` lines)
+    std::optional<RepairSummary> repairs;  //!< set when repairs were requested
+    TreeSurface surface;  //!< its notes start with the repairs that changed something
+};
+
+//! \brief Repairs \p raw if \p repair, then validates it with make_tree_surface().
+//! \throw InvalidInputError as make_tree_surface().
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair);
+
+//! The `--report` JSON of one flattened mesh (timings, counts, repairs, cuts, quality, notes).
+nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                            const FlattenResult& r, double read_s, double write_s);
 
 struct BatchOptions
 {
-    //! A directory (its .obj/.off/.ply/.stl files) or a text file with one mesh path per line
+    //! A directory (its .obj/.off/.ply/.stl files, searched recursively) or a text file with one mesh path per line
     //! (blank lines and lines starting with '#' skipped; relative paths are relative to the
     //! list file's directory).
     std::string inputs;
-    std::string output_dir;  //!< receives <stem>.obj, <stem>.json, summary.csv, summary.json
+    //! Receives <stem>.obj, <stem>.json (<file name>.obj/.json for inputs whose stems repeat,
+    //! e.g. x.ply.obj and x.stl.obj), summary.csv and summary.json.
+    std::string output_dir;
     int jobs = 2;            //!< worker threads, each flattening one mesh at a time
     bool resume = false;     //!< keep inputs whose <stem>.obj and <stem>.json already exist
     bool quiet = false;      //!< no progress lines on stderr
+    TreeSurfaceOptions surface;  //!< how every input is validated
+    bool repair = false;         //!< apply repair_raw_mesh() before the validation
 };
 
 //! \brief Flatten every input of \p batch with \p options (its `on_stage` is ignored) and write

@@ -51,15 +51,26 @@ int main(int argc, char** argv)
                                           "directory")
         ->required();
     app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
-                                            ".ply/.stl files) or a text file with one path per "
-                                            "line; writes OUTDIR/<stem>.obj, <stem>.json and "
-                                            "summary.csv/.json")
+                                            ".ply/.stl files, recursively) or a text file with "
+                                            "one path per line; writes OUTDIR/<stem>.obj, "
+                                            "<stem>.json (<file name>.obj/.json where stems "
+                                            "repeat) and summary.csv/.json")
         ->excludes(input_option);
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
                                            "<stem>.json already exist in OUTDIR");
+    vessel::TreeSurfaceOptions& surface_options = batch.surface;
+    app.add_flag("--largest-component", surface_options.keep_largest_component,
+                 "Keep only the largest connected component of the input (noted) instead of "
+                 "refusing a surface in several pieces");
+    app.add_flag("--repair", batch.repair,
+                 "Apply the safe repairs (CGAL): remove degenerate and duplicate faces, orient "
+                 "the faces consistently, stitch coincident borders; each is reported");
+    bool refuse_polygons = false;
+    app.add_flag("--refuse-polygons", refuse_polygons,
+                 "Refuse faces with more than 3 corners instead of triangulating them (noted)");
     app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
     app.add_option("--html", html, "Also write an interactive HTML viewer of the result (single "
                                    "input only; see vessel-view for more fields)");
@@ -147,6 +158,7 @@ int main(int argc, char** argv)
         if (batch.inputs.empty() && std::filesystem::path(output).extension() != ".obj")
             throw vessel::InvalidInputError("the output must be an .obj file (seam form), got " +
                                             output);
+        surface_options.triangulate_polygons = !refuse_polygons;
         options.refinement = refine == "none"  ? vessel::Refinement::None
                              : refine == "arap" ? vessel::Refinement::Arap
                                                 : vessel::Refinement::Injective;
@@ -189,8 +201,9 @@ int main(int argc, char** argv)
             };
 
         auto start = Clock::now();
-        const vessel::RawMesh raw = vessel::read_raw_mesh(input);
-        const vessel::TreeSurface surface = vessel::make_tree_surface(raw);
+        const vessel::cli::PreparedInput in = vessel::cli::prepare_input(
+            vessel::read_raw_mesh(input), surface_options, batch.repair);
+        const vessel::TreeSurface& surface = in.surface;
         const double read_s = seconds_since(start);
         if (!quiet)
         {
@@ -200,16 +213,15 @@ int main(int argc, char** argv)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
         // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
-        const auto flatten_piece = [&](const vessel::TreeSurface& piece,
-                                       const std::vector<Eigen::Vector3d>& points,
+        const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
                                        const std::string& out, const std::string& report) {
-            const vessel::FlattenResult result = vessel::flatten(piece.mesh, options);
+            const vessel::FlattenResult result = vessel::flatten(piece.surface.mesh, options);
             if (!quiet)
                 for (const auto& note : result.notes)
                     std::fprintf(stderr, "note: %s\n", note.c_str());
 
             start = Clock::now();
-            vessel::write_flat_obj(out, points, result.mesh, result.uv);
+            vessel::write_flat_obj(out, piece.raw.points, result.mesh, result.uv);
             if (!html.empty())
             {
                 vessel::ViewerOptions view;
@@ -242,7 +254,7 @@ int main(int argc, char** argv)
         };
         if (split_at.empty())
         {
-            flatten_piece(surface, raw.points, output, report_path);
+            flatten_piece(in, output, report_path);
             return 0;
         }
         if (!html.empty())
@@ -259,8 +271,10 @@ int main(int argc, char** argv)
             };
             if (!quiet)
                 std::fprintf(stderr, "piece %zu: %zu faces\n", i, pieces[i].mesh.faces.size());
-            flatten_piece(vessel::make_tree_surface(pieces[i].mesh), pieces[i].mesh.points,
-                          named(output), named(report_path));
+            vessel::cli::PreparedInput part;
+            part.raw = pieces[i].mesh;
+            part.surface = vessel::make_tree_surface(part.raw, surface_options);
+            flatten_piece(part, named(output), named(report_path));
         }
         return 0;
     }

@@ -14,6 +14,9 @@ struct TreeSurfaceOptions
     //! Reverse the winding of a surface wound inward (normals into the lumen, common in vmtk
     //! output) so that normals point out of the lumen (noted); otherwise keep it as read.
     bool orient_outward = true;
+    //! Keep only the largest connected component (by faces) and drop the others (noted);
+    //! otherwise refuse a surface in several pieces.
+    bool keep_largest_component = false;
     //! Faces whose area is below `degenerate_area_factor * (mean edge length)^2` are degenerate.
     double degenerate_area_factor = 1e-10;
 };
@@ -30,7 +33,9 @@ struct TreeSurface
 
 //! \brief Check that \p raw is a valid vessel tree surface (one connected, consistently oriented,
 //! 2-manifold, genus-0 surface with at least two open ends, finite coordinates, no degenerate
-//! faces) and build the mesh.
+//! or duplicate faces, no boundary loops lying on each other) and build the mesh. Checks run in
+//! this order: coordinates, face corners, zero area, duplicates, non-manifold edge, orientation,
+//! non-manifold vertex, coincident boundary loops, components, closed, genus, open ends.
 //! \throw InvalidInputError with a one-line message naming the problem (with element ids or
 //! counts) and what to do about it.
 TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options = {});

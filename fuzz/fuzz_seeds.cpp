@@ -1,0 +1,57 @@
+// Writes the seed corpus of the reader fuzzers: small phantoms (a tube, a coarse carotid
+// bifurcation, a closed sphere) in every format and encoding OpenMesh writes, plus a few short
+// hand-made files, into DIR/<ext>/.
+#include "vessel/io.h"
+#include "vessel/phantom.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+int main(int argc, char** argv)
+{
+    if (argc != 2)
+    {
+        std::fprintf(stderr, "usage: fuzz_seeds DIR\n");
+        return 2;
+    }
+    const fs::path dir = argv[1];
+    vessel::CarotidPhantomOptions carotid;
+    carotid.edge_length = 1.0;
+    const std::vector<std::pair<std::string, vessel::Mesh>> meshes = {
+        {"tube", vessel::open_cylinder(1.0, 2.0, 6, 2)},
+        {"carotid", vessel::carotid_phantom(carotid)},
+        {"sphere", vessel::icosphere(1.0, 0)}};
+    omerr().disable();
+    for (const std::string ext : {"obj", "off", "ply", "stl"})
+    {
+        fs::create_directories(dir / ext);
+        for (const auto& [name, mesh] : meshes)
+            for (const bool binary : {false, true})
+            {
+                if (binary && (ext == "obj" || ext == "off"))
+                    continue;  // OpenMesh's binary OFF is rare; OBJ has no binary form
+                OpenMesh::IO::Options options;
+                if (binary)
+                    options += OpenMesh::IO::Options::Binary;
+                const fs::path path =
+                    dir / ext / (name + (binary ? "_binary." : "_ascii.") + ext);
+                if (!OpenMesh::IO::write_mesh(mesh, path.string(), options))
+                {
+                    std::fprintf(stderr, "fuzz_seeds: cannot write %s\n", path.c_str());
+                    return 1;
+                }
+            }
+    }
+    std::ofstream(dir / "obj" / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    std::ofstream(dir / "obj" / "slashes.obj")
+        << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 -1//1\n";
+    std::ofstream(dir / "off" / "counts_apart.off") << "OFF\n# comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    return 0;
+}

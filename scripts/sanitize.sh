@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# Builds libvessel, its tools and the whole test suite with AddressSanitizer + UndefinedBehavior-
+# Sanitizer (-DVESSEL_SANITIZE=ON, no recovery: the first report fails the test) into
+# build-sanitize/ and runs every test (the `fuzz` label is not built here).
+# Extra arguments go to ctest (e.g. -R cli).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+"$(dirname "$0")/install-deps.sh"
+cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Release -DVESSEL_SANITIZE=ON \
+  ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER}
+cmake --build build-sanitize -j"$(nproc)"
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$PWD/scripts/ubsan.supp"
+export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp"
+ctest --test-dir build-sanitize --output-on-failure -j2 -LE fuzz "$@"
