@@ -1,6 +1,7 @@
 #include "detail/pvd.h"
 
 #include "detail/atomic_file.h"
+#include "detail/vtk_errors.h"
 
 #include "vessel/errors.h"
 
@@ -20,15 +21,15 @@ std::vector<PvdEntry> read_pvd(const std::string& path)
         throw IoError("read_pvd: file not found: " + path);
     vtkNew<vtkXMLDataParser> parser;
     parser->SetFileName(path.c_str());
-    // The parser reports syntax errors on its own output window; the return value is enough.
-    parser->GlobalWarningDisplayOff();
-    const int ok = parser->Parse();
-    parser->GlobalWarningDisplayOn();
+    VtkErrors errors;  // keeps syntax errors off stderr; they go into our message
+    errors.watch(parser);
+    const int ok = parser->Parse() && !errors.failed();
     vtkXMLDataElement* root = ok ? parser->GetRootElement() : nullptr;
     if (!root || std::string(root->GetName()) != "VTKFile" || !root->GetAttribute("type") ||
         std::string(root->GetAttribute("type")) != "Collection")
         throw IoError("read_pvd: " + path +
-                      " is not a ParaView collection (<VTKFile type=\"Collection\">)");
+                      " is not a ParaView collection (<VTKFile type=\"Collection\">)" +
+                      (errors.failed() ? ": " + errors.message() : std::string()));
     vtkXMLDataElement* collection = root->FindNestedElementWithName("Collection");
     if (!collection)
         throw IoError("read_pvd: " + path + " has no <Collection> element");

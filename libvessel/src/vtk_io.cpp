@@ -1,12 +1,13 @@
 #include "vessel/vtk_io.h"
 
 #include "detail/atomic_file.h"
+#include "detail/vtk_errors.h"
 #include "vessel/errors.h"
 
-#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkExecutive.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -33,42 +34,6 @@ std::string lower_extension(const std::string& path)
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return ext;
 }
-
-// VTK reports failures through ErrorEvent (printing them to its output window if nobody
-// listens) rather than by return value; collect them so they end up in our exception.
-class ErrorCollector
-{
-public:
-    explicit ErrorCollector(vtkObject* object)
-    {
-        callback_->SetClientData(this);
-        callback_->SetCallback([](vtkObject*, unsigned long, void* self, void* message) {
-            auto* me = static_cast<ErrorCollector*>(self);
-            if (me->message_.empty() && message)
-                me->message_ = static_cast<const char*>(message);
-            me->failed_ = true;
-        });
-        object->AddObserver(vtkCommand::ErrorEvent, callback_);
-        object->AddObserver(vtkCommand::WarningEvent, quiet_);
-    }
-    bool failed() const { return failed_; }
-    // VTK's messages start with "ERROR: In <source file>, line N\n<class> (<ptr>): ..."; keep
-    // the last line, which is the part meant for a user.
-    std::string message() const
-    {
-        std::string m = message_;
-        while (!m.empty() && std::isspace(static_cast<unsigned char>(m.back())))
-            m.pop_back();
-        const auto colon = m.find("): ");
-        return colon == std::string::npos ? m : m.substr(colon + 3);
-    }
-
-private:
-    vtkNew<vtkCallbackCommand> callback_;
-    vtkNew<vtkCallbackCommand> quiet_;  // swallows warnings (e.g. unknown array types)
-    std::string message_;
-    bool failed_ = false;
-};
 
 FieldType field_type(int vtk_type)
 {
@@ -166,7 +131,7 @@ vtkSmartPointer<vtkDataArray> make_array(const Field& f)
 
 // vtkXMLPolyDataWriter and vtkPolyDataWriter share Write() but no base class with it.
 template <class Writer>
-std::pair<int, std::string> run_writer(Writer* writer, const ErrorCollector& errors)
+std::pair<int, std::string> run_writer(Writer* writer, const detail::VtkErrors& errors)
 {
     const int ok = writer->Write() && !errors.failed();
     return {ok, errors.message()};
@@ -226,7 +191,11 @@ PolyData read_polydata(const std::string& path)
     if (ext == ".vtp")
     {
         vtkNew<vtkXMLPolyDataReader> reader;
-        ErrorCollector errors(reader);
+        detail::VtkErrors errors;
+        errors.watch(reader);
+        errors.watch(reader->GetExecutive());
+        reader->SetReaderErrorObserver(errors.command());
+        reader->SetParserErrorObserver(errors.command());
         if (!reader->CanReadFile(path.c_str()))
             throw IoError("read_polydata: " + path +
                           " is not a VTK XML PolyData file (<VTKFile type=\"PolyData\">)");
@@ -239,7 +208,9 @@ PolyData read_polydata(const std::string& path)
     else if (ext == ".vtk")
     {
         vtkNew<vtkPolyDataReader> reader;
-        ErrorCollector errors(reader);
+        detail::VtkErrors errors;
+        errors.watch(reader);
+        errors.watch(reader->GetExecutive());
         reader->SetFileName(path.c_str());
         if (!reader->IsFilePolyData())
             throw IoError("read_polydata: " + path +
@@ -276,7 +247,8 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
     if (ext == ".vtp")
     {
         vtkNew<vtkXMLPolyDataWriter> writer;
-        ErrorCollector errors(writer);
+        detail::VtkErrors errors;
+        errors.watch(writer);
         writer->SetInputData(poly);
         writer->SetFileName(tmp.c_str());
         if (options.encoding == VtkEncoding::Ascii)
@@ -300,7 +272,8 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
             throw InvalidInputError("write_polydata: legacy .vtk has no appended encoding; use "
                                     "Ascii or Binary, or write .vtp (" + path + ")");
         vtkNew<vtkPolyDataWriter> writer;
-        ErrorCollector errors(writer);
+        detail::VtkErrors errors;
+        errors.watch(writer);
         writer->SetInputData(poly);
         writer->SetFileName(tmp.c_str());
         writer->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
