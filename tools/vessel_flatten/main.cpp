@@ -63,8 +63,8 @@ int main(int argc, char** argv)
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
-                                            ".ply/.stl files) or a text file with one path per "
+    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/.ply/"
+                                            ".stl/.vtp/.vtk files) or a text file with one path per "
                                             "line; writes OUTDIR/<stem>.obj, <stem>.json and "
                                             "summary.csv/.json")
         ->excludes(input_option)
