@@ -166,7 +166,7 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
     e = error_of([&] {
         read_field_series(write("range.csv", header + std::to_string(n) + ",1,1\n"), p.base);
     });
-    CHECK_MESSAGE(contains(e, "vertex id " + std::to_string(n)), e);
+    CHECK_MESSAGE(contains(e, "line 2: vertex id " + std::to_string(n) + " is not an index of the mesh's"), e);
     e = error_of([&] { read_field_series(write("nan.csv", header + "0,1,abc\n"), p.base); });
     CHECK_MESSAGE(contains(e, "line 2, column 3 ('0.5'): 'abc' is not a number"), e);
     e = error_of([&] { read_field_series(write("short.csv", header + "0,1\n"), p.base); });
@@ -176,7 +176,7 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
     e = error_of([&] {
         read_field_series(write("long.csv", "vertex,time,WSS\n0,0,1\n1,0,1\n"), p.base);
     });
-    CHECK_MESSAGE(contains(e, "time 0 has no value for " + std::to_string(n - 2)), e);
+    CHECK_MESSAGE(contains(e, "long.csv at time 0 has no value for " + std::to_string(n - 2)), e);
 
     // VTK steps: another mesh, a moved point, a different id numbering, other arrays.
     PolyData other;

@@ -87,6 +87,7 @@ public:
                                         header_[c] + "'): '" + cells[c] + "' is not a number");
         return true;
     }
+    const std::string& path() const { return path_; }
     std::string where() const { return path_ + " line " + std::to_string(line_number_); }
 
 private:
@@ -114,9 +115,13 @@ private:
 int vertex_row(double id, int points, const CsvTable& table)
 {
     if (id != std::floor(id) || id < 0 || id >= points)
-        throw InvalidInputError(table.where() + ": vertex id " + std::to_string(id) +
+    {
+        char text[64];
+        std::snprintf(text, sizeof text, "%.17g", id);
+        throw InvalidInputError(table.where() + ": vertex id " + text +
                                 " is not an index of the mesh's " + std::to_string(points) +
                                 " points (ids are 0-based input vertex indices)");
+    }
     return static_cast<int>(id);
 }
 
@@ -183,7 +188,7 @@ FieldSeries read_wide(CsvTable& table, int points, const std::string& name,
         for (std::size_t k = 0; k < series.steps.size(); ++k)
             series.steps[k][0].values(v, 0) = row[k + 1];
     }
-    check_complete(seen, "the table");
+    check_complete(seen, table.path());
     return series;
 }
 
@@ -208,7 +213,7 @@ FieldSeries read_long(CsvTable& table, int points)
     {
         char t[64];
         std::snprintf(t, sizeof t, "%g", time);
-        check_complete(step.second, std::string("time ") + t);
+        check_complete(step.second, table.path() + " at time " + t);
         series.times.push_back(time);
         series.steps.push_back({std::move(step.first)});
         series.sources.push_back(std::string("rows at time ") + t);
