@@ -44,7 +44,7 @@ struct PulseFiles
 {
     Mesh mesh;
     PolyData base;
-    FieldSeries series;
+    TimeSeries series;
     std::string dir;
 };
 
@@ -63,7 +63,7 @@ PulseFiles pulse_files(const std::string& name)
     return p;
 }
 
-void check_same_series(const FieldSeries& a, const FieldSeries& b)
+void check_same_series(const TimeSeries& a, const TimeSeries& b)
 {
     REQUIRE(a.size() == b.size());
     for (int k = 0; k < a.size(); ++k)
@@ -98,22 +98,22 @@ TEST_CASE("field_series: the 90-step pulse reads back the same from .pvd, number
     }
     CHECK(reach[1] > reach[0] + 5.0);  // mm
 
-    const FieldSeries pvd = read_field_series(p.dir + "/pulse.pvd", p.base);
+    const TimeSeries pvd = read_field_series(p.dir + "/pulse.pvd", p.base);
     check_same_series(pvd, p.series);
     // A wide table has no room for the field's name: it is the file's stem unless given.
     CHECK(read_field_series(p.dir + "/pulse.csv", p.base).steps[0][0].name == "pulse");
     FieldSeriesOptions named;
     named.name = "WSS";
-    const FieldSeries wide = read_field_series(p.dir + "/pulse.csv", p.base, named);
+    const TimeSeries wide = read_field_series(p.dir + "/pulse.csv", p.base, named);
     check_same_series(wide, p.series);
-    const FieldSeries longer = read_field_series(p.dir + "/pulse-long.csv", p.base);
+    const TimeSeries longer = read_field_series(p.dir + "/pulse-long.csv", p.base);
     check_same_series(longer, p.series);
     FieldSeriesOptions every_50ms;
     every_50ms.time_step = 0.02;
-    const FieldSeries numbered =
+    const TimeSeries numbered =
         read_field_series(p.dir + "/pulse/pulse_%03d.vtp", p.base, every_50ms);
     check_same_series(numbered, p.series);
-    const FieldSeries glob = read_field_series(p.dir + "/pulse/pulse_*.vtp", p.base, every_50ms);
+    const TimeSeries glob = read_field_series(p.dir + "/pulse/pulse_*.vtp", p.base, every_50ms);
     check_same_series(glob, p.series);
 }
 
@@ -124,14 +124,14 @@ TEST_CASE("field_series: a series carried through the cut is written as .pvd wit
     FlattenOptions options;
     options.refinement = Refinement::None;
     const FlattenResult result = flatten(surface.mesh, options);
-    const FieldSeries in = read_field_series(p.dir + "/pulse-long.csv", p.base);
-    const FieldSeries cut = transfer_series(in, result.mesh);
+    const TimeSeries in = read_field_series(p.dir + "/pulse-long.csv", p.base);
+    const TimeSeries cut = transfer_series(in, result.mesh);
     const std::string pvd = p.dir + "/flat.pvd";
     write_flat_series(pvd, result.mesh, result.uv, {}, cut);
     const auto input_index = vessel::test::int_vertex_property(result.mesh, prop::input_index);
     // Read it back as a series over the cut mesh (part 0) and compare with the input.
     PolyData cut_base = flat_polydata(result.mesh, result.uv, {}, false);
-    const FieldSeries back = read_field_series(pvd, cut_base);
+    const TimeSeries back = read_field_series(pvd, cut_base);
     REQUIRE(back.size() == 90);
     for (int k : {0, 17, 44, 89})
     {
@@ -160,32 +160,35 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
             rows += std::to_string(v) + ",1,2\n";
     auto e = error_of([&] { read_field_series(write("missing.csv", header + rows), p.base); });
     CHECK_MESSAGE(contains(e, "has no value for 2 of the mesh's " + std::to_string(n) +
-                                  " vertices (ids 5, 17)"), e);
+                                  " vertices (ids 5, 17)"),
+                  e);
     e = error_of([&] { read_field_series(write("twice.csv", header + rows + "3,1,1\n"), p.base); });
     CHECK_MESSAGE(contains(e, "vertex 3 appears twice"), e);
     e = error_of([&] {
         read_field_series(write("range.csv", header + std::to_string(n) + ",1,1\n"), p.base);
     });
-    CHECK_MESSAGE(contains(e, "line 2: vertex id " + std::to_string(n) + " is not an index of the mesh's"), e);
+    CHECK_MESSAGE(
+        contains(e, "line 2: vertex id " + std::to_string(n) + " is not an index of the mesh's"),
+        e);
     e = error_of([&] { read_field_series(write("nan.csv", header + "0,1,abc\n"), p.base); });
     CHECK_MESSAGE(contains(e, "line 2, column 3 ('0.5'): 'abc' is not a number"), e);
     e = error_of([&] { read_field_series(write("short.csv", header + "0,1\n"), p.base); });
     CHECK_MESSAGE(contains(e, "line 2 has 2 columns but the header has 3"), e);
     e = error_of([&] { read_field_series(write("order.csv", "vertex,1,0.5\n" + rows), p.base); });
     CHECK_MESSAGE(contains(e, "order the columns by time"), e);
-    e = error_of([&] {
-        read_field_series(write("long.csv", "vertex,time,WSS\n0,0,1\n1,0,1\n"), p.base);
-    });
+    e = error_of(
+        [&] { read_field_series(write("long.csv", "vertex,time,WSS\n0,0,1\n1,0,1\n"), p.base); });
     CHECK_MESSAGE(contains(e, "long.csv at time 0 has no value for " + std::to_string(n - 2)), e);
 
     // VTK steps: another mesh, a moved point, a different id numbering, other arrays.
     PolyData other;
     other.mesh = to_raw_mesh(open_cylinder(1.0, 2.0, 8, 3));
-    write_pvd_series(p.dir + "/other.pvd", {{"", other}}, travelling_pulse(open_cylinder(1.0, 2.0, 8, 3)));
+    write_pvd_series(p.dir + "/other.pvd", {{"", other}},
+                     travelling_pulse(open_cylinder(1.0, 2.0, 8, 3)));
     e = error_of([&] { read_field_series(p.dir + "/other.pvd", p.base); });
     CHECK_MESSAGE(contains(e, "step 0 of " + p.dir + "/other.pvd"), e);
-    CHECK_MESSAGE(contains(e, "has 32 points and 48 polygons but the mesh has " +
-                                  std::to_string(n)), e);
+    CHECK_MESSAGE(
+        contains(e, "has 32 points and 48 polygons but the mesh has " + std::to_string(n)), e);
     PolyData moved = p.base;
     moved.mesh.points[7].x() += 1.0;
     write_polydata(p.dir + "/moved.vtp", moved);

@@ -57,8 +57,8 @@ print(len(times), "steps checked")
 TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to the same series")
 {
     const std::string dir = temp_dir("cli_fields");
-    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " +
-                dir + "/pulse -q") == 0);
+    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
+                "/pulse -q") == 0);
     REQUIRE(fs::exists(dir + "/pulse.pvd"));
     REQUIRE(fs::exists(dir + "/pulse/pulse_089.vtp"));
     REQUIRE(fs::exists(dir + "/pulse.csv"));
@@ -85,8 +85,8 @@ TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to t
 TEST_CASE("cli: --fields that do not fit, or a series with a non-VTP output, are refused")
 {
     const std::string dir = temp_dir("cli_fields_bad");
-    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " +
-                dir + "/pulse -q") == 0);
+    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
+                "/pulse -q") == 0);
     REQUIRE(run(kPhantom + " helix -o " + dir + "/helix.ply -q") == 0);
     const auto fails_with = [&](const std::string& args, const std::string& message) {
         INFO(args);

@@ -187,10 +187,9 @@ TEST_CASE("fields: mismatched fields and missing properties are refused with the
     }
     catch (const InvalidInputError& e)
     {
-        CHECK(std::string(e.what()) ==
-              "point field 'pressure' of tube has " + std::to_string(np) +
-                  " values but the mesh has " + std::to_string(np + 1) +
-                  " points; the field belongs to another mesh");
+        CHECK(std::string(e.what()) == "point field 'pressure' of tube has " + std::to_string(np) +
+                                           " values but the mesh has " + std::to_string(np + 1) +
+                                           " points; the field belongs to another mesh");
     }
     fields.push_back(fields[0]);
     CHECK_THROWS_AS(check_fields(fields, np, nf, "tube"), InvalidInputError);

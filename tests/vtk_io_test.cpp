@@ -60,11 +60,13 @@ TEST_CASE("vtk_io: every VTK encoding round-trips points, polygons and all array
         bool compress;
         int digits = 0;  // exact
     };
-    const std::vector<Case> cases = {
-        {"ascii.vtp", VtkEncoding::Ascii, false},        {"binary.vtp", VtkEncoding::Binary, false},
-        {"binary-zlib.vtp", VtkEncoding::Binary, true},  {"appended.vtp", VtkEncoding::Appended, false},
-        {"appended-zlib.vtp", VtkEncoding::Appended, true}, {"ascii.vtk", VtkEncoding::Ascii, false, 10},
-        {"binary.vtk", VtkEncoding::Binary, false}};
+    const std::vector<Case> cases = {{"ascii.vtp", VtkEncoding::Ascii, false},
+                                     {"binary.vtp", VtkEncoding::Binary, false},
+                                     {"binary-zlib.vtp", VtkEncoding::Binary, true},
+                                     {"appended.vtp", VtkEncoding::Appended, false},
+                                     {"appended-zlib.vtp", VtkEncoding::Appended, true},
+                                     {"ascii.vtk", VtkEncoding::Ascii, false, 10},
+                                     {"binary.vtk", VtkEncoding::Binary, false}};
     for (const auto& c : cases)
     {
         INFO(c.name);
@@ -146,7 +148,8 @@ TEST_CASE("vtk_io: unreadable or unsuitable files are refused with a message")
                                         "UNSTRUCTURED_GRID\nPOINTS 0 float\n";
     CHECK_THROWS_AS(read_polydata(dir + "/grid.vtk"), IoError);
     // Truncated appended data.
-    write_polydata(dir + "/ok.vtp", vessel::test::tube_with_fields(10, 4), {VtkEncoding::Appended, true});
+    write_polydata(dir + "/ok.vtp", vessel::test::tube_with_fields(10, 4),
+                   {VtkEncoding::Appended, true});
     const auto size = std::filesystem::file_size(dir + "/ok.vtp");
     std::filesystem::copy_file(dir + "/ok.vtp", dir + "/cut.vtp");
     std::filesystem::resize_file(dir + "/cut.vtp", size / 2);
@@ -167,9 +170,11 @@ TEST_CASE("vtk_io: unreadable or unsuitable files are refused with a message")
     PolyData bad = vessel::test::tube_with_fields(10, 4);
     bad.point_data[0].values.conservativeResize(3, 1);
     CHECK_THROWS_AS(write_polydata(dir + "/bad.vtp", bad), InvalidInputError);
-    CHECK_THROWS_AS(write_polydata(dir + "/x.vtk", vessel::test::tube_with_fields(10, 4), {VtkEncoding::Appended, false}),
+    CHECK_THROWS_AS(write_polydata(dir + "/x.vtk", vessel::test::tube_with_fields(10, 4),
+                                   {VtkEncoding::Appended, false}),
                     InvalidInputError);
-    CHECK_THROWS_AS(write_polydata(dir + "/x.ply", vessel::test::tube_with_fields(10, 4)), InvalidInputError);
+    CHECK_THROWS_AS(write_polydata(dir + "/x.ply", vessel::test::tube_with_fields(10, 4)),
+                    InvalidInputError);
     CHECK(is_vtk_path("a/B.VTP"));
     CHECK_FALSE(is_vtk_path("a.ply"));
 }

@@ -157,11 +157,11 @@ Field scalar_field(const std::string& name, int points)
     return f;
 }
 
-FieldSeries read_wide(CsvTable& table, int points, const std::string& name,
-                      const FieldSeriesOptions& options)
+TimeSeries read_wide(CsvTable& table, int points, const std::string& name,
+                     const FieldSeriesOptions& options)
 {
     const auto& header = table.header();
-    FieldSeries series;
+    TimeSeries series;
     bool numeric = true;
     for (std::size_t c = 1; c < header.size(); ++c)
     {
@@ -176,7 +176,8 @@ FieldSeries read_wide(CsvTable& table, int points, const std::string& name,
     for (std::size_t k = 1; k < series.times.size(); ++k)
         if (!(series.times[k] > series.times[k - 1]))
             throw InvalidInputError("read_csv_series: column " + std::to_string(k + 2) + " ('" +
-                                    header[k + 1] + "') is not after the previous column's time; "
+                                    header[k + 1] +
+                                    "') is not after the previous column's time; "
                                     "order the columns by time");
     series.steps.assign(series.times.size(), {scalar_field(name, points)});
     std::vector<int> seen(points, 0);
@@ -192,7 +193,7 @@ FieldSeries read_wide(CsvTable& table, int points, const std::string& name,
     return series;
 }
 
-FieldSeries read_long(CsvTable& table, int points)
+TimeSeries read_long(CsvTable& table, int points)
 {
     const std::string name = table.header()[2];
     std::map<double, std::pair<Field, std::vector<int>>> by_time;
@@ -202,13 +203,14 @@ FieldSeries read_long(CsvTable& table, int points)
         const int v = vertex_row(row[0], points, table);
         auto it = by_time.find(row[1]);
         if (it == by_time.end())
-            it = by_time.emplace(row[1], std::make_pair(scalar_field(name, points),
-                                                         std::vector<int>(points, 0)))
+            it = by_time
+                     .emplace(row[1], std::make_pair(scalar_field(name, points),
+                                                     std::vector<int>(points, 0)))
                      .first;
         record(it->second.second, v, table, " at time " + std::to_string(row[1]));
         it->second.first.values(v, 0) = row[2];
     }
-    FieldSeries series;
+    TimeSeries series;
     for (auto& [time, step] : by_time)
     {
         char t[64];
@@ -230,7 +232,7 @@ std::string lower(std::string s)
 
 }  // namespace
 
-FieldSeries read_csv_series(const std::string& path, int points, const FieldSeriesOptions& options)
+TimeSeries read_csv_series(const std::string& path, int points, const FieldSeriesOptions& options)
 {
     options.validate();
     CsvTable table(path);
@@ -239,14 +241,14 @@ FieldSeries read_csv_series(const std::string& path, int points, const FieldSeri
         throw InvalidInputError("read_csv_series: " + path +
                                 " needs a vertex id column and at least one value column");
     const std::string second = lower(header[1]);
-    FieldSeries series;
+    TimeSeries series;
     if (header.size() == 3 && (second == "time" || second == "t"))
         series = read_long(table, points);
     else
-        series = read_wide(table, points,
-                           options.name.empty() ? std::filesystem::path(path).stem().string()
-                                                : options.name,
-                           options);
+        series = read_wide(
+            table, points,
+            options.name.empty() ? std::filesystem::path(path).stem().string() : options.name,
+            options);
     if (series.steps.empty())
         throw InvalidInputError("read_csv_series: " + path + " has no data rows");
     for (auto& s : series.sources)
@@ -254,7 +256,7 @@ FieldSeries read_csv_series(const std::string& path, int points, const FieldSeri
     return series;
 }
 
-void write_csv_series(const std::string& path, const FieldSeries& series, const std::string& name,
+void write_csv_series(const std::string& path, const TimeSeries& series, const std::string& name,
                       CsvLayout layout)
 {
     std::vector<const Field*> steps;

@@ -82,8 +82,8 @@ void check_step(const PolyData& step, const PolyData& mesh, const std::string& w
                     if (f.values.row(i) != g.values.row(i))
                         throw InvalidInputError(
                             what + ": id array '" + f.name + "' has " +
-                            std::to_string(static_cast<long long>(f.values(i, 0))) +
-                            " at point " + std::to_string(i) + " where the mesh has " +
+                            std::to_string(static_cast<long long>(f.values(i, 0))) + " at point " +
+                            std::to_string(i) + " where the mesh has " +
                             std::to_string(static_cast<long long>(g.values(i, 0))) +
                             "; the series uses another vertex numbering");
     }
@@ -105,20 +105,19 @@ std::string field_names(const std::vector<Field>& fields)
 }
 
 // Reads every file as one step and checks it; times must increase.
-FieldSeries read_vtk_steps(const std::vector<std::pair<double, std::string>>& files,
-                           const PolyData& mesh, const std::string& spec,
-                           const FieldSeriesOptions& options)
+TimeSeries read_vtk_steps(const std::vector<std::pair<double, std::string>>& files,
+                          const PolyData& mesh, const std::string& spec,
+                          const FieldSeriesOptions& options)
 {
-    FieldSeries series;
+    TimeSeries series;
     for (std::size_t k = 0; k < files.size(); ++k)
     {
         const auto& [time, file] = files[k];
         const std::string what = "step " + std::to_string(k) + " of " + spec + " (" + file + ")";
         if (k > 0 && !(time > series.times.back()))
-            throw InvalidInputError(what + " has time " + std::to_string(time) +
-                                    ", not after the previous step's " +
-                                    std::to_string(series.times.back()) +
-                                    "; order the steps by time");
+            throw InvalidInputError(
+                what + " has time " + std::to_string(time) + ", not after the previous step's " +
+                std::to_string(series.times.back()) + "; order the steps by time");
         const PolyData step = read_polydata(file);
         check_step(step, mesh, what, options);
         auto fields = step_fields(step);
@@ -127,8 +126,7 @@ FieldSeries read_vtk_steps(const std::vector<std::pair<double, std::string>>& fi
             std::vector<Field>& first = series.steps.front();
             bool same = fields.size() == first.size();
             for (std::size_t i = 0; same && i < fields.size(); ++i)
-                same = fields[i].name == first[i].name &&
-                       fields[i].location == first[i].location &&
+                same = fields[i].name == first[i].name && fields[i].location == first[i].location &&
                        fields[i].components() == first[i].components();
             if (!same)
                 throw InvalidInputError(what + " has the arrays " + field_names(fields) +
@@ -241,8 +239,8 @@ void FieldSeriesOptions::validate() const
                                 std::to_string(position_tolerance));
 }
 
-FieldSeries read_field_series(const std::string& spec, const PolyData& mesh,
-                              const FieldSeriesOptions& options)
+TimeSeries read_field_series(const std::string& spec, const PolyData& mesh,
+                             const FieldSeriesOptions& options)
 {
     options.validate();
     const std::string ext = lower(fs::path(spec).extension().string());
@@ -258,16 +256,16 @@ FieldSeries read_field_series(const std::string& spec, const PolyData& mesh,
                             "' is not a .pvd, .csv, .vtp or .vtk file nor a pattern with %d or *");
 }
 
-FieldSeries transfer_series(const FieldSeries& series, const Mesh& mesh)
+TimeSeries transfer_series(const TimeSeries& series, const Mesh& mesh)
 {
-    FieldSeries out = series;
+    TimeSeries out = series;
     for (auto& step : out.steps)
         step = transfer_fields(step, mesh);
     return out;
 }
 
 void write_pvd_series(const std::string& pvd_path, const std::vector<PvdPart>& parts,
-                      const FieldSeries& series, const VtkWriteOptions& options)
+                      const TimeSeries& series, const VtkWriteOptions& options)
 {
     const fs::path pvd(pvd_path);
     const std::string stem = pvd.stem().string();

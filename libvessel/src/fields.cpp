@@ -22,12 +22,11 @@ Field gather(const Field& field, const std::vector<int>& index, const char* elem
     for (std::size_t i = 0; i < index.size(); ++i)
     {
         if (index[i] < 0 || index[i] >= field.rows())
-            throw InvalidInputError("transfer_fields: " + std::string(element) + " " +
-                                    std::to_string(i) + " comes from input row " +
-                                    std::to_string(index[i]) + " but " +
-                                    location_name(field.location) + " field '" + field.name +
-                                    "' has " + std::to_string(field.rows()) +
-                                    " rows; the fields belong to another mesh");
+            throw InvalidInputError(
+                "transfer_fields: " + std::string(element) + " " + std::to_string(i) +
+                " comes from input row " + std::to_string(index[i]) + " but " +
+                location_name(field.location) + " field '" + field.name + "' has " +
+                std::to_string(field.rows()) + " rows; the fields belong to another mesh");
         out.values.row(static_cast<Eigen::Index>(i)) = field.values.row(index[i]);
     }
     return out;
@@ -44,8 +43,8 @@ const Field& find_field(const std::vector<Field>& fields, const std::string& nam
             return f;
         names += (names.empty() ? "" : ", ") + f.name;
     }
-    throw InvalidInputError("no field named '" + name + "'; available: " +
-                            (names.empty() ? std::string("none") : names));
+    throw InvalidInputError("no field named '" + name +
+                            "'; available: " + (names.empty() ? std::string("none") : names));
 }
 
 void check_fields(const std::vector<Field>& fields, int points, int cells,

@@ -27,12 +27,12 @@ const char* ply_type(FieldType type)
 {
     switch (type)
     {
-    case FieldType::Float32:
-        return "float";
-    case FieldType::Float64:
-        return "double";
-    default:
-        return "int";  // PLY has no 64-bit integer type
+        case FieldType::Float32:
+            return "float";
+        case FieldType::Float64:
+            return "double";
+        default:
+            return "int";  // PLY has no 64-bit integer type
     }
 }
 
@@ -77,10 +77,12 @@ void write_flat_ply(const std::string& path, const Mesh& mesh, const Eigen::Matr
     // coordinates; the rest of the point data follows.
     std::vector<Field> point_data(data.point_data.begin() + 1, data.point_data.end());
     detail::write_atomically(path, "write_flat_ply", [&](FILE* out) {
-        std::fprintf(out, "ply\nformat binary_little_endian 1.0\ncomment libvessel flattened "
-                          "vessel: x y z = 3D cut mesh, u v = flat map\n");
-        std::fprintf(out, "element vertex %zu\nproperty double x\nproperty double y\nproperty "
-                          "double z\nproperty double u\nproperty double v\n",
+        std::fprintf(out,
+                     "ply\nformat binary_little_endian 1.0\ncomment libvessel flattened "
+                     "vessel: x y z = 3D cut mesh, u v = flat map\n");
+        std::fprintf(out,
+                     "element vertex %zu\nproperty double x\nproperty double y\nproperty "
+                     "double z\nproperty double u\nproperty double v\n",
                      data.mesh.points.size());
         header_properties(out, point_data);
         std::fprintf(out, "element face %zu\nproperty list uchar int vertex_indices\n",

@@ -63,7 +63,7 @@ void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::Matr
 }
 
 void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                       const std::vector<Field>& fields, const FieldSeries& series)
+                       const std::vector<Field>& fields, const TimeSeries& series)
 {
     write_pvd_series(pvd_path,
                      {{"", flat_polydata(mesh, uv, fields, false)},

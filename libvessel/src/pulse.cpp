@@ -22,7 +22,7 @@ void PulseOptions::validate() const
     require(std::isfinite(base_pa) && std::isfinite(peak_pa), "base_pa and peak_pa must be finite");
 }
 
-FieldSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options)
+TimeSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options)
 {
     options.validate();
     const auto loops = boundary_loops(mesh);
@@ -33,7 +33,7 @@ FieldSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options)
     if (!(longest > 0) || !std::isfinite(longest))
         throw InvalidInputError("travelling_pulse: the mesh is not one connected piece");
     s /= longest;
-    FieldSeries series;
+    TimeSeries series;
     for (int k = 0; k < options.steps; ++k)
     {
         const double t = k * options.duration_s / options.steps;

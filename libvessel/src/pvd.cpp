@@ -58,10 +58,12 @@ std::vector<PvdEntry> read_pvd(const std::string& path)
 void write_pvd(const std::string& path, const std::vector<PvdEntry>& entries)
 {
     write_atomically(path, "write_pvd", [&](FILE* out) {
-        std::fprintf(out, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
-                          "byte_order=\"LittleEndian\">\n  <Collection>\n");
+        std::fprintf(out,
+                     "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" "
+                     "byte_order=\"LittleEndian\">\n  <Collection>\n");
         for (const auto& e : entries)
-            std::fprintf(out, "    <DataSet timestep=\"%.15g\" group=\"\" part=\"%d\" file=\"%s\"/>\n",
+            std::fprintf(out,
+                         "    <DataSet timestep=\"%.15g\" group=\"\" part=\"%d\" file=\"%s\"/>\n",
                          e.time, e.part, e.file.c_str());
         std::fprintf(out, "  </Collection>\n</VTKFile>\n");
     });

@@ -39,18 +39,18 @@ FieldType field_type(int vtk_type)
 {
     switch (vtk_type)
     {
-    case VTK_FLOAT:
-        return FieldType::Float32;
-    case VTK_DOUBLE:
-        return FieldType::Float64;
-    case VTK_LONG:
-    case VTK_UNSIGNED_LONG:
-    case VTK_LONG_LONG:
-    case VTK_UNSIGNED_LONG_LONG:
-    case VTK_ID_TYPE:
-        return FieldType::Int64;
-    default:
-        return FieldType::Int32;
+        case VTK_FLOAT:
+            return FieldType::Float32;
+        case VTK_DOUBLE:
+            return FieldType::Float64;
+        case VTK_LONG:
+        case VTK_UNSIGNED_LONG:
+        case VTK_LONG_LONG:
+        case VTK_UNSIGNED_LONG_LONG:
+        case VTK_ID_TYPE:
+            return FieldType::Int64;
+        default:
+            return FieldType::Int32;
     }
 }
 
@@ -269,8 +269,10 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
     else
     {
         if (options.encoding == VtkEncoding::Appended)
-            throw InvalidInputError("write_polydata: legacy .vtk has no appended encoding; use "
-                                    "Ascii or Binary, or write .vtp (" + path + ")");
+            throw InvalidInputError(
+                "write_polydata: legacy .vtk has no appended encoding; use "
+                "Ascii or Binary, or write .vtp (" +
+                path + ")");
         vtkNew<vtkPolyDataWriter> writer;
         detail::VtkErrors errors;
         errors.watch(writer);

@@ -182,7 +182,7 @@ int main(int argc, char** argv)
         const vessel::TreeSurface surface = vessel::make_tree_surface(raw);
         std::vector<vessel::Field> fields = input_data.point_data;
         fields.insert(fields.end(), input_data.cell_data.begin(), input_data.cell_data.end());
-        vessel::FieldSeries series;
+        vessel::TimeSeries series;
         if (!fields_spec.empty())
         {
             series_options.name = field_name;
@@ -212,7 +212,7 @@ int main(int argc, char** argv)
 
         start = Clock::now();
         const std::vector<vessel::Field> cut_fields = vessel::transfer_fields(fields, result.mesh);
-        const vessel::FieldSeries cut_series = vessel::transfer_series(series, result.mesh);
+        const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
         std::vector<vessel::Field> all_fields = cut_fields;
         if (cut_series.size() == 1)
             all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),

@@ -163,7 +163,7 @@ int main(int argc, char** argv)
             throw vessel::IoError("could not write " + output);
         if (!pulse_prefix.empty())
         {
-            const vessel::FieldSeries series = vessel::travelling_pulse(mesh, pulse);
+            const vessel::TimeSeries series = vessel::travelling_pulse(mesh, pulse);
             vessel::write_pvd_series(pulse_prefix + ".pvd",
                                      {{"", vessel::PolyData{vessel::to_raw_mesh(mesh), {}, {}, {}}}},
                                      series);

@@ -37,16 +37,16 @@ struct FieldSeriesOptions
 //! \param mesh the input surface with its arrays (read_polydata(), or a RawMesh with no fields).
 //! \throw InvalidInputError saying which step, file, row or id does not match and how.
 //! \throw IoError if a file is missing or unreadable.
-FieldSeries read_field_series(const std::string& spec, const PolyData& mesh,
-                              const FieldSeriesOptions& options = {});
+TimeSeries read_field_series(const std::string& spec, const PolyData& mesh,
+                             const FieldSeriesOptions& options = {});
 
 //! transfer_fields() on every step: the series with rows indexed by the (cut) mesh.
-FieldSeries transfer_series(const FieldSeries& series, const Mesh& mesh);
+TimeSeries transfer_series(const TimeSeries& series, const Mesh& mesh);
 
 //! \brief Read a CSV series (see read_field_series()) for a mesh of \p points input points.
 //! \throw InvalidInputError / IoError as read_field_series().
-FieldSeries read_csv_series(const std::string& path, int points,
-                            const FieldSeriesOptions& options = {});
+TimeSeries read_csv_series(const std::string& path, int points,
+                           const FieldSeriesOptions& options = {});
 
 //! How write_csv_series() lays out a table.
 enum class CsvLayout
@@ -58,7 +58,7 @@ enum class CsvLayout
 //! \brief Write the scalar point field \p name of \p series as CSV (temporary file + rename).
 //! \throw InvalidInputError if the field is missing, not a scalar or not a point field.
 //! \throw IoError if the file cannot be written.
-void write_csv_series(const std::string& path, const FieldSeries& series, const std::string& name,
+void write_csv_series(const std::string& path, const TimeSeries& series, const std::string& name,
                       CsvLayout layout);
 
 //! One geometry of a written series (e.g. the 3D cut mesh, or its 2D map).
@@ -73,6 +73,6 @@ struct PvdPart
 //! (rows = the part's points / polygons); the `.pvd` lists them with `timestep` and `part`.
 //! \throw InvalidInputError if a field does not fit a part; IoError if writing fails.
 void write_pvd_series(const std::string& pvd_path, const std::vector<PvdPart>& parts,
-                      const FieldSeries& series, const VtkWriteOptions& options = {});
+                      const TimeSeries& series, const VtkWriteOptions& options = {});
 
 }  // namespace vessel

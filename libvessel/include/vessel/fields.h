@@ -41,7 +41,7 @@ struct Field
 };
 
 //! The same fields at several times over one geometry (a heart cycle, say).
-struct FieldSeries
+struct TimeSeries
 {
     std::vector<double> times;              //!< seconds, strictly increasing
     std::vector<std::vector<Field>> steps;  //!< `steps[k]` = fields at `times[k]`, same names

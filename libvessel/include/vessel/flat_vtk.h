@@ -44,7 +44,7 @@ void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::Matr
 //! (part 0) and the map (part 1, suffix `-map`) with \p fields and that step's fields.
 //! \param series rows indexed by the cut mesh (transfer_fields() on every step).
 void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                       const std::vector<Field>& fields, const FieldSeries& series);
+                       const std::vector<Field>& fields, const TimeSeries& series);
 
 //! \brief Write the cut mesh as binary PLY: vertex x y z (3D), u v (the map, the names MeshLab
 //! and Blender read as texture coordinates), `input_vertex`, and every scalar or vector point

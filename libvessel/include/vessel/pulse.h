@@ -27,6 +27,6 @@ struct PulseOptions
 //! value base_pa + peak_pa exp(-(s - c)^2 / (2 width^2)).
 //! \return one scalar Float64 point field per step, rows `v.idx()`.
 //! \throw InvalidInputError if the options are invalid or the mesh has no boundary.
-FieldSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options = {});
+TimeSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options = {});
 
 }  // namespace vessel
