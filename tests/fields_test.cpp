@@ -125,10 +125,47 @@ TEST_CASE("fields: seam copies get their original's values, faces keep their pol
     write_flat_vtp(dir + "/flat.vtp", result.mesh, result.uv, carried);
     check_written(dir + "/flat.vtp", result, carried);
     write_flat_ply(dir + "/flat.ply", result.mesh, result.uv, carried);
-    // PLY read back with OpenMesh's reader: same vertex count and (u, v) as texture coordinates.
+    // OpenMesh's PLY reader accepts it, and numpy's view of the binary PLY holds the same
+    // values as VTK's Python reader sees in the .vtp.
     const RawMesh ply = read_raw_mesh(dir + "/flat.ply");
     CHECK(ply.points.size() == result.mesh.n_vertices());
     CHECK(ply.faces.size() == result.mesh.n_faces());
+    std::ofstream(dir + "/ply.py") << R"(import sys, numpy as np, vtk
+from vtk.util.numpy_support import vtk_to_numpy as np_of
+data = open(sys.argv[1], "rb").read()
+head, body = data.split(b"end_header\n", 1)
+types = {"double": "<f8", "float": "<f4", "int": "<i4"}
+elements, current = [], None
+for line in head.decode().splitlines():
+    w = line.split()
+    if w[0] == "element":
+        current = (w[1], int(w[2]), []); elements.append(current)
+    elif w[0] == "property" and w[1] != "list":
+        current[2].append((w[2], types[w[1]]))
+(_, nv, vprops), (_, nf, fprops) = elements
+vert = np.frombuffer(body, dtype=np.dtype(vprops), count=nv)
+face = np.frombuffer(body, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3)] + fprops), count=nf,
+                     offset=vert.nbytes)
+r = vtk.vtkXMLPolyDataReader(); r.SetFileName(sys.argv[2]); r.Update(); o = r.GetOutput()
+pd, cd = o.GetPointData(), o.GetCellData()
+xyz = np_of(o.GetPoints().GetData())
+assert np.array_equal(np.stack([vert["x"], vert["y"], vert["z"]], 1), xyz)
+assert np.array_equal(np.stack([vert["u"], vert["v"]], 1), np_of(pd.GetArray("uv")))
+for name in ("InputVertex", "pressure", "GlobalNodeID"):
+    assert np.array_equal(vert[name], np_of(pd.GetArray(name))), name
+vel = np_of(pd.GetArray("velocity"))
+for c in range(3):
+    assert np.array_equal(vert["velocity_%d" % c], vel[:, c])
+assert np.all(face["n"] == 3)
+polys = np_of(o.GetPolys().GetConnectivityArray()).reshape(-1, 3)
+assert np.array_equal(face["i"], polys)
+# GlobalElementID is 64-bit (past 2^32 here): PLY has no such integer, it goes out as double.
+for name in ("InputCell", "thickness", "GlobalElementID"):
+    assert np.array_equal(face[name], np_of(cd.GetArray(name))), name
+print("ok")
+)";
+    CHECK(run("/usr/bin/python3 " + dir + "/ply.py " + dir + "/flat.ply " + dir + "/flat.vtp") ==
+          0);
 }
 
 TEST_CASE("fields: the pulmonary .vtp flattens with GlobalNodeID and GlobalElementID intact")

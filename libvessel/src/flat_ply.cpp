@@ -30,9 +30,10 @@ const char* ply_type(FieldType type)
         case FieldType::Float32:
             return "float";
         case FieldType::Float64:
+        case FieldType::Int64:  // PLY has no 64-bit integer; a double holds up to 2^53 exactly
             return "double";
         default:
-            return "int";  // PLY has no 64-bit integer type
+            return "int";
     }
 }
 
@@ -43,7 +44,7 @@ void write_value(FILE* out, FieldType type, double value)
         const float x = static_cast<float>(value);
         std::fwrite(&x, sizeof x, 1, out);
     }
-    else if (type == FieldType::Float64)
+    else if (type == FieldType::Float64 || type == FieldType::Int64)
         std::fwrite(&value, sizeof value, 1, out);
     else
     {

@@ -48,7 +48,8 @@ void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eige
 
 //! \brief Write the cut mesh as binary PLY: vertex x y z (3D), u v (the map, the names MeshLab
 //! and Blender read as texture coordinates), `input_vertex`, and every scalar or vector point
-//! field as float/double/int properties (vectors as NAME_0, NAME_1, ...); faces carry
+//! field as float/double/int properties (vectors as NAME_0, NAME_1, ...; 64-bit integers as
+//! double, PLY having no 64-bit integer type); faces carry
 //! `input_cell` and the cell fields. Temporary file + rename.
 //! \throw InvalidInputError as flat_polydata(); IoError if writing fails.
 void write_flat_ply(const std::string& path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
