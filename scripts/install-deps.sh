@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Installs the Debian packages libvessel needs to build, test and render (idempotent).
+# chromium: the viewer's end-to-end test (headless). node and npm (for the viewer bundle) are
+# expected on the machine (CI has node 20); without them the viewer is left out of the build.
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
-  doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev
+  doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev
   libvtk9-dev
   python3 python3-numpy python3-matplotlib python3-vtk9
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -8,7 +8,7 @@
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
 #include "vessel/properties.h"
-#include "vessel/pulse.h"
+#include "vessel/pulse_series.h"
 #include "vessel/validation.h"
 
 #include <cmath>
@@ -211,7 +211,7 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
     FieldSeriesOptions bad;
     bad.time_step = 0;
     CHECK_THROWS_AS(read_field_series(p.dir + "/pulse.csv", p.base, bad), InvalidInputError);
-    PulseOptions no_steps;
+    PulseSeriesOptions no_steps;
     no_steps.steps = 0;
     CHECK_THROWS_AS(travelling_pulse(p.mesh, no_steps), InvalidInputError);
 }

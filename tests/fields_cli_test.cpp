@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "vessel/viewer.h"
 
 #include <filesystem>
 #include <fstream>
@@ -63,11 +64,15 @@ TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to t
     REQUIRE(fs::exists(dir + "/pulse/pulse_089.vtp"));
     REQUIRE(fs::exists(dir + "/pulse.csv"));
     REQUIRE(fs::exists(dir + "/pulse-long.csv"));
-    const std::string common = " --arap-iterations 0 -q 2> " + dir + "/stderr.txt";
+    const std::string common = " --refine none -q 2> " + dir + "/stderr.txt";
     REQUIRE(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/pvd.vtp --fields " + dir +
                 "/pulse.pvd" + common) == 0);
     REQUIRE(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/csv.vtp --fields " + dir +
-                "/pulse-long.csv --field WSS" + common) == 0);
+                "/pulse-long.csv --field WSS" +
+                (vessel::viewer_available() ? " --html " + dir + "/csv.html" : std::string()) +
+                common) == 0);
+    if (vessel::viewer_available())  // the HTML viewer offers the series beside the geodesic
+        CHECK(read_text(dir + "/csv.html").find("\"name\":\"WSS\"") != std::string::npos);
     for (const std::string out : {"pvd", "csv"})
     {
         INFO(out);

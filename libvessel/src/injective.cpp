@@ -2,6 +2,8 @@
 
 #include "vessel/boundary.h"
 #include "vessel/errors.h"
+#include "detail/face_jacobian.h"
+#include "detail/scaffold.h"
 #include "detail/serial_openmp.h"
 #include "vessel/metrics.h"
 
@@ -12,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -24,6 +27,8 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: max_iterations must be >= 1");
     if (!(tolerance > 0.0))
         throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
+    if (!(scaffold_weight > 0.0))
+        throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
@@ -101,79 +106,14 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
 
 namespace {
 
-// Per-face constants of the map's Jacobian J = [[D0 u, D1 u], [D0 v, D1 v]], where Dk holds the
-// coefficients of the three corners (J is linear in the uv of the corners).
-struct FaceOperator
-{
-    std::array<int, 3> corner{};
-    std::array<double, 3> d0{}, d1{};
-    double area = 0.0;
-};
+using detail::FaceOperator;
+using detail::face_operators;
+using detail::face_threads;
+using detail::parallel_chunks;
 
-std::vector<FaceOperator> face_operators(const Mesh& mesh)
-{
-    std::vector<FaceOperator> ops(mesh.n_faces());
-    for (auto f : mesh.faces())
-    {
-        auto h = f.halfedge();
-        FaceOperator& op = ops[f.idx()];
-        op.corner = {h.from().idx(), h.to().idx(), h.next().to().idx()};
-        const Eigen::Vector3d q0 = to_eigen(mesh.point(h.from()));
-        const Eigen::Vector3d e1 = to_eigen(mesh.point(h.to())) - q0;
-        const Eigen::Vector3d e2 = to_eigen(mesh.point(h.next().to())) - q0;
-        const Eigen::Vector3d ax = e1.normalized();
-        const Eigen::Vector3d ay = (e2 - e2.dot(ax) * ax).normalized();
-        Eigen::Matrix2d P;  // columns: the two edges in a local orthonormal frame
-        P << e1.dot(ax), e2.dot(ax), 0.0, e2.dot(ay);
-        const Eigen::Matrix2d Pi = P.inverse();
-        op.d0 = {-(Pi(0, 0) + Pi(1, 0)), Pi(0, 0), Pi(1, 0)};
-        op.d1 = {-(Pi(0, 1) + Pi(1, 1)), Pi(0, 1), Pi(1, 1)};
-        op.area = 0.5 * std::abs(P.determinant());
-    }
-    return ops;
-}
-
-// x = [u_0, v_0, u_1, v_1, ...].
 Eigen::Matrix2d jacobian(const FaceOperator& op, const Eigen::VectorXd& x)
 {
-    Eigen::Matrix2d J = Eigen::Matrix2d::Zero();
-    for (int k = 0; k < 3; ++k)
-    {
-        const double u = x[2 * op.corner[k]], v = x[2 * op.corner[k] + 1];
-        J(0, 0) += op.d0[k] * u;
-        J(0, 1) += op.d1[k] * u;
-        J(1, 0) += op.d0[k] * v;
-        J(1, 1) += op.d1[k] * v;
-    }
-    return J;
-}
-
-// Threads for the per-face loops: two where they pay (the machines this runs on have two
-// cores); small meshes stay serial, where starting a thread costs more than it saves.
-int face_threads(std::size_t faces)
-{
-    if (faces < 8192)
-        return 1;
-    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
-}
-
-// Calls body(begin, end, thread) on `threads` contiguous chunks of [0, count), in parallel.
-// The body must not throw.
-template <class Body>
-void parallel_chunks(std::size_t count, int threads, const Body& body)
-{
-    if (threads <= 1)
-    {
-        body(std::size_t{0}, count, 0);
-        return;
-    }
-    std::vector<std::thread> pool;
-    pool.reserve(threads - 1);
-    for (int t = 1; t < threads; ++t)
-        pool.emplace_back([&, t] { body(count * t / threads, count * (t + 1) / threads, t); });
-    body(std::size_t{0}, count / threads, 0);
-    for (auto& thread : pool)
-        thread.join();
+    return detail::jacobian(op, x.data());
 }
 
 // Symmetric Dirichlet energy; +infinity if a triangle is flipped or collapsed.
@@ -390,6 +330,85 @@ void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::Vecto
 
 }  // namespace
 
+namespace {
+
+// Scaffold faces (Jiang et al. 2017) between the map's boundary and a box around it, rebuilt
+// every iteration. None may flip (the line search sees them), so the boundary cannot run into
+// itself; their energy, small against the surface's, keeps them in shape.
+class Scaffold
+{
+public:
+    Scaffold(const Mesh& mesh, int n, double weight) : n_(n), weight_(weight)
+    {
+        const auto loops = boundary_loops(mesh);
+        if (loops.size() != 1)
+            throw TopologyError("injective_refine: a scaffold needs a disk (one boundary loop), "
+                                "got " + std::to_string(loops.size()) + " loops");
+        for (auto v : loops[0].vertices)
+            boundary_.push_back(v.idx());
+    }
+
+    //! Box corner vertices are n .. n + 3.
+    int vertices() const { return n_ + 4; }
+
+    //! Places the box around the map in \p x and returns the scaffold's face operators.
+    std::vector<FaceOperator> rebuild(Eigen::VectorXd& x) const
+    {
+        Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+        for (int v : boundary_)
+        {
+            lo = lo.cwiseMin(x.segment<2>(2 * v));
+            hi = hi.cwiseMax(x.segment<2>(2 * v));
+        }
+        const double margin = 0.5 * (hi - lo).maxCoeff();
+        lo.array() -= margin;
+        hi.array() += margin;
+        const std::array<int, 4> box = {n_, n_ + 1, n_ + 2, n_ + 3};
+        x.segment<2>(2 * box[0]) << lo.x(), lo.y();
+        x.segment<2>(2 * box[1]) << hi.x(), lo.y();
+        x.segment<2>(2 * box[2]) << hi.x(), hi.y();
+        x.segment<2>(2 * box[3]) << lo.x(), hi.y();
+        const auto triangles = detail::scaffold_triangles(x, boundary_, box);
+        std::vector<FaceOperator> ops;
+        ops.reserve(triangles.size());
+        double scaffold_area = 0.0;
+        for (const auto& t : triangles)
+        {
+            FaceOperator op;
+            op.corner = t;
+            const Eigen::Vector2d e1 = x.segment<2>(2 * t[1]) - x.segment<2>(2 * t[0]);
+            const Eigen::Vector2d e2 = x.segment<2>(2 * t[2]) - x.segment<2>(2 * t[0]);
+            Eigen::Matrix2d P;
+            P << e1, e2;
+            const double det = P.determinant();
+            if (!(det > 0.0))
+                continue;  // a sliver at the scale of rounding: nothing can pass through it
+            // Rest shape: the equilateral triangle of the same area. A sliver's own shape would
+            // make the global step ill-conditioned; this one also pulls slivers back into shape.
+            const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
+            P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+            const Eigen::Matrix2d Pi = P.inverse();
+            op.d0 = {-(Pi(0, 0) + Pi(1, 0)), Pi(0, 0), Pi(1, 0)};
+            op.d1 = {-(Pi(0, 1) + Pi(1, 1)), Pi(0, 1), Pi(1, 1)};
+            op.area = 0.5 * det;
+            scaffold_area += op.area;
+            ops.push_back(op);
+        }
+        // Each triangle weighs by its own area, like the surface's; all of them together weigh
+        // `weight_` (a small fraction of the surface).
+        for (auto& op : ops)
+            op.area *= weight_ / scaffold_area;
+        return ops;
+    }
+
+private:
+    int n_;
+    double weight_;
+    std::vector<int> boundary_;
+};
+
+}  // namespace
+
 InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                                   const InjectiveOptions& options)
 {
@@ -399,16 +418,29 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         throw InvalidInputError("injective_refine: uv has " + std::to_string(uv.rows()) +
                                 " rows for " + std::to_string(n) + " vertices");
     pin_index(mesh, pins, "injective_refine");
-    Eigen::VectorXd x(2 * n);
+
+    const std::vector<FaceOperator> surface = face_operators(mesh);
+    const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
+                                              [](double s, const FaceOperator& op) { return s + op.area; });
+    std::optional<Scaffold> scaffold;
+    if (options.scaffold)
+        scaffold.emplace(mesh, n, options.scaffold_weight * total_area);
+    const int n_all = scaffold ? scaffold->vertices() : n;
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * n_all);
     for (int v = 0; v < n; ++v)
         x.segment<2>(2 * v) = uv.row(v).transpose();
     for (const auto& pin : pins)
         x.segment<2>(2 * pin.vertex.idx()) = pin.uv;
+    // Soft pins: the given ones, and the scaffold's box corners where they are.
+    std::vector<int> pinned;
+    for (const auto& pin : pins)
+        pinned.push_back(pin.vertex.idx());
+    for (int v = n; v < n_all; ++v)
+        pinned.push_back(v);
 
-    const std::vector<FaceOperator> ops = face_operators(mesh);
     InjectiveSummary summary;
-    const int threads = face_threads(ops.size());
-    summary.initial_energy = energy(ops, x, threads);
+    const int threads = face_threads(surface.size());
+    summary.initial_energy = energy(surface, x, threads);
     if (!std::isfinite(summary.initial_energy))
         throw InvalidInputError("injective_refine: the start map has a flipped or collapsed "
                                 "triangle; start from a map without flips (e.g. tutte_embedding)");
@@ -416,27 +448,37 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     // SLIM (Rabinovich et al. 2017): each iteration fits, per face, the rotation R and weights
     // W of a quadratic proxy ||W (J - R)||^2 whose gradient matches the symmetric Dirichlet
     // energy's, solves the proxy globally, and line-searches toward its minimizer without
-    // letting a triangle flip. Pins are soft constraints with a large weight; a small proximal
-    // term removes the free translation.
-    const double total_area = std::accumulate(ops.begin(), ops.end(), 0.0,
-                                              [](double s, const FaceOperator& op) { return s + op.area; });
+    // letting a triangle (of the surface or of the scaffold) flip. Pins are soft constraints
+    // with a large weight; a small proximal term removes the free translation.
     const double pin_weight = 1e6 * total_area / n;
     const double proximal = 1e-8 * total_area / n;
-    NormalMatrix M = normal_matrix_pattern(ops, n);
+    std::vector<FaceOperator> ops = surface;
+    NormalMatrix M;
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-    {
+    const auto analyse = [&] {
+        M = normal_matrix_pattern(ops, n_all);
         const detail::SerialOpenMp serial;
         solver.analyzePattern(M.A);
-    }
-    // Per-thread partial sums: thread 0 adds into the matrix, the others into their own copy.
-    const Eigen::Index nnz = M.A.nonZeros();
-    std::vector<std::vector<double>> partial_values(threads - 1, std::vector<double>(nnz));
-    std::vector<Eigen::VectorXd> partial_rhs(threads, Eigen::VectorXd(2 * n));
+    };
+    if (!scaffold)
+        analyse();  // the pattern never changes
+    std::vector<std::vector<double>> partial_values(threads - 1);
+    std::vector<Eigen::VectorXd> partial_rhs(threads, Eigen::VectorXd(2 * n_all));
 
-    double e = summary.initial_energy;
+    double e_surface = summary.initial_energy;
     int slow = 0;  // consecutive iterations below the tolerance
     for (int it = 0; it < options.max_iterations; ++it)
     {
+        if (scaffold)
+        {
+            ops = surface;
+            const auto extra = scaffold->rebuild(x);
+            ops.insert(ops.end(), extra.begin(), extra.end());
+            analyse();
+        }
+        const Eigen::Index nnz = M.A.nonZeros();
+        for (auto& values : partial_values)
+            values.resize(nnz);
         double* values = M.A.valuePtr();
         parallel_chunks(ops.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
             double* v = t == 0 ? values : partial_values[t - 1].data();
@@ -454,21 +496,34 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 values[i] += v[i];
             rhs += partial_rhs[t];
         }
-        for (int i = 0; i < 2 * n; ++i)
+        for (int i = 0; i < 2 * n_all; ++i)
         {
             values[M.diagonal[i]] += proximal;
             rhs[i] += proximal * x[i];
         }
-        for (const auto& pin : pins)
+        for (int v : pinned)
             for (int k = 0; k < 2; ++k)
             {
-                const int i = 2 * pin.vertex.idx() + k;
+                const int i = 2 * v + k;
                 values[M.diagonal[i]] += pin_weight;
-                rhs[i] += pin_weight * pin.uv[k];
+                rhs[i] += pin_weight * x[i];
             }
+        // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal
+        // term (a Levenberg-style damping: the line search still uses the true energy) fixes it.
+        for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
         {
+            if (damping > 0.0)
+            {
+                double largest = 0.0;
+                for (int i = 0; i < 2 * n_all; ++i)
+                    largest = std::max(largest, values[M.diagonal[i]]);
+                for (int i = 0; i < 2 * n_all; ++i)
+                    values[M.diagonal[i]] += damping * largest;
+            }
             const detail::SerialOpenMp serial;
             solver.factorize(M.A);
+            if (solver.info() == Eigen::Success || damping > 1e-3)
+                break;
         }
         if (solver.info() != Eigen::Success)
             throw SolverError("injective_refine: CHOLMOD could not factor the global step");
@@ -476,14 +531,17 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         if (solver.info() != Eigen::Success || !target.allFinite())
             throw SolverError("injective_refine: CHOLMOD solve failed");
 
-        const Eigen::VectorXd d = target - x;
+        Eigen::VectorXd d = target - x;
+        for (int v = n; v < n_all; ++v)
+            d.segment<2>(2 * v).setZero();  // the box stays put
+        const double e = energy(ops, x, threads);
         double t = max_injective_step(ops, x, d, threads);
         double e_new = energy(ops, x + t * d, threads);
         while (!(e_new <= e) && t > 1e-12)
         {
             t *= 0.5;
             e_new = energy(ops, x + t * d, threads);
-            }
+        }
         summary.iterations = it + 1;
         if (!(e_new <= e))
         {
@@ -491,8 +549,9 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             break;
         }
         x += t * d;
-        const double decrease = (e - e_new) / e;
-        e = e_new;
+        const double e_surface_new = scaffold ? energy(surface, x, threads) : e_new;
+        const double decrease = (e_surface - e_surface_new) / e_surface;
+        e_surface = e_surface_new;
         // One small step can come from a short line search (a nearly collapsed triangle in
         // the way), not from convergence; three in a row cannot.
         slow = decrease < options.tolerance ? slow + 1 : 0;
@@ -504,8 +563,9 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     }
     for (int v = 0; v < n; ++v)
         uv.row(v) = x.segment<2>(2 * v).transpose();
-    summary.final_energy = e;
-    summary.report = "SLIM symmetric Dirichlet: " + std::to_string(summary.iterations) +
+    summary.final_energy = e_surface;
+    summary.report = std::string(scaffold ? "SLIM with scaffold" : "SLIM") +
+                     " symmetric Dirichlet: " + std::to_string(summary.iterations) +
                      " iterations, energy " + std::to_string(summary.initial_energy) + " -> " +
                      std::to_string(summary.final_energy) +
                      (summary.converged ? " (converged)" : " (iteration limit)");

@@ -2,6 +2,7 @@
 
 #include "vessel/cut.h"
 #include "vessel/direction.h"
+#include "vessel/embedding.h"
 #include "vessel/errors.h"
 #include "vessel/lscm.h"
 #include "vessel/properties.h"
@@ -17,10 +18,14 @@ void FlattenOptions::validate() const
     curvature.validate();
     geodesic.validate();
     cuts.validate();
-    if (refinement == Refinement::Arap)
+    if (refinement != Refinement::None && arap.max_iterations > 0)
         arap.validate();
     if (refinement == Refinement::Injective)
-        injective.validate();
+    {
+        untangle.validate();
+        if (injective.max_iterations > 0)
+            injective.validate();
+    }
     if (!(blend >= 0.0 && blend <= 1.0))
         throw InvalidInputError("FlattenOptions: blend must be in [0, 1], got " +
                                 std::to_string(blend));
@@ -179,25 +184,35 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     if (!at_layout)  // keep the initial map's own placement of the inlet
         for (auto& pin : pins)
             pin.uv = result.uv.row(pin.vertex.idx()).transpose();
-    if (options.refinement == Refinement::Arap)
+    if (options.refinement != Refinement::None && options.arap.max_iterations > 0)
         result.arap = arap(mesh, result.uv, pins, options.arap);
-    else if (options.refinement == Refinement::Injective)
+    if (options.refinement == Refinement::Injective)
     {
-        const int flipped = flat_quality(mesh, result.uv).flipped_triangles;
-        if (flipped > 0)
+        result.untangle = untangle(mesh, result.uv, pins, options.untangle);
+        if (result.untangle.flipped_before > 0)
+            result.notes.push_back(result.untangle.report);
+        std::string restart;
+        if (result.untangle.flipped_after > 0)
+            restart = "untangling left " + std::to_string(result.untangle.flipped_after) +
+                      " flipped triangles";
+        else if (options.overlaps != OverlapPolicy::Keep &&
+                 boundary_self_intersection(mesh, result.uv).first >= 0)
+            restart = "the map at the layout overlaps itself (its boundary crosses)";
+        InjectiveOptions slim = options.injective;
+        if (!restart.empty())
         {
-            result.notes.push_back("the initial map had " + std::to_string(flipped) +
-                                   " flipped triangles; restarted from the Tutte embedding");
+            // Tutte's map of the disk onto a circle is one-to-one; SLIM never flips a triangle
+            // of it, and with a scaffold never lets its boundary cross either. The layout's
+            // arrangement is lost; the loops keep their order around the map.
+            result.notes.push_back(restart + "; restarted from the Tutte embedding");
             result.uv = tutte_embedding(mesh);
             pins.clear();  // the Tutte map cannot hold the inlet at the layout
             at_layout = false;
+            slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
+            slim.max_iterations = std::max(slim.max_iterations, 1);
         }
-        const InjectiveSummary s = injective_refine(mesh, result.uv, pins, options.injective);
-        result.arap.iterations = s.iterations;
-        result.arap.initial_energy = s.initial_energy;
-        result.arap.final_energy = s.final_energy;
-        result.arap.converged = s.converged;
-        result.arap.report = s.report;
+        if (slim.max_iterations > 0)
+            result.injective = injective_refine(mesh, result.uv, pins, slim);
     }
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);

@@ -287,6 +287,15 @@ nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
                  {"final_energy", r.arap.final_energy},
                  {"converged", r.arap.converged},
                  {"report", r.arap.report}};
+    j["untangle"] = {{"flipped_before", r.untangle.flipped_before},
+                     {"flipped_after", r.untangle.flipped_after},
+                     {"rounds", r.untangle.rounds},
+                     {"free_vertices", r.untangle.free_vertices}};
+    j["slim"] = {{"iterations", r.injective.iterations},
+                 {"initial_energy", r.injective.initial_energy},
+                 {"final_energy", r.injective.final_energy},
+                 {"converged", r.injective.converged},
+                 {"report", r.injective.report}};
     nlohmann::json notes = surface.notes;
     for (const auto& note : r.notes)
         notes.push_back(note);

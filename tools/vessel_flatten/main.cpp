@@ -1,5 +1,7 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
+#include "../vessel_view/command.h"
 #include "batch.h"
+#include "viewer_fields.h"
 #include "vessel/errors.h"
 #include "vessel/field_series.h"
 #include "vessel/flat_io.h"
@@ -7,6 +9,7 @@
 #include "vessel/io.h"
 #include "vessel/pipeline.h"
 #include "vessel/validation.h"
+#include "vessel/viewer.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -36,8 +39,9 @@ int main(int argc, char** argv)
                  "(u, v) per cut vertex, f v/vt). OUT.vtp: the 3D cut mesh with uv texture "
                  "coordinates and every field, plus OUT-map.vtp (the map, z = 0) and, for a time "
                  "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
-    std::string input, output, report_path, cost = "curvature", solver = "ceres",
-                                            init = "layout-lscm", refine = "injective";
+    std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
+                                            init = "layout-lscm", refine = "injective",
+                                            overlaps = "restart";
     std::vector<double> viewpoint;
     std::string fields_spec, field_name;
     vessel::FieldSeriesOptions series_options;
@@ -75,6 +79,8 @@ int main(int argc, char** argv)
     app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
                                            "<stem>.json already exist in OUTDIR");
     app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
+    app.add_option("--html", html, "Also write an interactive HTML viewer of the result (single "
+                                   "input only; see vessel-view for more fields)");
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature (E_c), geodesic (E_g) or "
                                    "blend (E_cg)")
         ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
@@ -93,16 +99,27 @@ int main(int argc, char** argv)
                    "Curvature fitting radius in mean edge lengths")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    options.arap.max_iterations = options.injective.max_iterations;
     app.add_option("--arap-iterations", options.arap.max_iterations,
-                   "Maximum refinement iterations (0 = initial map only)")
+                   "ARAP iterations with the inlet pinned (0 = no ARAP)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    app.add_option("--refine", refine, "Refinement: injective (symmetric Dirichlet; no step may "
-                                       "flip a triangle) or arap (the paper's plain ARAP)")
-        ->check(CLI::IsMember({"injective", "arap"}))
+    app.add_option("--slim-iterations", options.injective.max_iterations,
+                   "With --refine injective: symmetric Dirichlet (SLIM) iterations after "
+                   "untangling (0 = none)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    app.add_option("--arap-solver", solver, "Solver of --refine arap: ceres or local-global")
+    app.add_option("--refine", refine, "Refinement: injective (ARAP, then flipped triangles "
+                                       "untangled, then SLIM; never flips), arap (the paper's "
+                                       "plain ARAP) or none (the initial map)")
+        ->check(CLI::IsMember({"injective", "arap", "none"}))
+        ->capture_default_str();
+    app.add_option("--overlaps", overlaps, "With --refine injective, when the map at the "
+                                           "layout overlaps itself: keep it, restart from a "
+                                           "Tutte map (fewer overlaps), or scaffold (restart "
+                                           "with none; more area distortion)")
+        ->check(CLI::IsMember({"keep", "restart", "scaffold"}))
+        ->capture_default_str();
+    app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
         ->check(CLI::IsMember({"ceres", "local-global"}))
         ->capture_default_str();
     app.add_option("--init", init, "Start of the map: layout-lscm (the paper) or spectral "
@@ -136,10 +153,12 @@ int main(int argc, char** argv)
         if (batch.inputs.empty() && out_ext != ".obj" && out_ext != ".vtp" && out_ext != ".ply")
             throw vessel::InvalidInputError("the output must be .obj (seam form), .vtp or .ply, "
                                             "got " + output);
-        options.refinement = options.arap.max_iterations == 0 ? vessel::Refinement::None
-                             : refine == "arap"           ? vessel::Refinement::Arap
-                                                          : vessel::Refinement::Injective;
-        options.injective.max_iterations = std::max(1, options.arap.max_iterations);
+        options.refinement = refine == "none"  ? vessel::Refinement::None
+                             : refine == "arap" ? vessel::Refinement::Arap
+                                                : vessel::Refinement::Injective;
+        options.overlaps = overlaps == "keep"    ? vessel::OverlapPolicy::Keep
+                           : overlaps == "scaffold" ? vessel::OverlapPolicy::RestartWithScaffold
+                                                    : vessel::OverlapPolicy::Restart;
         options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
                        : cost == "blend"  ? vessel::CostKind::Blend
                                           : vessel::CostKind::Curvature;
@@ -239,6 +258,21 @@ int main(int argc, char** argv)
                                      "an .vtp or .ply output to keep them\n",
                              all_fields.size());
             vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);
+        }
+        if (!html.empty())
+        {
+            vessel::ViewerOptions view;
+            view.title = std::filesystem::path(input).filename().string();
+            view.flatten_command =
+                vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
+            view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
+            view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
+                                 ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
+                                 : std::nullopt;
+            std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
+            for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
+                shown.push_back(std::move(f));
+            vessel::write_viewer_html(html, result, shown, view);
         }
         const double write_s = seconds_since(start);
         if (!report_path.empty())

@@ -6,7 +6,7 @@
 #include "vessel/errors.h"
 #include "vessel/field_series.h"
 #include "vessel/phantom.h"
-#include "vessel/pulse.h"
+#include "vessel/pulse_series.h"
 
 #include <CLI/CLI.hpp>
 
@@ -105,7 +105,7 @@ int main(int argc, char** argv)
                    "Also write a travelling WSS-like pulse over the mesh (1.8 s, 90 steps, Pa) as "
                    "PREFIX.pvd (+ PREFIX/PREFIX_NNN.vtp), PREFIX.csv (wide) and PREFIX-long.csv "
                    "(long); vertex ids are those of OUTPUT");
-    vessel::PulseOptions pulse;
+    vessel::PulseSeriesOptions pulse;
     app.add_option("--pulse-steps", pulse.steps, "With --pulse: number of time steps")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

@@ -15,7 +15,7 @@ enum class ArapSolver
 
 struct ArapOptions
 {
-    ArapSolver solver = ArapSolver::Ceres;
+    ArapSolver solver = ArapSolver::LocalGlobal;  //!< the faster to the same energy (docs/benchmarks.md)
     int max_iterations = 50;   //!< Ceres iterations, or local/global sweeps
     double tolerance = 1e-6;   //!< stop when the relative energy decrease falls below this
     int threads = 2;           //!< threads Ceres may use for residual evaluation

@@ -18,7 +18,13 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh);
 struct InjectiveOptions
 {
     int max_iterations = 100;  //!< SLIM iterations
-    double tolerance = 1e-5;   //!< stop after 3 iterations in a row decrease the energy by less
+    double tolerance = 1e-4;   //!< stop after 3 iterations in a row decrease the energy by less
+    //! Keep the map one-to-one, not only flip-free: triangulate the free space between the
+    //! map's boundary and a box around it (a scaffold, Jiang et al. 2017) and let no scaffold
+    //! triangle flip either, so the boundary cannot run into itself. Needs a start without
+    //! overlaps (e.g. tutte_embedding).
+    bool scaffold = false;
+    double scaffold_weight = 1e-2;  //!< the scaffold's total weight, as a fraction of the surface area
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

@@ -9,6 +9,7 @@
 #include "vessel/injective.h"
 #include "vessel/layout.h"
 #include "vessel/metrics.h"
+#include "vessel/untangle.h"
 
 #include <functional>
 #include <memory>
@@ -35,9 +36,25 @@ enum class Initialization
 //! How the map is refined (step 7).
 enum class Refinement
 {
-    None,           //!< keep the initial map
-    Arap,           //!< the paper: ARAP with the inlet pinned (ArapOptions picks the solver)
-    Injective,  //!< ARAP + area term with Ceres, rejecting any step that flips a triangle
+    None,       //!< keep the initial map
+    Arap,       //!< the paper: ARAP with the inlet pinned (may leave flipped triangles)
+    //! ARAP with the inlet pinned, then the flipped triangles untangled locally (untangle.h),
+    //! then the symmetric Dirichlet energy lowered without flipping any triangle (SLIM,
+    //! injective.h), which evens out area. Flip-free; keeps the layout's arrangement.
+    Injective,
+};
+//! What Refinement::Injective does when the map at the layout overlaps itself (the paper's
+//! layout does not prevent it; its boundary crosses on most real trees).
+enum class OverlapPolicy
+{
+    Keep,     //!< keep the layout's map, overlaps and all
+    //! restart from the Tutte embedding (one-to-one) and refine with SLIM, which cannot flip
+    //! a triangle but can let the boundary cross (overlaps shrink, e.g. 42% -> 3% of the area
+    //! on the pulmonary tree, but are not excluded)
+    Restart,
+    //! as Restart, with a scaffold that excludes any overlap; the scaffold holds deep
+    //! branches compressed, so area distortion is much higher (docs/results.md)
+    RestartWithScaffold,
 };
 
 struct FlattenOptions
@@ -54,11 +71,15 @@ struct FlattenOptions
     //! Layout policy; null = BranchFanLayout(alpha_deg).
     std::shared_ptr<const Layout> layout;
     Initialization initialization = Initialization::LayoutLscm;
-    //! Step 7 refinement. Injective needs a flip-free start: when the initial map has flipped
-    //! triangles it restarts from the Tutte embedding (noted in FlattenResult::notes).
+    //! Step 7 refinement. With Injective, when untangling fails or the map at the layout
+    //! overlaps itself (see `overlaps`), the map restarts from the Tutte embedding: the
+    //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
+    //! FlattenResult::notes.
     Refinement refinement = Refinement::Injective;
-    ArapOptions arap;                 //!< used with Refinement::Arap
-    InjectiveOptions injective;   //!< used with Refinement::Injective
+    OverlapPolicy overlaps = OverlapPolicy::Restart;
+    ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
+    UntangleOptions untangle;    //!< flip removal of Refinement::Injective
+    InjectiveOptions injective;  //!< SLIM of Refinement::Injective (0 iterations: skipped)
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
     //! \throw InvalidInputError naming the bad field.
@@ -88,7 +109,9 @@ struct FlattenResult
     CutPlan plan;                     //!< the cuts, handles as for `loops`
     int seam_edges = 0;
     int duplicated_vertices = 0;
-    ArapSummary arap;
+    ArapSummary arap;                 //!< the ARAP run (Refinement::Arap or Injective)
+    InjectiveSummary injective;       //!< the SLIM run (Refinement::Injective)
+    UntangleSummary untangle;         //!< the flip removal (Refinement::Injective)
     FlatQuality quality;
     StageTimings timings;
     std::vector<std::string> notes;  //!< fallbacks taken, one line each

@@ -9,7 +9,7 @@ namespace vessel {
 
 //! A synthetic wall-shear-stress-like series: a Gaussian pulse that travels from the inlet to
 //! the ends of the tree once per heart beat. For tests and examples, not a CFD result.
-struct PulseOptions
+struct PulseSeriesOptions
 {
     std::string name = "WSS";  //!< field name
     double duration_s = 1.8;   //!< length of the series (the paper's two beats)
@@ -27,6 +27,6 @@ struct PulseOptions
 //! value base_pa + peak_pa exp(-(s - c)^2 / (2 width^2)).
 //! \return one scalar Float64 point field per step, rows `v.idx()`.
 //! \throw InvalidInputError if the options are invalid or the mesh has no boundary.
-TimeSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options = {});
+TimeSeries travelling_pulse(const Mesh& mesh, const PulseSeriesOptions& options = {});
 
 }  // namespace vessel

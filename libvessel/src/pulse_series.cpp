@@ -1,4 +1,4 @@
-#include "vessel/pulse.h"
+#include "vessel/pulse_series.h"
 
 #include "vessel/boundary.h"
 #include "vessel/errors.h"
@@ -8,11 +8,11 @@
 
 namespace vessel {
 
-void PulseOptions::validate() const
+void PulseSeriesOptions::validate() const
 {
     const auto require = [](bool ok, const std::string& what) {
         if (!ok)
-            throw InvalidInputError("PulseOptions: " + what);
+            throw InvalidInputError("PulseSeriesOptions: " + what);
     };
     require(!name.empty(), "name must not be empty");
     require(duration_s > 0 && std::isfinite(duration_s), "duration_s must be positive");
@@ -22,7 +22,7 @@ void PulseOptions::validate() const
     require(std::isfinite(base_pa) && std::isfinite(peak_pa), "base_pa and peak_pa must be finite");
 }
 
-TimeSeries travelling_pulse(const Mesh& mesh, const PulseOptions& options)
+TimeSeries travelling_pulse(const Mesh& mesh, const PulseSeriesOptions& options)
 {
     options.validate();
     const auto loops = boundary_loops(mesh);

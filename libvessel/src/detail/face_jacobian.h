@@ -1,0 +1,69 @@
+#pragma once
+
+#include "vessel/mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <thread>
+#include <vector>
+
+namespace vessel::detail {
+
+//! Per-face constants of a map's Jacobian J = [[D0 u, D1 u], [D0 v, D1 v]] with respect to the
+//! face's own isometric 2D frame, where Dk holds the coefficients of the three corners (J is
+//! linear in the corners' uv). Used by the distortion energies (SLIM, untangling).
+struct FaceOperator
+{
+    std::array<int, 3> corner{};  //!< vertex indices, in the face's halfedge order
+    std::array<double, 3> d0{}, d1{};
+    double area = 0.0;  //!< 3D area
+};
+
+//! One operator per face, `f.idx()`.
+std::vector<FaceOperator> face_operators(const Mesh& mesh);
+
+//! Jacobian of the map x = [u_0, v_0, u_1, v_1, ...] on the face.
+inline Eigen::Matrix2d jacobian(const FaceOperator& op, const double* x)
+{
+    Eigen::Matrix2d J = Eigen::Matrix2d::Zero();
+    for (int k = 0; k < 3; ++k)
+    {
+        const double u = x[2 * op.corner[k]], v = x[2 * op.corner[k] + 1];
+        J(0, 0) += op.d0[k] * u;
+        J(0, 1) += op.d1[k] * u;
+        J(1, 0) += op.d0[k] * v;
+        J(1, 1) += op.d1[k] * v;
+    }
+    return J;
+}
+
+//! Threads for per-face loops: two where they pay (the machines this runs on have two cores);
+//! small meshes stay serial, where starting a thread costs more than it saves.
+inline int face_threads(std::size_t faces)
+{
+    if (faces < 8192)
+        return 1;
+    return static_cast<int>(std::clamp(std::thread::hardware_concurrency(), 1u, 2u));
+}
+
+//! Calls body(begin, end, thread) on `threads` contiguous chunks of [0, count), in parallel.
+//! The body must not throw.
+template <class Body>
+void parallel_chunks(std::size_t count, int threads, const Body& body)
+{
+    if (threads <= 1)
+    {
+        body(std::size_t{0}, count, 0);
+        return;
+    }
+    std::vector<std::thread> pool;
+    pool.reserve(threads - 1);
+    for (int t = 1; t < threads; ++t)
+        pool.emplace_back([&, t] { body(count * t / threads, count * (t + 1) / threads, t); });
+    body(std::size_t{0}, count / threads, 0);
+    for (auto& thread : pool)
+        thread.join();
+}
+
+}  // namespace vessel::detail

@@ -1,0 +1,113 @@
+#include <doctest/doctest.h>
+
+#include "support/meshes.h"
+#include "vessel/embedding.h"
+#include "vessel/injective.h"
+#include "vessel/io.h"
+#include "vessel/pipeline.h"
+#include "vessel/untangle.h"
+#include "vessel/validation.h"
+
+using namespace vessel;
+
+namespace {
+
+// A planar grid's own coordinates as its map (vertex (i, j) at (size i / n, size j / n)).
+Eigen::MatrixX2d grid_uv(const Mesh& mesh)
+{
+    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
+    for (auto v : mesh.vertices())
+        uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
+    return uv;
+}
+
+}  // namespace
+
+TEST_CASE("untangle: a fold on a flat grid is removed by moving only the vertices near it")
+{
+    const int n = 20;
+    const Mesh mesh = test::posed_grid(1.0, n, Eigen::Isometry3d::Identity());
+    Eigen::MatrixX2d uv = grid_uv(mesh);
+    const Eigen::MatrixX2d original = uv;
+    // Push an interior vertex across two rings of its neighbours: a local fold.
+    const int centre = (n / 2) * (n + 1) + n / 2;
+    uv.row(centre) += Eigen::RowVector2d(2.5 / n, 1.5 / n);
+    REQUIRE(test::count_flips(mesh, uv) > 0);
+
+    const UntangleSummary s = untangle(mesh, uv, {});
+    CHECK(s.flipped_before > 0);
+    CHECK(s.flipped_after == 0);
+    CHECK(test::count_flips(mesh, uv) == 0);
+    int moved = 0;
+    for (int v = 0; v < uv.rows(); ++v)
+        moved += (uv.row(v) - original.row(v)).norm() > 1e-12;
+    CHECK(moved <= s.free_vertices);
+    CHECK(s.free_vertices < static_cast<int>(mesh.n_vertices()) / 2);
+}
+
+TEST_CASE("untangle: pinned vertices do not move and a map without flips is left alone")
+{
+    const Mesh mesh = test::posed_grid(1.0, 10, Eigen::Isometry3d::Identity());
+    Eigen::MatrixX2d uv = grid_uv(mesh);
+    const Eigen::MatrixX2d original = uv;
+    const UntangleSummary clean = untangle(mesh, uv, {});
+    CHECK(clean.flipped_before == 0);
+    CHECK(clean.rounds == 0);
+    CHECK((uv - original).norm() == 0.0);
+
+    const int centre = 5 * 11 + 5;
+    uv.row(centre) += Eigen::RowVector2d(0.25, 0.15);
+    Pins pins;
+    for (int v : {0, 10, 120})
+        pins.push_back({VertexHandle(v), original.row(v).transpose()});
+    const UntangleSummary s = untangle(mesh, uv, pins);
+    CHECK(s.flipped_after == 0);
+    for (const auto& pin : pins)
+        CHECK((uv.row(pin.vertex.idx()).transpose() - pin.uv).norm() == 0.0);
+}
+
+TEST_CASE("embedding: a simple map boundary passes, a folded-over one is found")
+{
+    const Mesh mesh = test::posed_grid(1.0, 8, Eigen::Isometry3d::Identity());
+    Eigen::MatrixX2d uv = grid_uv(mesh);
+    CHECK(boundary_self_intersection(mesh, uv).first == -1);
+    // Drag the corner (8, 8) across the opposite side: its boundary edges now cross others.
+    uv.row(8 * 9 + 8) << -0.5, -0.5;
+    const auto crossing = boundary_self_intersection(mesh, uv);
+    CHECK(crossing.first >= 0);
+    CHECK(crossing.second >= 0);
+    CHECK(mesh.is_boundary(HalfedgeHandle(crossing.first)));
+    CHECK(mesh.is_boundary(HalfedgeHandle(crossing.second)));
+}
+
+TEST_CASE("injective: with a scaffold, SLIM from the Tutte map keeps a cut cylinder one-to-one")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    InjectiveOptions options;
+    options.scaffold = true;
+    options.max_iterations = 30;
+    const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
+    CHECK(s.final_energy < s.initial_energy);
+    CHECK(test::count_flips(mesh, uv) == 0);
+    CHECK(boundary_self_intersection(mesh, uv).first == -1);
+}
+
+TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map; the "
+          "scaffold one does not overlap itself")
+{
+    const TreeSurface surface =
+        load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply");
+    for (const auto policy : {OverlapPolicy::Keep, OverlapPolicy::Restart,
+                              OverlapPolicy::RestartWithScaffold})
+    {
+        FlattenOptions options;
+        options.overlaps = policy;
+        const FlattenResult r = flatten(surface.mesh, options);
+        CAPTURE(static_cast<int>(policy));
+        CHECK(r.quality.flipped_triangles == 0);
+        CHECK(r.untangle.flipped_after == 0);
+        if (policy == OverlapPolicy::RestartWithScaffold)
+            CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    }
+}

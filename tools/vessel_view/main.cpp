@@ -1,0 +1,103 @@
+// vessel-view: flatten a vessel tree surface and write an interactive HTML viewer of the result.
+#include "command.h"
+#include "vessel/errors.h"
+#include "vessel/pipeline.h"
+#include "vessel/validation.h"
+#include "vessel/viewer.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <filesystem>
+
+int main(int argc, char** argv)
+{
+    CLI::App app{
+        "Flatten a vessel tree surface and write one self-contained HTML page with the "
+        "3D surface and its flattened map in linked views (fields colormapped on both, "
+        "animated over time)."};
+    std::string input, output, cost = "curvature", title;
+    std::vector<double> viewpoint;
+    bool demo_field = false, quiet = false;
+    vessel::FlattenOptions options;
+    vessel::PulseOptions pulse;
+    app.add_option("input", input,
+                   "Vessel surface (.obj, .off, .ply, .stl), open at inlet and "
+                   "outlets")
+        ->required()
+        ->check(CLI::ExistingFile);
+    app.add_option("-o,--output", output, "The HTML page to write")->required();
+    app.add_option("--viewpoint", viewpoint,
+                   "Start/end cuts at the loop vertices nearest this "
+                   "3D point (the page shows the one of its camera); "
+                   "the 3D view starts looking from there")
+        ->expected(3);
+    app.add_option("--cost", cost, "Travel cost of the cuts: curvature, geodesic or blend")
+        ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
+        ->capture_default_str();
+    app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
+        ->check(CLI::Range(0.0, 89.9))
+        ->capture_default_str();
+    app.add_flag("--demo-field", demo_field,
+                 "Add a synthetic travelling pulse (90 steps over "
+                 "1.8 s) to try the time controls");
+    app.add_option("--title", title, "Page title (default: the input file name)");
+    app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
+    try
+    {
+        app.parse(argc, argv);
+    }
+    catch (const CLI::ParseError& e)
+    {
+        return app.exit(e) == 0 ? 0 : 1;
+    }
+    try
+    {
+        if (std::filesystem::path(output).extension() != ".html")
+            throw vessel::InvalidInputError("the output must be an .html file, got " + output);
+        options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
+                       : cost == "blend"  ? vessel::CostKind::Blend
+                                          : vessel::CostKind::Curvature;
+        vessel::ViewerOptions view;
+        if (!viewpoint.empty())
+        {
+            options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
+            options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
+            view.viewpoint = options.cuts.viewpoint;
+        }
+        if (!vessel::viewer_available())
+            throw vessel::IoError(
+                "this build has no viewer bundle (node and npm were not found "
+                "when libvessel was built); install nodejs and npm and rebuild");
+        const vessel::TreeSurface surface = vessel::load_tree_surface(input);
+        if (!quiet)
+            std::fprintf(stderr, "read %zu vertices, %zu faces; flattening...\n",
+                         surface.mesh.n_vertices(), surface.mesh.n_faces());
+        const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
+
+        std::vector<vessel::ViewerField> fields = {vessel::geodesic_field(result)};
+        if (demo_field)
+            fields.push_back(vessel::pulse_field(result, pulse));
+        const std::filesystem::path in(input);
+        view.title = title.empty() ? in.filename().string() : title;
+        std::vector<std::string> flatten = {"vessel-flatten", input, "-o",
+                                            in.stem().string() + "-flat.obj"};
+        if (cost != "curvature")
+            flatten.insert(flatten.end(), {"--cost", cost});
+        if (app.count("--alpha"))
+            flatten.insert(flatten.end(), {"--alpha", std::to_string(options.alpha_deg)});
+        view.flatten_command = vessel::cli::join_quoted(flatten);
+        view.view_command = vessel::cli::command_without_viewpoint("vessel-view", argc, argv);
+        vessel::write_viewer_html(output, result, fields, view);
+        if (!quiet)
+            std::fprintf(stderr, "wrote %s (%zu cut-mesh vertices, %zu faces, %zu fields)\n",
+                         output.c_str(), result.mesh.n_vertices(), result.mesh.n_faces(),
+                         fields.size());
+        return 0;
+    }
+    catch (const std::exception& e)
+    {
+        std::fprintf(stderr, "vessel-view: %s\n", e.what());
+        return 1;
+    }
+}
