@@ -383,10 +383,16 @@ public:
             const double det = P.determinant();
             if (!(det > 0.0))
                 continue;  // a sliver at the scale of rounding: nothing can pass through it
-            // Rest shape: the equilateral triangle of the same area. A sliver's own shape would
-            // make the global step ill-conditioned; this one also pulls slivers back into shape.
-            const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
-            P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+            // Rest shape: the triangle's current shape (Jiang et al.), so the scaffold does not
+            // resist the map's motion; but for slivers (twice the area below 1/20 of the longest
+            // edge squared) the equilateral triangle of the same area, since their own shape would
+            // make the global step ill-conditioned.
+            const double longest = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
+            if (det < 0.05 * longest)
+            {
+                const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
+                P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+            }
             const Eigen::Matrix2d Pi = P.inverse();
             op.d0 = {-(Pi(0, 0) + Pi(1, 0)), Pi(0, 0), Pi(1, 0)};
             op.d1 = {-(Pi(0, 1) + Pi(1, 1)), Pi(0, 1), Pi(1, 1)};
