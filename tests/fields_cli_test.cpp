@@ -4,6 +4,7 @@
 #include "support/checks.h"
 #include "vessel/viewer.h"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -107,4 +108,25 @@ TEST_CASE("cli: --fields that do not fit, or a series with a non-VTP output, are
                "no field named 'P'; available: WSS");
     CHECK_FALSE(fs::exists(dir + "/c.vtp"));
     CHECK_FALSE(fs::exists(dir + "/h.vtp"));
+}
+
+TEST_CASE("cli: --image and --frames draw the chosen field of the series on the map")
+{
+    const std::string dir = temp_dir("cli_fields_images");
+    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
+                "/pulse -q") == 0);
+    REQUIRE(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/c.vtp --fields " + dir +
+                "/pulse.pvd --field WSS --image " + dir + "/c.png --frames " + dir +
+                "/frames --refine none -q") == 0);
+    CHECK(read_text(dir + "/c.png").rfind("\x89PNG", 0) == 0);
+    // 25 frames per second over the series' 1.78 s: t = 0, 0.04, ..., 1.76.
+    const int expected = static_cast<int>(std::floor(1.78 * 25 + 1e-9)) + 1;
+    int frames = 0;
+    for (const auto& e : fs::directory_iterator(dir + "/frames"))
+        frames += e.path().extension() == ".png";
+    CHECK(frames == expected);
+    // A field that is not in the series is named.
+    CHECK(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/d.vtp --fields " + dir +
+              "/pulse.pvd --field P --image " + dir + "/d.png -q 2> " + dir + "/err.txt") == 1);
+    CHECK(read_text(dir + "/err.txt").find("no field named 'P'") != std::string::npos);
 }

@@ -1,6 +1,7 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
 #include "../vessel_view/command.h"
 #include "batch.h"
+#include "images.h"
 #include "viewer_fields.h"
 #include "vessel/errors.h"
 #include "vessel/field_series.h"
@@ -44,6 +45,7 @@ int main(int argc, char** argv)
                                             overlaps = "restart";
     std::vector<double> viewpoint;
     std::string fields_spec, field_name;
+    vessel::cli::ImageRequest images;
     vessel::FieldSeriesOptions series_options;
     bool quiet = false;
     vessel::FlattenOptions options;
@@ -63,6 +65,12 @@ int main(int argc, char** argv)
         "vertex,time,NAME); see docs/fields.md");
     app.add_option("--field", field_name, "Keep only this array of --fields (and check that it "
                                           "exists); also the CSV field's name in wide form");
+    app.add_option("--image", images.image,
+                   "Also draw --field (default: the first point field) on the map: .png, .svg or "
+                   ".pdf; a series shows its first step");
+    app.add_option("--frames", images.frames,
+                   "With a --fields series: PNG frames of --field over time in this directory "
+                   "(25 fps, linear interpolation between steps)");
     app.add_option("--time-step", series_options.time_step,
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)
@@ -274,6 +282,9 @@ int main(int argc, char** argv)
                 shown.push_back(std::move(f));
             vessel::write_viewer_html(html, result, shown, view);
         }
+        images.field = field_name;
+        images.quiet = quiet;
+        vessel::cli::render_images(images, result, cut_fields, cut_series);
         const double write_s = seconds_since(start);
         if (!report_path.empty())
         {
