@@ -2,12 +2,15 @@
 // AC, L, F, Total), per mesh, as the median (min, max) of several runs, with reading time and
 // peak memory. Each mesh runs in its own forked child, so that ru_maxrss is that mesh's own peak
 // (a process's high-water mark never goes down); the child sends its results back as JSON over a
-// pipe. `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
+// pipe. A CGAL peer pipeline (cgal_peer.cpp) runs on the same meshes, each in its own child too.
+// `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
+#include "cgal_peer.h"
 #include "vessel/arap.h"
 #include "vessel/errors.h"
 #include "vessel/io.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
+#include "vessel/properties.h"
 #include "vessel/validation.h"
 
 #include <CLI/CLI.hpp>
@@ -27,6 +30,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -101,6 +105,10 @@ struct Settings
     double time_box_s = 180.0;
     double timeout_s = 3600.0;
     std::vector<int> solver_iterations;  // empty = library defaults only
+    bool peer = true;                    // also run the CGAL peer on each mesh
+    double curve_budget_s = 60.0;        // solver curves: seconds per solver and mesh
+    double peer_timeout_s = 900.0;       // kill the peer's child after this long
+    long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
 };
 
 double median(std::vector<double> v)
@@ -223,18 +231,36 @@ const Variant variants[] = {
     {"injective (default)", vessel::Refinement::Injective, vessel::ArapSolver::Ceres},
 };
 
-json run_solver_case(const Case& c, const Settings& s)
+// Reads the case's mesh once into \p mesh; returns the result's header, with "skipped" set when
+// the mesh has more than --max-faces triangles.
+json open_case(const Case& c, const Settings& s, vessel::Mesh& mesh)
 {
     json out{{"name", c.name}, {"path", c.path}};
     std::vector<double> read_s;
     std::vector<std::string> load_notes;
-    const vessel::Mesh mesh = load_case(c, 1, read_s, load_notes);
+    mesh = load_case(c, 1, read_s, load_notes);
     out["faces"] = mesh.n_faces();
     if (s.max_faces > 0 && static_cast<long>(mesh.n_faces()) > s.max_faces)
-    {
         out["skipped"] = "more than --max-faces triangles";
+    return out;
+}
+
+// Wraps a study `work(case, settings, mesh, out)` into a child's work: reads the mesh once and
+// skips the work when the mesh is too large.
+template <class Work>
+auto on_mesh(Work work)
+{
+    return [work](const Case& c, const Settings& s) {
+        vessel::Mesh mesh;
+        json out = open_case(c, s, mesh);
+        if (!out.contains("skipped"))
+            work(c, s, mesh, out);
         return out;
-    }
+    };
+}
+
+void run_solver_case(const Case& c, const Settings& s, const vessel::Mesh& mesh, json& out)
+{
     // 0 stands for "the library's default iteration limit".
     std::vector<int> caps = s.solver_iterations;
     if (caps.empty())
@@ -297,7 +323,80 @@ json run_solver_case(const Case& c, const Settings& s)
             rows.push_back(row);
         }
     out["variants"] = rows;
-    return out;
+}
+
+// The CGAL peer on the case's mesh (read as ours reads it), in its own child (own peak RSS).
+void run_peer_case(const Case&, const Settings& s, const vessel::Mesh& mesh, json& out)
+{
+    vessel_bench::PeerSettings p;
+    p.runs = s.runs;
+    p.time_box_s = s.time_box_s;
+    json r = vessel_bench::run_cgal_peer(mesh, p);
+    for (const auto& [stage, v] : r["samples"].items())
+        out["stages"][stage] = stats(v.get<std::vector<double>>());
+    r.erase("samples");
+    out.update(r);
+}
+
+// Solver curves: from the pipeline's own start (cut mesh, LSCM at the layout, inlet pinned at
+// the layout), the Ceres and the local/global ARAP each run with a tight tolerance until they
+// stop or exceed the budget, recording arap_energy() after every iteration with the seconds
+// since the call began (setup and factorization included).
+void run_curve_case(const Case& c, const Settings& s, const vessel::Mesh& mesh, json& out)
+{
+    vessel::FlattenOptions o;
+    o.refinement = vessel::Refinement::None;
+    vessel::FlattenResult start = vessel::flatten(mesh, o);
+    // Every copy of an inlet vertex, at its layout position (LSCM held it there).
+    std::vector<char> on_inlet(mesh.n_vertices(), 0);
+    for (auto v : start.loops[0].vertices)
+        on_inlet[v.idx()] = 1;
+    const auto origin = OpenMesh::VProp<int>(start.mesh, vessel::prop::origin);
+    vessel::Pins pins;
+    for (auto v : start.mesh.vertices())
+        if (on_inlet[origin[v]])
+            pins.push_back({v, start.uv.row(v.idx()).transpose()});
+    out["pins"] = pins.size();
+    const double e0 = vessel::arap_energy(start.mesh, start.uv);
+    out["initial_energy"] = e0;
+    json solvers = json::array();
+    const std::pair<const char*, vessel::ArapSolver> kinds[] = {
+        {"Ceres", vessel::ArapSolver::Ceres}, {"local/global", vessel::ArapSolver::LocalGlobal}};
+    for (const auto& [label, kind] : kinds)
+    {
+        vessel::ArapOptions a;
+        a.solver = kind;
+        a.max_iterations = 100000;
+        a.tolerance = 1e-12;
+        std::vector<double> t{0.0}, e{e0};
+        const auto begin = Clock::now();
+        a.on_iteration = [&](int, double energy) {
+            t.push_back(seconds_since(begin));
+            e.push_back(energy);
+            return t.back() < s.curve_budget_s;
+        };
+        Eigen::MatrixX2d uv = start.uv;
+        json row{{"solver", label}};
+        try
+        {
+            const vessel::ArapSummary summary = vessel::arap(start.mesh, uv, pins, a);
+            row["seconds"] = seconds_since(begin);
+            row["iterations"] = summary.iterations;
+            row["converged"] = summary.converged;
+            row["report"] = summary.report;
+            row["flipped_triangles"] = vessel::flat_quality(start.mesh, uv).flipped_triangles;
+        }
+        catch (const std::exception& ex)
+        {
+            row["error"] = ex.what();
+        }
+        row["time"] = t;
+        row["energy"] = e;
+        std::fprintf(stderr, "    %s / %s: %zu iterations in %.2f s, energy %.6g -> %.6g\n",
+                     c.name.c_str(), label, t.size() - 1, t.back(), e.front(), e.back());
+        solvers.push_back(row);
+    }
+    out["solvers"] = solvers;
 }
 
 // Generates a phantom into the cache (binary PLY) unless it is there already. Runs in its own
@@ -600,6 +699,100 @@ void print_results(const std::vector<json>& results, bool markdown, std::ostream
     }
 }
 
+std::string ratio_of(const json& peer_stage, const json& our_stage)
+{
+    if (!peer_stage.is_object() || !our_stage.is_object() || !peer_stage["median"].is_number() ||
+        !our_stage["median"].is_number())
+        return "-";
+    const double ours = our_stage["median"].get<double>();
+    if (!(ours > 0.0))
+        return "-";
+    char b[32];
+    const double x = peer_stage["median"].get<double>() / ours;
+    std::snprintf(b, sizeof b, x < 10 ? "%.2f" : x < 1000 ? "%.1f" : "%.0f", x);
+    return b;
+}
+
+std::string quality_cell(const json& q, const char* key, const char* format)
+{
+    if (!q.is_object() || !q.contains(key) || !q[key].is_number())
+        return "-";
+    char b[32];
+    if (q[key].is_number_integer())
+        std::snprintf(b, sizeof b, "%lld", q[key].get<long long>());
+    else
+        std::snprintf(b, sizeof b, format, q[key].get<double>());
+    return b;
+}
+
+// The CGAL peer's timings, the per-stage ratios peer / ours, and both results' quality.
+void print_peer(const std::vector<json>& results, bool markdown, std::ostream& os)
+{
+    Table med{{"mesh", "triangles", "runs", "Z", "GC", "VC", "AC", "L", "F (ARAP)", "Total",
+               "LSCM alone", "peak RSS MB", "failed stage"}};
+    Table ratio{{"mesh", "triangles", "Z", "GC", "VC", "AC", "F", "Total", "peak RSS"}};
+    Table quality{{"mesh", "ours flips", "ours area ratio", "ours mean |log A|", "peer LSCM flips",
+                   "peer ARAP flips", "peer area ratio", "peer mean |log A|"}};
+    const char* const peer_stages[] = {"Z", "GC", "VC", "AC", "L", "F", "Total", "F_lscm"};
+    for (const json& r : results)
+    {
+        if (!r.contains("peer"))
+            continue;
+        const json& p = r["peer"];
+        const std::string name = r.value("name", std::string("?"));
+        const std::string faces = r.contains("faces") ? std::to_string(r["faces"].get<long>()) : "-";
+        std::string failed;
+        if (p.contains("error"))
+            failed = p["error"].get<std::string>();
+        if (p.contains("skipped"))
+            failed = "not run: " + p["skipped"].get<std::string>();
+        const json errors = p.value("errors", json::object());
+        for (const auto& [stage, message] : errors.items())
+            failed += (failed.empty() ? "" : "; ") + stage + ": " + message.get<std::string>();
+        const json stages = p.value("stages", json::object());
+        const int runs = p.value("runs", 0);
+        std::vector<std::string> row{name, faces,
+                                     std::to_string(runs) + (p.value("time_boxed", false) ? "*" : "")};
+        std::vector<std::string> rrow{name, faces};
+        for (const char* st : peer_stages)
+        {
+            const bool timed = runs > 0 && stages.contains(st);
+            row.push_back(timed ? fmt_json(stages[st], "median") : "-");
+            if (std::string(st) != "L" && std::string(st) != "F_lscm")
+                rrow.push_back(timed && has_timings(r) ? ratio_of(stages[st], r["stages"][st]) : "-");
+        }
+        row.push_back(fmt(p.value("peak_rss_mb", std::nan(""))));
+        row.push_back(failed.empty() ? "" : failed);
+        med.push_back(row);
+        char rss[32] = "-";
+        if (r.contains("peak_rss_mb") && p.contains("peak_rss_mb") && !p.contains("skipped"))
+            std::snprintf(rss, sizeof rss, "%.2f",
+                          p["peak_rss_mb"].get<double>() / r["peak_rss_mb"].get<double>());
+        rrow.push_back(rss);
+        ratio.push_back(rrow);
+        const json ours = r.value("quality", json());
+        const json peer_q = p.value("quality", json::object());
+        quality.push_back({name, quality_cell(ours, "flipped_triangles", "%g"),
+                           quality_cell(ours, "area_ratio", "%.4f"),
+                           quality_cell(ours, "mean_abs_log_area", "%.4f"),
+                           quality_cell(peer_q.value("lscm", json()), "flipped_triangles", "%g"),
+                           quality_cell(peer_q.value("arap", json()), "flipped_triangles", "%g"),
+                           quality_cell(peer_q.value("arap", json()), "area_ratio", "%.4f"),
+                           quality_cell(peer_q.value("arap", json()), "mean_abs_log_area", "%.4f")});
+    }
+    if (med.size() == 1)
+        return;
+    os << (markdown ? "\n**CGAL peer: median seconds per stage**\n\n"
+                    : "\nCGAL peer: median seconds per stage\n");
+    print_table(med, markdown, os);
+    os << (markdown ? "\n**Ratio peer / ours (medians; > 1 = ours faster)**\n\n"
+                    : "\nRatio peer / ours (medians; > 1 = ours faster)\n");
+    print_table(ratio, markdown, os);
+    os << (markdown ? "\n**Quality of the final maps (ours: default refinement; peer: ARAP)**\n\n"
+                    : "\nQuality of the final maps (ours: default refinement; peer: ARAP)\n");
+    print_table(quality, markdown, os);
+}
+
 void print_solver_results(const std::vector<json>& results, bool markdown, std::ostream& os)
 {
     Table t{{"mesh", "triangles", "variant", "max it", "F median", "F min–max", "Total", "it",
@@ -644,6 +837,77 @@ void print_solver_results(const std::vector<json>& results, bool markdown, std::
     }
     os << (markdown ? "\n**Refinement solvers (F = LSCM + refinement, seconds)**\n\n"
                     : "\nRefinement solvers (F = LSCM + refinement, seconds)\n");
+    print_table(t, markdown, os);
+}
+
+// Which solver first reaches the converged energy: within 1e-4 (relative) of the lowest energy
+// either reached. Also writes every curve as CSV.
+void print_curves(const std::vector<json>& results, const std::string& csv_path, bool markdown,
+                  std::ostream& os)
+{
+    std::ofstream csv(csv_path);
+    csv << "mesh,faces,solver,iteration,seconds,energy\n";
+    csv.precision(12);
+    Table t{{"mesh", "triangles", "solver", "iterations", "seconds", "final energy", "flips",
+             "best energy", "reaches best + 1e-4 at (s)", "at iteration", "first"}};
+    for (const json& r : results)
+    {
+        const std::string name = r.value("name", std::string("?"));
+        const std::string faces = r.contains("faces") ? std::to_string(r["faces"].get<long>()) : "-";
+        if (!r.contains("solvers"))
+        {
+            std::vector<std::string> row{name, faces, status_of(r)};
+            row.resize(t[0].size(), "-");
+            t.push_back(row);
+            continue;
+        }
+        double best = std::numeric_limits<double>::infinity();
+        for (const json& v : r["solvers"])
+            for (const json& e : v["energy"])
+                best = std::min(best, e.get<double>());
+        const double target = best * (1.0 + 1e-4);
+        std::vector<std::vector<std::string>> rows;
+        double first_time = std::numeric_limits<double>::infinity();
+        std::string first_solver = "neither";
+        for (const json& v : r["solvers"])
+        {
+            const auto time = v["time"].get<std::vector<double>>();
+            const auto energy = v["energy"].get<std::vector<double>>();
+            const std::string solver = v["solver"].get<std::string>();
+            for (std::size_t i = 0; i < time.size(); ++i)
+                csv << name << "," << faces << "," << solver << "," << i << "," << time[i] << ","
+                    << energy[i] << "\n";
+            std::size_t hit = 0;
+            while (hit < energy.size() && energy[hit] > target)
+                ++hit;
+            char e1[32], e2[32];
+            std::snprintf(e1, sizeof e1, "%.6g", energy.back());
+            std::snprintf(e2, sizeof e2, "%.6g", best);
+            const bool reached = hit < energy.size();
+            if (reached && time[hit] < first_time)
+            {
+                first_time = time[hit];
+                first_solver = solver;
+            }
+            rows.push_back({name, faces,
+                            solver + (v.contains("error") ? " (error: " +
+                                                                v["error"].get<std::string>() + ")"
+                                                          : ""),
+                            std::to_string(time.size() - 1), fmt(time.back()), e1,
+                            v.contains("flipped_triangles")
+                                ? std::to_string(v["flipped_triangles"].get<int>())
+                                : "-",
+                            e2, reached ? fmt(time[hit]) : "not reached",
+                            reached ? std::to_string(hit) : "-", ""});
+        }
+        for (auto& row : rows)
+        {
+            row.back() = first_solver;
+            t.push_back(row);
+        }
+    }
+    os << (markdown ? "\n**ARAP solvers: energy against time (curves in " + csv_path + ")**\n\n"
+                    : "\nARAP solvers: energy against time (curves in " + csv_path + ")\n");
     print_table(t, markdown, os);
 }
 
@@ -712,8 +976,23 @@ int main(int argc, char** argv)
                    "Add a carotid phantom with this edge length (mm); repeatable")
         ->check(CLI::PositiveNumber);
     app.add_flag("--markdown", markdown, "Print Markdown tables");
+    bool no_peer = false, skip_1m = false;
+    app.add_flag("--no-peer", no_peer, "Do not run the CGAL peer pipeline");
+    app.add_flag("--skip-1m", skip_1m, "Leave out the 1M-triangle phantom");
+    app.add_option("--peer-timeout", s.peer_timeout_s,
+                   "Kill the CGAL peer's child for a mesh after this long (s); recorded, not fatal")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--json", json_path, "Also write all results (every sample) as JSON");
     app.add_flag("--solvers", solvers, "Solver study: each refinement variant on the real meshes");
+    std::string curves_csv;
+    app.add_option("--solver-curves", curves_csv,
+                   "Solver study: ARAP energy after every iteration against time, Ceres and "
+                   "local/global, on the real meshes; writes the curves to this CSV file");
+    app.add_option("--curve-budget", s.curve_budget_s,
+                   "With --solver-curves: stop a solver after this many seconds")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--solver-iterations", s.solver_iterations,
                    "With --solvers: iteration limits to sweep (energy against time); default: "
                    "the library's defaults")
@@ -722,6 +1001,10 @@ int main(int argc, char** argv)
                    "Stop repeating a mesh after a run longer than this (s); it is then reported "
                    "from the runs made, marked *")
         ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--peer-max-faces", s.peer_max_faces,
+                   "Skip the CGAL peer on meshes with more triangles (0 = no limit)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--timeout", s.timeout_s, "Kill a mesh's child process after this long (s)")
         ->check(CLI::PositiveNumber)
@@ -733,6 +1016,10 @@ int main(int argc, char** argv)
         return 1;
     }
 
+    s.peer = !no_peer;
+    const bool curves = !curves_csv.empty();
+    if (curves)
+        solvers = true;  // same mesh list: the real meshes
     std::vector<Case> cases;
     auto phantom = [&](const std::string& name, double edge, double stenosis, long faces) {
         char file[96];
@@ -753,7 +1040,8 @@ int main(int argc, char** argv)
                 cases.push_back({base_name(m), std::string(VESSEL_SHARED_DATA) + "/" + m});
         if (!real_only && !solvers)
             for (const auto& p : phantom_sizes)
-                phantom(p.name, p.edge_length, p.stenosis, p.faces);
+                if (!(skip_1m && p.faces > 900000))
+                    phantom(p.name, p.edge_length, p.stenosis, p.faces);
     }
 
     std::vector<json> results;
@@ -784,7 +1072,21 @@ int main(int argc, char** argv)
                 std::fprintf(stderr, "    generated %s: %ld triangles in %.1f s\n", c.path.c_str(),
                              generated["faces"].get<long>(), generated["generate_s"].get<double>());
         }
-        json r = solvers ? in_child(c, s, run_solver_case) : in_child(c, s, run_table_case);
+        json r = curves    ? in_child(c, s, on_mesh(run_curve_case))
+                 : solvers ? in_child(c, s, on_mesh(run_solver_case))
+                           : in_child(c, s, run_table_case);
+        if (s.peer && !solvers && !r.contains("skipped"))
+        {
+            Settings peer_settings = s;
+            peer_settings.timeout_s = s.peer_timeout_s;
+            if (s.peer_max_faces > 0)
+                peer_settings.max_faces = s.peer_max_faces;
+            r["peer"] = in_child(c, peer_settings, on_mesh(run_peer_case));
+            std::fprintf(stderr, "    CGAL peer: %s, peak RSS %.0f MB\n",
+                         r["peer"].contains("error") ? r["peer"]["error"].get<std::string>().c_str()
+                         : r["peer"].value("errors", json::object()).empty() ? "ok" : "a stage failed",
+                         r["peer"]["peak_rss_mb"].get<double>());
+        }
         if (c.edge_length > 0)
         {
             r["kind"] = "phantom";
@@ -804,11 +1106,14 @@ int main(int argc, char** argv)
        << " runs per mesh (* = time-boxed after a run over " << fmt(s.time_box_s)
        << " s); peak RSS per mesh includes ~" << fmt(self.ru_maxrss / 1024.0)
        << " MB of the harness inherited at fork.\n";
-    if (solvers)
+    if (curves)
+        print_curves(results, curves_csv, markdown, os);
+    else if (solvers)
         print_solver_results(results, markdown, os);
     else
     {
         print_results(results, markdown, os);
+        print_peer(results, markdown, os);
         print_paper(markdown, os);
     }
 
@@ -818,7 +1123,7 @@ int main(int argc, char** argv)
                  {"cpu", cpu_model()},
                  {"logical_cpus", sysconf(_SC_NPROCESSORS_ONLN)},
                  {"runs", s.runs},
-                 {"mode", solvers ? "solvers" : "table"},
+                 {"mode", curves ? "solver-curves" : solvers ? "solvers" : "table"},
                  {"results", results}};
         std::ofstream(json_path) << doc.dump(2) << "\n";
     }

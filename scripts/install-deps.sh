@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
-  doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev
+  doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev libboost-dev
   libcairo2-dev
   libvtk9-dev
   python3 python3-numpy python3-matplotlib python3-vtk9

@@ -126,6 +126,48 @@ TEST_CASE("arap: on a non-developable disk both solvers decrease the energy to t
     }
 }
 
+TEST_CASE("arap: on_iteration sees every iteration's energy and can stop the solver")
+{
+    const Mesh mesh = test::bumped_grid(2.0, 12, 0.6);
+    const Pins lscm_pins = {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(12), {1.5, 0.3}}};
+    const Eigen::MatrixX2d start = lscm(mesh, lscm_pins);
+    const Pins pin = {{VertexHandle(0), {0.0, 0.0}}};
+    for (ArapSolver solver : {ArapSolver::LocalGlobal, ArapSolver::Ceres})
+    {
+        CAPTURE(static_cast<int>(solver));
+        std::vector<std::pair<int, double>> seen;
+        ArapOptions options = tight(solver);
+        options.on_iteration = [&](int it, double energy) {
+            seen.emplace_back(it, energy);
+            return true;
+        };
+        Eigen::MatrixX2d uv = start;
+        const ArapSummary full = arap(mesh, uv, pin, options);
+        INFO(full.report);
+        REQUIRE(static_cast<int>(seen.size()) == full.iterations);
+        for (std::size_t i = 0; i < seen.size(); ++i)
+            CHECK(seen[i].first == static_cast<int>(i) + 1);
+        // The reported energy is arap_energy() of the map after that iteration.
+        CHECK(seen.back().second == doctest::Approx(full.final_energy).epsilon(1e-9));
+        CHECK(seen.back().second == doctest::Approx(arap_energy(mesh, uv)).epsilon(1e-9));
+        CHECK(seen.front().second < full.initial_energy);
+
+        // Returning false after the second iteration stops there, not converged.
+        seen.clear();
+        options.on_iteration = [&](int it, double energy) {
+            seen.emplace_back(it, energy);
+            return it < 2;
+        };
+        uv = start;
+        const ArapSummary stopped = arap(mesh, uv, pin, options);
+        CHECK(stopped.iterations == 2);
+        CHECK_FALSE(stopped.converged);
+        CHECK(seen.size() == 2);
+        CHECK(stopped.final_energy == doctest::Approx(seen.back().second).epsilon(1e-9));
+        CHECK(stopped.final_energy > full.final_energy);
+    }
+}
+
 TEST_CASE("arap: invalid input is rejected")
 {
     DistortedCylinder c;

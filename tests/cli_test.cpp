@@ -419,6 +419,35 @@ TEST_CASE("cli: an output that is not .obj, .vtp or .ply is refused")
     CHECK_FALSE(fs::exists(dir + "/flat.stl"));
 }
 
+TEST_CASE("cli: --split-at writes one flat map per piece, --layout sector runs")
+{
+    const auto dir = temp_dir("cli_split");
+    TreePhantomOptions tree;
+    tree.outlets = 4;
+    tree.seed = 3;
+    tree.edge_length = 1.0;
+    write_mesh(tree_phantom(tree), dir + "/tree.ply");
+    const Outcome o = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/flat.obj --report " + dir +
+                                           "/flat.json --split-at 1 --split-at 3 -q");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    for (int i = 0; i < 3; ++i)
+    {
+        const std::string piece = dir + "/flat.piece" + std::to_string(i);
+        const auto c = check_flat_obj(read_flat_obj(piece + ".obj"));
+        CHECK(c.euler == 1);
+        CHECK(c.flipped == 0);
+        CHECK(c.loops_3d == (i < 2 ? 2 : 5));  // a branch (ring + outlet); the rest (- 2 + 2 rings)
+        CHECK(fs::exists(piece + ".json"));
+    }
+    CHECK_FALSE(fs::exists(dir + "/flat.obj"));
+    const Outcome bad = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/bad.obj --split-at 1,2");
+    CHECK(bad.status == 1);
+    CHECK_MESSAGE(bad.err.find("not one subtree") != std::string::npos, bad.err);
+    const Outcome sector =
+        flatten_cli(dir, dir + "/tree.ply -o " + dir + "/sector.obj --layout sector -q");
+    CHECK_MESSAGE(sector.status == 0, sector.err);
+}
+
 namespace {
 
 // Two valid meshes (a tube and a coarse carotid phantom) and two bad ones in \p dir/in.

@@ -10,24 +10,11 @@
 
 using namespace vessel;
 
-namespace {
-
-// A planar grid's own coordinates as its map (vertex (i, j) at (size i / n, size j / n)).
-Eigen::MatrixX2d grid_uv(const Mesh& mesh)
-{
-    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
-    for (auto v : mesh.vertices())
-        uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
-    return uv;
-}
-
-}  // namespace
-
 TEST_CASE("untangle: a fold on a flat grid is removed by moving only the vertices near it")
 {
     const int n = 20;
     const Mesh mesh = test::posed_grid(1.0, n, Eigen::Isometry3d::Identity());
-    Eigen::MatrixX2d uv = grid_uv(mesh);
+    Eigen::MatrixX2d uv = test::planar_uv(mesh);
     const Eigen::MatrixX2d original = uv;
     // Push an interior vertex across two rings of its neighbours: a local fold.
     const int centre = (n / 2) * (n + 1) + n / 2;
@@ -48,7 +35,7 @@ TEST_CASE("untangle: a fold on a flat grid is removed by moving only the vertice
 TEST_CASE("untangle: pinned vertices do not move and a map without flips is left alone")
 {
     const Mesh mesh = test::posed_grid(1.0, 10, Eigen::Isometry3d::Identity());
-    Eigen::MatrixX2d uv = grid_uv(mesh);
+    Eigen::MatrixX2d uv = test::planar_uv(mesh);
     const Eigen::MatrixX2d original = uv;
     const UntangleSummary clean = untangle(mesh, uv, {});
     CHECK(clean.flipped_before == 0);
@@ -69,7 +56,7 @@ TEST_CASE("untangle: pinned vertices do not move and a map without flips is left
 TEST_CASE("embedding: a simple map boundary passes, a folded-over one is found")
 {
     const Mesh mesh = test::posed_grid(1.0, 8, Eigen::Isometry3d::Identity());
-    Eigen::MatrixX2d uv = grid_uv(mesh);
+    Eigen::MatrixX2d uv = test::planar_uv(mesh);
     CHECK(boundary_self_intersection(mesh, uv).first == -1);
     // Drag the corner (8, 8) across the opposite side: its boundary edges now cross others.
     uv.row(8 * 9 + 8) << -0.5, -0.5;

@@ -1,12 +1,14 @@
 #!/usr/bin/python3
 """Render a flattened vessel: the 3D surface with its cut seam (red) beside the 2D map.
 
-  render_flat.py INPUT_MESH FLAT.obj OUT.png [--field area|none]
+  render_flat.py INPUT_MESH FLAT.obj OUT.png [--field area|none] [--overlaps REPORT.json]
 
 FLAT.obj is vessel-flatten's output (v = input positions, vt = uv, f v/vt). The map is coloured by
-log2 of the per-triangle area ratio 2D/3D (white = area kept). Needs python3-numpy and
+log2 of the per-triangle area ratio 2D/3D (white = area kept). With --overlaps, the
+triangles listed in the vessel-flatten report's "overlaps" (exact, vessel/overlap.h) are red. Needs python3-numpy and
 python3-matplotlib (Debian). INPUT_MESH is only used for the title.
 """
+import json
 import sys
 
 import numpy as np
@@ -50,6 +52,10 @@ def main():
         print(__doc__)
         return 2
     title, flat, out = sys.argv[1], sys.argv[2], sys.argv[3]
+    overlapping = []
+    if "--overlaps" in sys.argv:
+        with open(sys.argv[sys.argv.index("--overlaps") + 1]) as fh:
+            overlapping = json.load(fh)["overlaps"]["triangles"]
     V, T, F, FT = read_flat_obj(flat)
     a3 = 0.5 * np.linalg.norm(np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]]), axis=1)
     e1, e2 = T[FT[:, 1]] - T[FT[:, 0]], T[FT[:, 2]] - T[FT[:, 0]]
@@ -82,10 +88,15 @@ def main():
     flipped = a2 <= 0
     if flipped.any():
         ax2.add_collection(PolyCollection(T[FT[flipped]], facecolors="black", edgecolors="black"))
+    if overlapping:
+        # Edges too, so a few small triangles stay visible on a large map.
+        ax2.add_collection(PolyCollection(T[FT[overlapping]], facecolors="red", edgecolors="red",
+                                          linewidths=0.6))
     ax2.autoscale(); ax2.set_aspect("equal")
     fig.colorbar(pc, ax=ax2, shrink=0.7, label="log2 area ratio 2D/3D")
     ax2.set_title(f"flattened map: {len(F)} triangles, {int(flipped.sum())} flipped, "
-                  f"area ratio {a2.sum() / a3.sum():.3f}")
+                  f"area ratio {a2.sum() / a3.sum():.3f}"
+                  + (f", {len(overlapping)} overlapping (red)" if "--overlaps" in sys.argv else ""))
     fig.suptitle(title)
     fig.tight_layout()
     fig.savefig(out, dpi=110)

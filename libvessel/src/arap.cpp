@@ -216,14 +216,20 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
         if (!(previous > 0.0) || (previous - energy) < options.tolerance * previous)
         {
             summary.converged = true;
+            if (options.on_iteration)
+                options.on_iteration(it, energy);
             break;
         }
+        if (options.on_iteration && !options.on_iteration(it, energy))
+            break;
     }
     summary.final_energy = energy;
     std::ostringstream report;
     report << "LocalGlobal: " << summary.iterations << " iterations, energy "
            << summary.initial_energy << " -> " << summary.final_energy
-           << (summary.converged ? ", converged" : ", iteration limit reached");
+           << (summary.converged                        ? ", converged"
+               : summary.iterations < options.max_iterations ? ", stopped by on_iteration"
+                                                             : ", iteration limit reached");
     summary.report = report.str();
     return summary;
 }

@@ -55,6 +55,34 @@ private:
     double sqrt_area_;
 };
 
+// Reports the documented energy of the current map after every iteration to
+// ArapOptions::on_iteration (the parameter blocks are kept up to date for it).
+class EnergyReporter : public ceres::IterationCallback
+{
+public:
+    EnergyReporter(const std::vector<ArapFace>& faces, const std::vector<double>& x,
+                   const Eigen::MatrixX2d& uv, const ArapOptions& options)
+        : faces_(faces), x_(x), uv_(uv), options_(options)
+    {}
+
+    ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override
+    {
+        if (summary.iteration == 0)  // the evaluation at the starting point
+            return ceres::SOLVER_CONTINUE;
+        for (Eigen::Index i = 0; i < uv_.rows(); ++i)
+            uv_.row(i) << x_[2 * i], x_[2 * i + 1];
+        return options_.on_iteration(summary.iteration, arap_energy(faces_, uv_))
+                   ? ceres::SOLVER_CONTINUE
+                   : ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+
+private:
+    const std::vector<ArapFace>& faces_;
+    const std::vector<double>& x_;
+    Eigen::MatrixX2d uv_;  // pinned rows hold their targets throughout
+    const ArapOptions& options_;
+};
+
 }  // namespace
 
 ArapSummary arap_ceres(const Mesh& mesh, const std::vector<ArapFace>& faces, Eigen::MatrixX2d& uv,
@@ -115,6 +143,13 @@ ArapSummary arap_ceres(const Mesh& mesh, const std::vector<ArapFace>& faces, Eig
     solver_options.parameter_tolerance = std::min(1e-8, options.tolerance);
     solver_options.logging_type = ceres::SILENT;
     solver_options.minimizer_progress_to_stdout = false;
+
+    EnergyReporter reporter(faces, x, uv, options);
+    if (options.on_iteration)
+    {
+        solver_options.update_state_every_iteration = true;
+        solver_options.callbacks.push_back(&reporter);
+    }
 
     std::string error;
     if (!solver_options.IsValid(&error))

@@ -1,5 +1,6 @@
 #include "vessel/layout.h"
 
+#include "detail/layout_frame.h"
 #include "vessel/errors.h"
 
 #include <algorithm>
@@ -62,15 +63,57 @@ BranchFanLayout::BranchFanLayout(double alpha_deg) : alpha_deg_(alpha_deg)
                                 std::to_string(alpha_deg));
 }
 
-namespace {
+namespace detail {
 
-Eigen::Vector2d rotate(const Eigen::Vector2d& d, double angle)
+std::vector<int> segment_of_loop(const LayoutInput& input, const std::string& caller)
 {
-    const double c = std::cos(angle), s = std::sin(angle);
-    return {c * d.x() - s * d.y(), s * d.x() + c * d.y()};
+    std::vector<int> segment(input.loops->size(), -1);
+    for (std::size_t i = 0; i < input.segments.size(); ++i)
+    {
+        int& slot = segment[input.segments[i].loop];
+        if (slot >= 0)
+            throw TopologyError(caller + ": loop " + std::to_string(input.segments[i].loop) +
+                                " is opened in several places; each loop must be cut once");
+        slot = static_cast<int>(i);
+    }
+    for (std::size_t l = 0; l < segment.size(); ++l)
+        if (segment[l] < 0)
+            throw TopologyError(caller + ": loop " + std::to_string(l) +
+                                " is not on the cut mesh's boundary; every loop must be cut");
+    return segment;
 }
 
-Eigen::Vector2d left_normal(const Eigen::Vector2d& d) { return {-d.y(), d.x()}; }
+void pin_segment(const BoundarySegment& seg, const Eigen::Vector2d& centre,
+                 const Eigen::Vector2d& direction, Pins& pins)
+{
+    const double length = seg.arc_length.back();
+    const Eigen::Vector2d n = left_normal(direction);
+    for (std::size_t i = 0; i < seg.vertices.size(); ++i)
+        pins.push_back({seg.vertices[i], centre + n * (0.5 * length - seg.arc_length[i])});
+}
+
+Strip make_strip(const Eigen::Vector2d& base, const Eigen::Vector2d& direction, double height,
+                 double base_width, double top_width)
+{
+    const Eigen::Vector2d n = left_normal(direction), top = base + height * direction;
+    return {base + 0.5 * base_width * n, base - 0.5 * base_width * n, top - 0.5 * top_width * n,
+            top + 0.5 * top_width * n};
+}
+
+double path_length(const Mesh& mesh, const CutPath& path)
+{
+    double length = 0.0;
+    for (auto h : path.halfedges)
+        length += mesh.calc_edge_length(h);
+    return length;
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::left_normal;
+using detail::rotate;
 
 // The frame of one cut's vessel segment in the plane.
 struct Frame
@@ -83,44 +126,19 @@ struct Frame
     double top_width = 0;       // strip width at the outlet (its arc length)
 };
 
-// Pins a segment as a straight line of its own arc length, centred at `centre`, perpendicular
-// to `direction`, running from the left to the right of the direction (clockwise boundary).
-void pin_segment(const BoundarySegment& seg, const Eigen::Vector2d& centre,
-                 const Eigen::Vector2d& direction, Pins& pins)
-{
-    const double length = seg.arc_length.back();
-    const Eigen::Vector2d n = left_normal(direction);
-    for (std::size_t i = 0; i < seg.vertices.size(); ++i)
-        pins.push_back({seg.vertices[i], centre + n * (0.5 * length - seg.arc_length[i])});
-}
-
 }  // namespace
 
 LayoutResult BranchFanLayout::place(const LayoutInput& input) const
 {
-    const auto& loops = *input.loops;
     const auto& paths = input.plan->paths;
     const auto& G = *input.geodesic;
-    std::vector<int> segment_of_loop(loops.size(), -1);
-    for (std::size_t i = 0; i < input.segments.size(); ++i)
-    {
-        int& slot = segment_of_loop[input.segments[i].loop];
-        if (slot >= 0)
-            throw TopologyError("BranchFanLayout: loop " + std::to_string(input.segments[i].loop) +
-                                " is opened in several places; each loop must be cut once");
-        slot = static_cast<int>(i);
-    }
-    for (std::size_t l = 0; l < loops.size(); ++l)
-        if (segment_of_loop[l] < 0)
-            throw TopologyError("BranchFanLayout: loop " + std::to_string(l) +
-                                " is not on the cut mesh's boundary; every loop must be cut");
-
+    const std::vector<int> segment_of_loop = detail::segment_of_loop(input, "BranchFanLayout");
     LayoutResult result;
     const BoundarySegment& inlet = input.segments[segment_of_loop[0]];
     const double inlet_length = inlet.arc_length.back();
     // The clockwise walk crosses the inlet from right to left: it is the far end of a strip
     // pointing down.
-    pin_segment(inlet, Eigen::Vector2d::Zero(), -Eigen::Vector2d::UnitY(), result.inlet);
+    detail::pin_segment(inlet, Eigen::Vector2d::Zero(), -Eigen::Vector2d::UnitY(), result.inlet);
 
     const double alpha = alpha_deg_ * M_PI / 180.0;
     std::vector<Frame> frames(paths.size());
@@ -130,9 +148,7 @@ LayoutResult BranchFanLayout::place(const LayoutInput& input) const
         const BoundarySegment& seg = input.segments[segment_of_loop[path.outlet]];
         Frame& f = frames[k];
         f.top_width = seg.arc_length.back();
-        double seam_length = 0.0;
-        for (auto h : path.halfedges)
-            seam_length += input.mesh->calc_edge_length(h);
+        const double seam_length = detail::path_length(*input.mesh, path);
         if (path.parent < 0)
         {
             f.base = Eigen::Vector2d::Zero();
@@ -160,7 +176,9 @@ LayoutResult BranchFanLayout::place(const LayoutInput& input) const
         // The geodesic rise is the height; a cut that climbs little (a side branch leaving
         // sideways) still gets a strip at least half as long as its seam.
         f.height = std::max(G[path.start.idx()] - f.base_distance, 0.5 * seam_length);
-        pin_segment(seg, f.base + f.height * f.direction, f.direction, result.outlets);
+        detail::pin_segment(seg, f.base + f.height * f.direction, f.direction, result.outlets);
+        result.strips.push_back(
+            detail::make_strip(f.base, f.direction, f.height, f.base_width, f.top_width));
     }
     return result;
 }
@@ -169,7 +187,9 @@ std::unique_ptr<Layout> make_layout(const std::string& name, double alpha_deg)
 {
     if (name == "fan")
         return std::make_unique<BranchFanLayout>(alpha_deg);
-    throw InvalidInputError("make_layout: unknown layout '" + name + "'; valid names: fan");
+    if (name == "sector")
+        return std::make_unique<SectorLayout>();
+    throw InvalidInputError("make_layout: unknown layout '" + name + "'; valid names: fan, sector");
 }
 
 }  // namespace vessel

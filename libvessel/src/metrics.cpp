@@ -1,6 +1,7 @@
 #include "vessel/metrics.h"
 
 #include "vessel/errors.h"
+#include "vessel/overlap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -61,6 +62,10 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     q.area_ratio = area3 > 0 ? area2 / area3 : 0.0;
     q.mean_abs_log_area = weight > 0 ? log_sum / weight : 0.0;
     q.mean_conformal = weight > 0 ? conformal_sum / weight : 0.0;
+    const OverlapReport overlaps = find_overlaps(mesh, uv);
+    q.overlapping_triangles = overlaps.overlapping_triangles();
+    q.overlap_area = overlaps.overlap_area;
+    q.overlap_fraction = overlaps.overlap_fraction;
     return q;
 }
 

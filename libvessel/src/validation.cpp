@@ -1,6 +1,7 @@
 #include "vessel/validation.h"
 
 #include "vessel/boundary.h"
+#include "detail/union_find.h"
 #include "vessel/errors.h"
 #include "vessel/properties.h"
 
@@ -17,21 +18,7 @@ namespace {
 
 using Triangle = std::array<int, 3>;
 
-class UnionFind
-{
-public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-    int find(int x)
-    {
-        while (parent_[x] != x)
-            x = parent_[x] = parent_[parent_[x]];
-        return x;
-    }
-    void unite(int a, int b) { parent_[find(a)] = find(b); }
-
-private:
-    std::vector<int> parent_;
-};
+using detail::UnionFind;
 
 [[noreturn]] void refuse(const std::string& what)
 {

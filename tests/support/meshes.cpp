@@ -158,4 +158,12 @@ PolyData tube_with_fields(int around, int along)
     return d;
 }
 
+Eigen::MatrixX2d planar_uv(const Mesh& mesh)
+{
+    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
+    for (auto v : mesh.vertices())
+        uv.row(v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
+    return uv;
+}
+
 }  // namespace vessel::test

@@ -35,6 +35,9 @@ RawMesh tube_with_quads(int around, int along);
 //! 2^32) and `thickness` (Float64).
 PolyData tube_with_fields(int around, int along);
 
+//! The (x, y) of a mesh lying in the z = 0 plane (e.g. plane_grid()) as its map: |V| x 2.
+Eigen::MatrixX2d planar_uv(const Mesh& mesh);
+
 //! Signed area of every face of the map \p uv (|V| x 2, row `v.idx()`), indexed by `f.idx()`;
 //! negative means the triangle is flipped.
 Eigen::VectorXd uv_signed_areas(const Mesh& mesh, const Eigen::MatrixX2d& uv);

@@ -3,6 +3,7 @@
 #include "vessel/errors.h"
 #include "vessel/flat_io.h"
 #include "vessel/io.h"
+#include "vessel/overlap.h"
 
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -281,7 +282,13 @@ nlohmann::json report_json(const std::string& input, const TreeSurface& surface,
                     {"area_ratio", q.area_ratio},
                     {"mean_abs_log_area_ratio", q.mean_abs_log_area},
                     {"mean_conformal_distortion", q.mean_conformal},
-                    {"max_conformal_distortion", q.max_conformal}};
+                    {"max_conformal_distortion", q.max_conformal},
+                    {"overlapping_triangles", q.overlapping_triangles},
+                    {"overlap_area", q.overlap_area},
+                    {"overlap_fraction", q.overlap_fraction}};
+    // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces).
+    j["overlaps"] = {{"triangles", find_overlaps(r.mesh, r.uv).triangles},
+                     {"area_kind", "sum of pairwise intersection areas"}};
     j["arap"] = {{"iterations", r.arap.iterations},
                  {"initial_energy", r.arap.initial_energy},
                  {"final_energy", r.arap.final_energy},

@@ -9,6 +9,7 @@
 #include "vessel/flat_vtk.h"
 #include "vessel/io.h"
 #include "vessel/pipeline.h"
+#include "vessel/split.h"
 #include "vessel/validation.h"
 #include "vessel/viewer.h"
 
@@ -42,8 +43,9 @@ int main(int argc, char** argv)
                  "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
     std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
                                             init = "layout-lscm", refine = "injective",
-                                            overlaps = "restart";
+                                            overlaps = "restart", layout = "fan";
     std::vector<double> viewpoint;
+    std::vector<std::vector<int>> split_at;
     std::string fields_spec, field_name;
     vessel::cli::ImageRequest images;
     vessel::FieldSeriesOptions series_options;
@@ -75,8 +77,8 @@ int main(int argc, char** argv)
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
-    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/.ply/"
-                                            ".stl/.vtp/.vtk files) or a text file with one path per "
+    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
+                                            ".ply/.stl files) or a text file with one path per "
                                             "line; writes OUTDIR/<stem>.obj, <stem>.json and "
                                             "summary.csv/.json")
         ->excludes(input_option)
@@ -103,6 +105,19 @@ int main(int argc, char** argv)
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str();
+    app.add_option("--layout", layout, "Layout of the loops before the map: fan (the paper) or "
+                                       "sector (each subtree in its own angular sector; pinned "
+                                       "segments never cross)")
+        ->check(CLI::IsMember({"fan", "sector"}))
+        ->capture_default_str();
+    app.add_option("--split-at", split_at, "Cut off the subtree carrying these outlets (loop "
+                                           "indices, 1 = largest outlet; e.g. 3,5) just past "
+                                           "its branch point and flatten it as its own map; "
+                                           "repeat for several. Writes OUTPUT.pieceN.obj (the "
+                                           "last piece keeps the inlet)")
+        ->delimiter(',')
+        ->type_size(1, -1)
+        ->allow_extra_args(false);
     app.add_option("--curvature-scale", options.curvature.scale,
                    "Curvature fitting radius in mean edge lengths")
         ->check(CLI::PositiveNumber)
@@ -175,11 +190,14 @@ int main(int argc, char** argv)
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
                                  : init == "tutte"  ? vessel::Initialization::Tutte
                                                     : vessel::Initialization::LayoutLscm;
+        options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {
             options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
             options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
         }
+        if (!batch.inputs.empty() && !split_at.empty())
+            throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
         if (!batch.inputs.empty())
         {
             batch.output_dir = output;
@@ -224,6 +242,9 @@ int main(int argc, char** argv)
         }
         else if (!field_name.empty())
             vessel::find_field(fields, field_name);
+        if (!split_at.empty() && (!fields.empty() || series.size() > 0))
+            throw vessel::InvalidInputError("--split-at renumbers the vertices of each piece; "
+                                            "fields cannot be carried to the pieces");
         const double read_s = seconds_since(start);
         if (!quiet)
         {
@@ -232,75 +253,103 @@ int main(int argc, char** argv)
             for (const auto& note : surface.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
-        const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
-        if (!quiet)
-            for (const auto& note : result.notes)
-                std::fprintf(stderr, "note: %s\n", note.c_str());
+        // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
+        const auto flatten_piece = [&](const vessel::TreeSurface& piece,
+                                       const std::vector<Eigen::Vector3d>& points,
+                                       const std::string& out, const std::string& report) {
+            const vessel::FlattenResult result = vessel::flatten(piece.mesh, options);
+            if (!quiet)
+                for (const auto& note : result.notes)
+                    std::fprintf(stderr, "note: %s\n", note.c_str());
 
-        start = Clock::now();
-        const std::vector<vessel::Field> cut_fields = vessel::transfer_fields(fields, result.mesh);
-        const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
-        std::vector<vessel::Field> all_fields = cut_fields;
-        if (cut_series.size() == 1)
-            all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),
-                              cut_series.steps[0].end());
-        if (out_ext == ".vtp")
-        {
-            vessel::write_flat_vtp(output, result.mesh, result.uv, all_fields);
-            if (cut_series.size() > 1)
+            start = Clock::now();
+            const std::vector<vessel::Field> cut_fields =
+                vessel::transfer_fields(fields, result.mesh);
+            const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
+            std::vector<vessel::Field> all_fields = cut_fields;
+            if (cut_series.size() == 1)
+                all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),
+                                  cut_series.steps[0].end());
+            if (out_ext == ".vtp")
             {
-                const std::string pvd =
-                    std::filesystem::path(output).replace_extension(".pvd").string();
-                vessel::write_flat_series(pvd, result.mesh, result.uv, cut_fields, cut_series);
-                if (!quiet)
-                    std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
-                                 pvd.c_str());
+                vessel::write_flat_vtp(out, result.mesh, result.uv, all_fields);
+                if (cut_series.size() > 1)
+                {
+                    const std::string pvd =
+                        std::filesystem::path(out).replace_extension(".pvd").string();
+                    vessel::write_flat_series(pvd, result.mesh, result.uv, cut_fields, cut_series);
+                    if (!quiet)
+                        std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
+                                     pvd.c_str());
+                }
             }
-        }
-        else if (out_ext == ".ply")
-            vessel::write_flat_ply(output, result.mesh, result.uv, all_fields);
-        else
+            else if (out_ext == ".ply")
+                vessel::write_flat_ply(out, result.mesh, result.uv, all_fields);
+            else
+            {
+                if (!all_fields.empty() && !quiet)
+                    std::fprintf(stderr, "note: OBJ carries no data arrays (%zu not written); "
+                                         "use an .vtp or .ply output to keep them\n",
+                                 all_fields.size());
+                vessel::write_flat_obj(out, points, result.mesh, result.uv);
+            }
+            if (!html.empty())
+            {
+                vessel::ViewerOptions view;
+                view.title = std::filesystem::path(input).filename().string();
+                view.flatten_command =
+                    vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
+                view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
+                view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
+                                     ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
+                                     : std::nullopt;
+                std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
+                for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
+                    shown.push_back(std::move(f));
+                vessel::write_viewer_html(html, result, shown, view);
+            }
+            images.field = field_name;
+            images.quiet = quiet;
+            vessel::cli::render_images(images, result, cut_fields, cut_series);
+            const double write_s = seconds_since(start);
+            if (!report.empty())
+            {
+                const std::string tmp = report + ".tmp";
+                std::ofstream(tmp) << vessel::cli::report_json(input, piece, result, read_s, write_s).dump(2)
+                                   << "\n";
+                std::filesystem::rename(tmp, report);
+            }
+            if (!quiet)
+            {
+                const auto& q = result.quality;
+                std::fprintf(stderr,
+                             "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
+                             "%.3f, total %.3f s -> %s\n",
+                             q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
+                             q.mean_conformal, result.timings.total(), out.c_str());
+            }
+        };
+        if (split_at.empty())
         {
-            if (!all_fields.empty() && !quiet)
-                std::fprintf(stderr, "note: OBJ carries no data arrays (%zu not written); use "
-                                     "an .vtp or .ply output to keep them\n",
-                             all_fields.size());
-            vessel::write_flat_obj(output, raw.points, result.mesh, result.uv);
+            flatten_piece(surface, raw.points, output, report_path);
+            return 0;
         }
         if (!html.empty())
+            throw vessel::InvalidInputError("--html shows one map; it cannot be used with --split-at");
+        const auto pieces = vessel::split_tree(surface.mesh, split_at);
+        for (std::size_t i = 0; i < pieces.size(); ++i)
         {
-            vessel::ViewerOptions view;
-            view.title = std::filesystem::path(input).filename().string();
-            view.flatten_command =
-                vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
-            view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
-            view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
-                                 ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
-                                 : std::nullopt;
-            std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
-            for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
-                shown.push_back(std::move(f));
-            vessel::write_viewer_html(html, result, shown, view);
-        }
-        images.field = field_name;
-        images.quiet = quiet;
-        vessel::cli::render_images(images, result, cut_fields, cut_series);
-        const double write_s = seconds_since(start);
-        if (!report_path.empty())
-        {
-            const std::string tmp = report_path + ".tmp";
-            std::ofstream(tmp) << vessel::cli::report_json(input, surface, result, read_s, write_s).dump(2)
-                               << "\n";
-            std::filesystem::rename(tmp, report_path);
-        }
-        if (!quiet)
-        {
-            const auto& q = result.quality;
-            std::fprintf(stderr,
-                         "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
-                         "%.3f, total %.3f s -> %s\n",
-                         q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
-                         q.mean_conformal, result.timings.total(), output.c_str());
+            const auto named = [&](const std::string& path) {
+                if (path.empty())
+                    return path;
+                std::filesystem::path p(path);
+                return (p.parent_path() / p.stem()).string() + ".piece" + std::to_string(i) +
+                       p.extension().string();
+            };
+            if (!quiet)
+                std::fprintf(stderr, "piece %zu: %zu faces\n", i, pieces[i].mesh.faces.size());
+            flatten_piece(vessel::make_tree_surface(pieces[i].mesh), pieces[i].mesh.points,
+                          named(output), named(report_path));
         }
         return 0;
     }

@@ -2,6 +2,7 @@
 
 #include "vessel/pins.h"
 
+#include <functional>
 #include <string>
 
 namespace vessel {
@@ -19,6 +20,11 @@ struct ArapOptions
     int max_iterations = 50;   //!< Ceres iterations, or local/global sweeps
     double tolerance = 1e-6;   //!< stop when the relative energy decrease falls below this
     int threads = 2;           //!< threads Ceres may use for residual evaluation
+    //! Called after every iteration with its number (1, 2, ...) and the arap_energy() of the
+    //! current map, e.g. for progress output or energy-against-time studies; return false to
+    //! stop there (the summary then reports not converged). With the Ceres solver each call
+    //! costs one energy evaluation. Null (the default) = no calls.
+    std::function<bool(int iteration, double energy)> on_iteration;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

@@ -4,6 +4,7 @@
 #include "vessel/cut_plan.h"
 #include "vessel/pins.h"
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,11 +40,18 @@ struct LayoutInput
     std::vector<BoundarySegment> segments;          //!< boundary_segments() of the cut mesh
 };
 
+//! A vessel segment's strip in the plane: corners base-left, base-right, top-right, top-left
+//! (counter-clockwise), the top edge being where the outlet is pinned.
+using Strip = std::array<Eigen::Vector2d, 4>;
+
 //! Positions the layout assigns to the loops' vertices.
 struct LayoutResult
 {
     Pins inlet;    //!< every vertex of the inlet segment
     Pins outlets;  //!< every vertex of every outlet segment
+    //! The strip the layout means for each cut path, indexed like `plan->paths` (its outlet
+    //! pinned on the top edge; the root's base edge is the inlet). For inspection and tests.
+    std::vector<Strip> strips;
 };
 
 //! \brief A layout policy: where the inlet and outlet loops go in the plane before the map is
@@ -72,7 +80,30 @@ private:
     double alpha_deg_;
 };
 
-//! \brief The layout called \p name ("fan"), with branch angle \p alpha_deg.
+//! \brief The overlap-aware layout: the paper's look (inlet at the bottom, outlets fanned out in
+//! their 3D left/right order, each loop a straight segment of its own length), but every subtree of
+//! cuts gets its own angular sector, sized by the total outlet perimeter in it, and every branch's
+//! strip (width = its loop length) starts far enough from its parent's strip to fit its sector.
+//!
+//! Guarantee (by construction, see docs/overlaps.md): the strips of `LayoutResult::strips` have
+//! pairwise disjoint interiors, so no two pinned segments cross. The cost is branches placed
+//! further out than their 3D length when sectors are narrow (many outlets).
+class SectorLayout : public Layout
+{
+public:
+    //! \param spread_deg half-angle of the whole fan around the inlet's normal, in (0, 85].
+    //! \param gap fraction of each branch's sector left empty on either side, in [0, 0.45].
+    //! \throw InvalidInputError if a parameter is out of range.
+    explicit SectorLayout(double spread_deg = 75.0, double gap = 0.1);
+    std::string name() const override { return "sector"; }
+    LayoutResult place(const LayoutInput& input) const override;
+
+private:
+    double spread_deg_;
+    double gap_;
+};
+
+//! \brief The layout called \p name ("fan" or "sector"), with branch angle \p alpha_deg (fan).
 //! \throw InvalidInputError listing the valid names if \p name is unknown.
 std::unique_ptr<Layout> make_layout(const std::string& name, double alpha_deg = 45.0);
 

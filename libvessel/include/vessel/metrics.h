@@ -12,9 +12,13 @@ struct FlatQuality
     double mean_abs_log_area = 0.0;  //!< area-weighted mean |log(A_2D / A_3D)| over faces
     double mean_conformal = 0.0;   //!< area-weighted mean sigma_max / sigma_min (1 = conformal)
     double max_conformal = 0.0;    //!< worst sigma_max / sigma_min over non-flipped faces
+    //! Faces whose interior overlaps another face's in the map (find_overlaps(), exact).
+    int overlapping_triangles = 0;
+    double overlap_area = 0.0;      //!< sum of pairwise intersection areas (find_overlaps())
+    double overlap_fraction = 0.0;  //!< overlap_area / total |2D area|
 };
 
-//! \brief Measure the distortion of \p uv (|V| x 2, row `v.idx()`) on \p mesh.
+//! \brief Measure the distortion and the overlaps (find_overlaps()) of \p uv (|V| x 2, row `v.idx()`) on \p mesh.
 //! \throw InvalidInputError if \p uv does not have one row per vertex.
 FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 
