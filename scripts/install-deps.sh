@@ -8,7 +8,8 @@ packages=(
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
   doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev libboost-dev
   libcairo2-dev
-  python3 python3-numpy python3-matplotlib
+  libvtk9-dev
+  python3 python3-numpy python3-matplotlib python3-vtk9
   chromium
 )
 missing=()

@@ -589,16 +589,16 @@ TEST_CASE("cli: a surface with only one open end is refused")
     check_bad(dir, dir + "/in.obj", "only one open end; a vessel tree needs an inlet");
 }
 
-TEST_CASE("cli: an output that is not .obj is refused")
+TEST_CASE("cli: an output that is not .obj, .vtp or .ply is refused")
 {
     const auto dir = temp_dir("cli_output_ext");
     write_obj(dir + "/in.obj", tube());
-    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.ply");
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.stl");
     CHECK(o.status == 1);
-    CHECK_MESSAGE(o.err.find("vessel-flatten: the output must be an .obj file (seam form)") !=
-                      std::string::npos,
+    CHECK_MESSAGE(o.err.find("vessel-flatten: the output must be .obj (seam form), .vtp or .ply, "
+                             "got ") != std::string::npos,
                   o.err);
-    CHECK_FALSE(fs::exists(dir + "/flat.ply"));
+    CHECK_FALSE(fs::exists(dir + "/flat.stl"));
 }
 
 TEST_CASE("cli: --split-at writes one flat map per piece, --layout sector runs")

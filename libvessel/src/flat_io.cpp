@@ -1,5 +1,7 @@
 #include "vessel/flat_io.h"
 
+#include "detail/atomic_file.h"
+
 #include "vessel/errors.h"
 #include "vessel/properties.h"
 
@@ -19,12 +21,7 @@ void write_flat_obj(const std::string& path, const std::vector<Eigen::Vector3d>&
     if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
         throw InvalidInputError("write_flat_obj: uv has " + std::to_string(uv.rows()) +
                                 " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
-    const std::string tmp = path + ".tmp";
-    {
-        std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(tmp.c_str(), "w"), &std::fclose);
-        if (!file)
-            throw IoError("write_flat_obj: cannot open " + tmp + " for writing");
-        FILE* out = file.get();
+    detail::write_atomically(path, "write_flat_obj", [&](FILE* out) {
         std::fprintf(out, "# libvessel flattened vessel: v = input positions, vt = (u, v)\n");
         for (const auto& p : input_points)
             std::fprintf(out, "v %.9g %.9g %.9g\n", p.x(), p.y(), p.z());
@@ -37,13 +34,7 @@ void write_flat_obj(const std::string& path, const std::vector<Eigen::Vector3d>&
                 std::fprintf(out, " %d/%d", mesh.property(input_index, v) + 1, v.idx() + 1);
             std::fputc('\n', out);
         }
-        if (std::ferror(out))
-            throw IoError("write_flat_obj: write error on " + tmp);
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec)
-        throw IoError("write_flat_obj: cannot rename " + tmp + " to " + path + ": " + ec.message());
+    });
 }
 
 }  // namespace vessel

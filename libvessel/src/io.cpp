@@ -1,6 +1,7 @@
 #include "vessel/io.h"
 
 #include "vessel/errors.h"
+#include "vessel/vtk_io.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -502,9 +503,11 @@ RawMesh read_raw_mesh(const std::string& path)
         throw IoError("read_raw_mesh: file is empty: " + path);
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".vtp" || ext == ".vtk")
+        return read_polydata(path).mesh;
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
         throw IoError("read_raw_mesh: unknown file format '" + ext + "' (" + path +
-                      "); use .obj, .off, .ply or .stl");
+                      "); use .obj, .off, .ply, .stl, .vtp or .vtk");
     const std::uintmax_t size = std::filesystem::file_size(path);
     if (ext == ".ply")
     {

@@ -320,10 +320,12 @@ void select_component(Triangulated& tri, const std::vector<int>& component,
     tri = std::move(kept);
 }
 
-Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
+Mesh build(const RawMesh& raw, const Triangulated& tri, bool reverse)
 {
+    const auto& T = tri.triangles;
     Mesh mesh;
     auto input_index = OpenMesh::VProp<int>(mesh, prop::input_index);
+    auto input_face = OpenMesh::FProp<int>(mesh, prop::input_face);
     std::vector<int> handle(raw.points.size(), -1);
     for (const auto& t : T)
         for (int k = 0; k < 3; ++k)
@@ -334,14 +336,17 @@ Mesh build(const RawMesh& raw, const std::vector<Triangle>& T, bool reverse)
                 input_index[v] = t[k];
             }
     mesh.reserve(mesh.n_vertices(), 3 * T.size() / 2, T.size());
-    for (const auto& t : T)
+    for (std::size_t i = 0; i < T.size(); ++i)
     {
+        const auto& t = T[i];
         VertexHandle a(handle[t[0]]), b(handle[t[1]]), c(handle[t[2]]);
         if (reverse)
             std::swap(b, c);
-        if (!mesh.add_face(a, b, c).is_valid())
+        const auto f = mesh.add_face(a, b, c);
+        if (!f.is_valid())
             throw TopologyError("make_tree_surface: OpenMesh refused a face that passed the "
                                 "manifold checks; please report this mesh");
+        input_face[f] = tri.source_face[i];
     }
     return mesh;
 }
@@ -378,7 +383,7 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
     select_component(tri, check_manifold(raw, tri), options, out.notes);
 
     out.input_vertices = static_cast<int>(raw.points.size());
-    out.mesh = build(raw, tri.triangles, false);
+    out.mesh = build(raw, tri, false);
     const auto loops = boundary_loops(out.mesh);
     if (loops.empty())
         refuse("the surface is closed (no open ends); remove the caps at the inlet and outlets "
@@ -402,7 +407,7 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
         out.notes.push_back("ignored " + plural(unused, "vertex") + " not used by any face");
     if (options.orient_outward && closed_volume(out.mesh, loops) < 0.0)
     {
-        out.mesh = build(raw, tri.triangles, true);
+        out.mesh = build(raw, tri, true);
         out.notes.push_back("the surface was wound inward (normals into the lumen); reversed the "
                             "winding of all faces");
     }

@@ -162,4 +162,30 @@ std::string temp_dir(const std::string& name)
     return dir.string();
 }
 
+namespace {
+
+template <class Handle, class Range>
+std::vector<int> int_property(const Mesh& mesh, const char* name, Range elements)
+{
+    typename OpenMesh::HandleToPropHandle<Handle, int>::type h;
+    if (!mesh.get_property_handle(h, name))
+        throw std::runtime_error(std::string("mesh has no property ") + name);
+    std::vector<int> out;
+    for (auto e : elements)
+        out.push_back(mesh.property(h, e));
+    return out;
+}
+
+}  // namespace
+
+std::vector<int> int_vertex_property(const Mesh& mesh, const char* name)
+{
+    return int_property<OpenMesh::VertexHandle>(mesh, name, mesh.vertices());
+}
+
+std::vector<int> int_face_property(const Mesh& mesh, const char* name)
+{
+    return int_property<OpenMesh::FaceHandle>(mesh, name, mesh.faces());
+}
+
 }  // namespace vessel::test

@@ -1,5 +1,7 @@
 #pragma once
 
+#include "vessel/mesh.h"
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -34,6 +36,11 @@ struct FlatObjCheck
 };
 
 FlatObjCheck check_flat_obj(const FlatObj& obj);
+
+//! The `int` vertex (or face) property \p name of \p mesh, indexed by `idx()`; throws
+//! std::runtime_error if it is missing.
+std::vector<int> int_vertex_property(const Mesh& mesh, const char* name);
+std::vector<int> int_face_property(const Mesh& mesh, const char* name);
 
 //! Run a shell command; returns its exit status (0 = success).
 int run(const std::string& command);

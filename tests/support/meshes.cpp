@@ -109,6 +109,57 @@ std::vector<VertexHandle> boundary_vertices(const Mesh& mesh)
     return out;
 }
 
+RawMesh tube_with_quads(int around, int along)
+{
+    RawMesh raw;
+    for (int j = 0; j <= along; ++j)
+        for (int i = 0; i < around; ++i)
+        {
+            const double a = 2 * M_PI * (i + 0.5 * j) / around;
+            raw.points.emplace_back(std::cos(a), std::sin(a), 0.4 * j);
+        }
+    for (int j = 0; j < along; ++j)
+        for (int i = 0; i < around; ++i)
+        {
+            const int a = j * around + i, b = j * around + (i + 1) % around;
+            if (j == 0)
+                raw.faces.push_back({a, b, b + around, a + around});
+            else
+            {
+                raw.faces.push_back({a, b, b + around});
+                raw.faces.push_back({a, b + around, a + around});
+            }
+        }
+    return raw;
+}
+
+PolyData tube_with_fields(int around, int along)
+{
+    PolyData d;
+    d.mesh = vessel::test::tube_with_quads(around, along);
+    const auto np = static_cast<Eigen::Index>(d.mesh.points.size());
+    const auto nf = static_cast<Eigen::Index>(d.mesh.faces.size());
+    Field pressure{"pressure", FieldLocation::Point, FieldType::Float32, Eigen::MatrixXd(np, 1)};
+    Field velocity{"velocity", FieldLocation::Point, FieldType::Float64, Eigen::MatrixXd(np, 3)};
+    Field node{"GlobalNodeID", FieldLocation::Point, FieldType::Int32, Eigen::MatrixXd(np, 1)};
+    for (Eigen::Index i = 0; i < np; ++i)
+    {
+        pressure.values(i, 0) = static_cast<float>(0.1 * i - 3.3);
+        velocity.values.row(i) << std::sin(i * 0.37), 1e-9 * i, -12345.678901234567 + i;
+        node.values(i, 0) = 1000 + 7 * i;
+    }
+    Field element{"GlobalElementID", FieldLocation::Cell, FieldType::Int64, Eigen::MatrixXd(nf, 1)};
+    Field thickness{"thickness", FieldLocation::Cell, FieldType::Float64, Eigen::MatrixXd(nf, 1)};
+    for (Eigen::Index f = 0; f < nf; ++f)
+    {
+        element.values(f, 0) = 5000000000.0 + f;  // needs 64 bits
+        thickness.values(f, 0) = 0.3 + 1.0 / (f + 3.0);
+    }
+    d.point_data = {pressure, velocity, node};
+    d.cell_data = {element, thickness};
+    return d;
+}
+
 Eigen::MatrixX2d planar_uv(const Mesh& mesh)
 {
     Eigen::MatrixX2d uv(mesh.n_vertices(), 2);

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "vessel/io.h"
+#include "vessel/vtk_io.h"
 #include "vessel/mesh.h"
 
 #include <Eigen/Geometry>
@@ -23,6 +24,16 @@ Mesh posed_grid(double size, int n, const Eigen::Isometry3d& pose);
 //! \brief posed_grid() with the identity pose and a Gaussian bump of height \p height in z at the
 //! centre (a non-developable disk). Vertex (i, j) has index j * (n + 1) + i.
 Mesh bumped_grid(double size, int n, double height);
+
+//! \brief Open tube as a file would hold it: \p around x (\p along + 1) points (ring j, point i
+//! at index j * around + i, rings twisted by half a step), the first ring of faces quads, the
+//! others triangles. Unit radius, rings 0.4 apart.
+RawMesh tube_with_quads(int around, int along);
+
+//! \brief tube_with_quads() with arrays of every kind: point `pressure` (Float32), `velocity`
+//! (Float64, 3 components), `GlobalNodeID` (Int32); cell `GlobalElementID` (Int64, values past
+//! 2^32) and `thickness` (Float64).
+PolyData tube_with_fields(int around, int along);
 
 //! The (x, y) of a mesh lying in the z = 0 plane (e.g. plane_grid()) as its map: |V| x 2.
 Eigen::MatrixX2d planar_uv(const Mesh& mesh);

@@ -78,7 +78,8 @@ bool is_mesh_file(const fs::path& p)
     std::string ext = p.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),
                    [](unsigned char c) { return std::tolower(c); });
-    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
+    return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl" ||
+           ext == ".vtp" || ext == ".vtk";
 }
 
 std::string trimmed(const std::string& s)
@@ -107,7 +108,7 @@ std::vector<Input> collect_inputs(const std::string& spec)
             if (entry.is_regular_file() && is_mesh_file(entry.path()))
                 files.push_back(entry.path().string());
         if (files.empty())
-            throw InvalidInputError("--batch: no .obj, .off, .ply or .stl files in " + spec);
+            throw InvalidInputError("--batch: no .obj, .off, .ply, .stl, .vtp or .vtk files in " + spec);
     }
     else if (fs::is_regular_file(spec))
     {

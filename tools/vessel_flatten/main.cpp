@@ -1,8 +1,12 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
 #include "../vessel_view/command.h"
 #include "batch.h"
+#include "images.h"
+#include "viewer_fields.h"
 #include "vessel/errors.h"
+#include "vessel/field_series.h"
 #include "vessel/flat_io.h"
+#include "vessel/flat_vtk.h"
 #include "vessel/io.h"
 #include "vessel/pipeline.h"
 #include "vessel/split.h"
@@ -33,29 +37,53 @@ double seconds_since(Clock::time_point start)
 int main(int argc, char** argv)
 {
     CLI::App app{"Cut a vessel tree surface open along natural vessel cuts and flatten it into "
-                 "one 2D patch.\nWrites OBJ in seam form: v = input positions (input order), "
-                 "vt = (u, v) per cut vertex, f v/vt."};
+                 "one 2D patch.\nOUT.obj: seam form (v = input positions in input order, vt = "
+                 "(u, v) per cut vertex, f v/vt). OUT.vtp: the 3D cut mesh with uv texture "
+                 "coordinates and every field, plus OUT-map.vtp (the map, z = 0) and, for a time "
+                 "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
     std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
                                             init = "layout-lscm", refine = "injective",
                                             overlaps = "restart", layout = "fan";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
+    std::string fields_spec, field_name;
+    vessel::cli::ImageRequest images;
+    vessel::FieldSeriesOptions series_options;
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
     auto* input_option =
-        app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl), open at inlet "
-                                        "and outlets")
+        app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl, .vtp, .vtk), "
+                                        "open at inlet and outlets; arrays of a .vtp/.vtk are "
+                                        "carried to the output")
             ->check(CLI::ExistingFile);
-    app.add_option("-o,--output", output, "Flattened mesh (.obj); with --batch, the output "
-                                          "directory")
+    app.add_option("-o,--output", output, "Flattened mesh (.obj, .vtp or .ply); with --batch, "
+                                          "the output directory")
         ->required();
+    auto* fields_option = app.add_option(
+        "--fields", fields_spec,
+        "Fields over the input mesh to carry to the output: a .vtp/.vtk, a .pvd series, numbered "
+        "files (wss_%03d.vtp or 'wss_*.vtp') or a CSV table (wide: vertex,t0,t1,...; long: "
+        "vertex,time,NAME); see docs/fields.md");
+    app.add_option("--field", field_name, "Keep only this array of --fields (and check that it "
+                                          "exists); also the CSV field's name in wide form");
+    app.add_option("--image", images.image,
+                   "Also draw --field (default: the first point field) on the map: .png, .svg or "
+                   ".pdf; a series shows its first step");
+    app.add_option("--frames", images.frames,
+                   "With a --fields series: PNG frames of --field over time in this directory "
+                   "(25 fps, linear interpolation between steps)");
+    app.add_option("--time-step", series_options.time_step,
+                   "Seconds between numbered files (and CSV columns without times)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
                                             ".ply/.stl files, recursively) or a text file with "
                                             "one path per line; writes OUTDIR/<stem>.obj, "
                                             "<stem>.json (<file name>.obj/.json where stems "
                                             "repeat) and summary.csv/.json")
-        ->excludes(input_option);
+        ->excludes(input_option)
+        ->excludes(fields_option);
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
@@ -155,9 +183,10 @@ int main(int argc, char** argv)
     }
     try
     {
-        if (batch.inputs.empty() && std::filesystem::path(output).extension() != ".obj")
-            throw vessel::InvalidInputError("the output must be an .obj file (seam form), got " +
-                                            output);
+        const std::string out_ext = std::filesystem::path(output).extension().string();
+        if (batch.inputs.empty() && out_ext != ".obj" && out_ext != ".vtp" && out_ext != ".ply")
+            throw vessel::InvalidInputError("the output must be .obj (seam form), .vtp or .ply, "
+                                            "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
         options.refinement = refine == "none"  ? vessel::Refinement::None
                              : refine == "arap" ? vessel::Refinement::Arap
@@ -201,9 +230,38 @@ int main(int argc, char** argv)
             };
 
         auto start = Clock::now();
-        const vessel::cli::PreparedInput in = vessel::cli::prepare_input(
-            vessel::read_raw_mesh(input), surface_options, batch.repair);
+        vessel::PolyData input_data;
+        if (vessel::is_vtk_path(input))
+            input_data = vessel::read_polydata(input);
+        else
+            input_data.mesh = vessel::read_raw_mesh(input);
+        const vessel::cli::PreparedInput in =
+            vessel::cli::prepare_input(input_data.mesh, surface_options, batch.repair);
         const vessel::TreeSurface& surface = in.surface;
+        std::vector<vessel::Field> fields = input_data.point_data;
+        fields.insert(fields.end(), input_data.cell_data.begin(), input_data.cell_data.end());
+        vessel::TimeSeries series;
+        if (!fields_spec.empty())
+        {
+            series_options.name = field_name;
+            series = vessel::read_field_series(fields_spec, input_data, series_options);
+            if (!field_name.empty())
+                for (auto& step : series.steps)
+                    step = {vessel::find_field(step, field_name)};
+            if (series.size() > 1 && out_ext != ".vtp")
+                throw vessel::InvalidInputError(
+                    "--fields gives " + std::to_string(series.size()) +
+                    " time steps; write them with an OUT.vtp output (OUT.pvd series)");
+        }
+        else if (!field_name.empty())
+            vessel::find_field(fields, field_name);
+        if (batch.repair && (!fields.empty() || series.size() > 0))
+            throw vessel::InvalidInputError("--repair may merge or drop vertices and faces; "
+                                            "fields cannot be carried through it (repair the "
+                                            "mesh first, then compute the fields on it)");
+        if (!split_at.empty() && (!fields.empty() || series.size() > 0))
+            throw vessel::InvalidInputError("--split-at renumbers the vertices of each piece; "
+                                            "fields cannot be carried to the pieces");
         const double read_s = seconds_since(start);
         if (!quiet)
         {
@@ -221,7 +279,36 @@ int main(int argc, char** argv)
                     std::fprintf(stderr, "note: %s\n", note.c_str());
 
             start = Clock::now();
-            vessel::write_flat_obj(out, piece.raw.points, result.mesh, result.uv);
+            const std::vector<vessel::Field> cut_fields =
+                vessel::transfer_fields(fields, result.mesh);
+            const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
+            std::vector<vessel::Field> all_fields = cut_fields;
+            if (cut_series.size() == 1)
+                all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),
+                                  cut_series.steps[0].end());
+            if (out_ext == ".vtp")
+            {
+                vessel::write_flat_vtp(out, result.mesh, result.uv, all_fields);
+                if (cut_series.size() > 1)
+                {
+                    const std::string pvd =
+                        std::filesystem::path(out).replace_extension(".pvd").string();
+                    vessel::write_flat_series(pvd, result.mesh, result.uv, cut_fields, cut_series);
+                    if (!quiet)
+                        std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
+                                     pvd.c_str());
+                }
+            }
+            else if (out_ext == ".ply")
+                vessel::write_flat_ply(out, result.mesh, result.uv, all_fields);
+            else
+            {
+                if (!all_fields.empty() && !quiet)
+                    std::fprintf(stderr, "note: OBJ carries no data arrays (%zu not written); "
+                                         "use an .vtp or .ply output to keep them\n",
+                                 all_fields.size());
+                vessel::write_flat_obj(out, piece.raw.points, result.mesh, result.uv);
+            }
             if (!html.empty())
             {
                 vessel::ViewerOptions view;
@@ -232,8 +319,14 @@ int main(int argc, char** argv)
                 view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
                                      ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
                                      : std::nullopt;
-                vessel::write_viewer_html(html, result, {vessel::geodesic_field(result)}, view);
+                std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
+                for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
+                    shown.push_back(std::move(f));
+                vessel::write_viewer_html(html, result, shown, view);
             }
+            images.field = field_name;
+            images.quiet = quiet;
+            vessel::cli::render_images(images, result, cut_fields, cut_series);
             const double write_s = seconds_since(start);
             if (!report.empty())
             {

@@ -4,7 +4,9 @@
 
 #include "vessel/boundary.h"
 #include "vessel/errors.h"
+#include "vessel/field_series.h"
 #include "vessel/phantom.h"
+#include "vessel/pulse_series.h"
 
 #include <CLI/CLI.hpp>
 
@@ -98,6 +100,16 @@ int main(int argc, char** argv)
     app.add_option("--root-radius", tree.root_radius, "tree: inlet radius")
         ->capture_default_str();
 
+    std::string pulse_prefix;
+    app.add_option("--pulse", pulse_prefix,
+                   "Also write a travelling WSS-like pulse over the mesh (1.8 s, 90 steps, Pa) as "
+                   "PREFIX.pvd (+ PREFIX/PREFIX_NNN.vtp), PREFIX.csv (wide) and PREFIX-long.csv "
+                   "(long); vertex ids are those of OUTPUT");
+    vessel::PulseSeriesOptions pulse;
+    app.add_option("--pulse-steps", pulse.steps, "With --pulse: number of time steps")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+
     bool quiet = false;
     app.add_flag("-q,--quiet", quiet, "Do not print the mesh summary");
 
@@ -149,6 +161,20 @@ int main(int argc, char** argv)
             write_options += OpenMesh::IO::Options::Binary;
         if (!OpenMesh::IO::write_mesh(mesh, output, write_options))
             throw vessel::IoError("could not write " + output);
+        if (!pulse_prefix.empty())
+        {
+            const vessel::TimeSeries series = vessel::travelling_pulse(mesh, pulse);
+            vessel::write_pvd_series(pulse_prefix + ".pvd",
+                                     {{"", vessel::PolyData{vessel::to_raw_mesh(mesh), {}, {}, {}}}},
+                                     series);
+            vessel::write_csv_series(pulse_prefix + ".csv", series, pulse.name,
+                                     vessel::CsvLayout::Wide);
+            vessel::write_csv_series(pulse_prefix + "-long.csv", series, pulse.name,
+                                     vessel::CsvLayout::Long);
+            if (!quiet)
+                std::cout << "pulse: " << series.size() << " steps over " << pulse.duration_s
+                          << " s -> " << pulse_prefix << ".pvd, .csv, -long.csv\n";
+        }
         if (!quiet)
             std::cout << kind << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces()
                       << " faces, " << vessel::boundary_loops(mesh).size()

@@ -14,7 +14,9 @@ struct RawMesh
     std::vector<std::vector<int>> faces;  //!< corner indices into `points`, in file order
 };
 
-//! \brief Read OBJ, OFF, PLY (ascii/binary) or STL (ascii/binary) through OpenMesh's readers.
+//! \brief Read OBJ, OFF, PLY (ascii/binary) or STL (ascii/binary) through OpenMesh's readers,
+//! or VTK PolyData (`.vtp`, legacy `.vtk`) through read_polydata() (vtk_io.h; its data arrays
+//! are dropped here, read them with read_polydata()).
 //! STL corners at identical positions are merged by OpenMesh's STL reader, so a segmentation
 //! STL becomes a connected mesh. Faces are recorded before OpenMesh sees them, so non-manifold,
 //! mis-oriented and degenerate faces reach the validation instead of being silently altered.

@@ -9,6 +9,10 @@ namespace vessel::prop {
 //! `int` per vertex: index in the input file of the vertex a (possibly duplicated) vertex came
 //! from; set when a file is loaded (see validation.h), copied to seam duplicates.
 inline constexpr const char* input_index = "vessel:input_index";
+//! `int` per face: index in the input file of the polygon a triangle came from (polygons with
+//! more than 3 corners are split into several triangles); set when a file is loaded (see
+//! validation.h). Cutting keeps faces, so cell data follow their faces through it.
+inline constexpr const char* input_face = "vessel:input_face";
 //! `int` per vertex: index, in the mesh before cutting, of the vertex a (possibly duplicated)
 //! vertex came from; created by cut_along_edges() (see cut.h).
 inline constexpr const char* origin = "vessel:origin";

@@ -25,7 +25,8 @@ struct TreeSurfaceOptions
 struct TreeSurface
 {
     //! Triangle mesh of the used input vertices; `int` vertex property `prop::input_index` gives
-    //! each vertex's index in the input file.
+    //! each vertex's index in the input file, `int` face property `prop::input_face` each
+    //! triangle's polygon in the input file.
     Mesh mesh;
     int input_vertices = 0;          //!< vertices in the file (including unused ones)
     std::vector<std::string> notes;  //!< repairs applied, one human-readable line each
