@@ -44,6 +44,11 @@ nlohmann::json report_without_timings(const fs::path& path)
 // The first words of the documented message (docs/bad-input.md) for each bad real mesh.
 const std::map<std::string, std::string> kRefusals = {
     {"aorta-surface.ply", "the surface is closed (no open ends)"},
+    {"aorta-surface.vtp", "the surface is closed (no open ends)"},
+    {"aorta-surface-subdiv-207k.vtp", "the surface is closed (no open ends)"},
+    {"demo-model-capped.vtp", "the surface is closed (no open ends)"},
+    {"aorta-surface-branch-split.vtp",
+     "coincident boundary loops: 344 boundary vertices lie exactly on other boundary vertices"},
     {"aorta-surface-subdiv-207k.ply", "the surface is closed (no open ends)"},
     {"demo-model-capped.ply", "the surface is closed (no open ends)"},
     {"carotid-bif-capped.ply", "the surface is closed (no open ends)"},
@@ -65,10 +70,11 @@ TEST_CASE("batch: every real mesh gets a row and an interrupted then resumed run
     for (const auto& e : fs::recursive_directory_iterator(kData))
     {
         const std::string ext = e.path().extension().string();
-        if (e.is_regular_file() && (ext == ".ply" || ext == ".stl" || ext == ".obj" || ext == ".off"))
+        if (e.is_regular_file() && (ext == ".ply" || ext == ".stl" || ext == ".obj" ||
+                                    ext == ".off" || ext == ".vtp" || ext == ".vtk"))
             meshes.insert(e.path().filename().string());
     }
-    REQUIRE(meshes.size() >= 20);
+    REQUIRE(meshes.size() >= 27);
     const std::string dir = vt::temp_dir("batch_real");
     const std::string batch = kFlatten + " --batch " + kData + " --jobs 2 --quiet -o ";
 
