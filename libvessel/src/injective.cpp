@@ -432,9 +432,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     if (options.scaffold)
         scaffold.emplace(mesh, n, options.scaffold_weight * total_area);
     const int n_all = scaffold ? scaffold->vertices() : n;
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * n_all);
-    for (int v = 0; v < n; ++v)
-        x.segment<2>(2 * v) = uv.row(v).transpose();
+    Eigen::VectorXd x = detail::interleaved(uv, n_all - n);
     for (const auto& pin : pins)
         x.segment<2>(2 * pin.vertex.idx()) = pin.uv;
     // Soft pins: the given ones, and the scaffold's box corners where they are.
@@ -567,8 +565,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             break;
         }
     }
-    for (int v = 0; v < n; ++v)
-        uv.row(v) = x.segment<2>(2 * v).transpose();
+    detail::deinterleave(x, uv);
     summary.final_energy = e_surface;
     summary.report = std::string(scaffold ? "SLIM with scaffold" : "SLIM") +
                      " symmetric Dirichlet: " + std::to_string(summary.iterations) +

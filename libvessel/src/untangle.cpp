@@ -206,9 +206,7 @@ UntangleSummary untangle(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pin
                                 std::to_string(n) + " vertices");
     const std::vector<int> pinned = pin_index(mesh, pins, "untangle");
     const std::vector<FaceOperator> ops = detail::face_operators(mesh);
-    Eigen::VectorXd x(2 * n);
-    for (int v = 0; v < n; ++v)
-        x.segment<2>(2 * v) = uv.row(v).transpose();
+    Eigen::VectorXd x = detail::interleaved(uv);
 
     UntangleSummary summary;
     std::vector<int> flipped = flipped_faces(ops, x);
@@ -218,13 +216,13 @@ UntangleSummary untangle(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pin
     {
         const bool last = summary.rounds + 1 == options.max_rounds;
         const std::vector<char> region = grow_region(mesh, ops, flipped, last ? -1 : rings);
+        const auto movable = [&](int v) { return region[v] && pinned[v] < 0; };
         std::vector<int> free_vertices, faces;
         for (int v = 0; v < n; ++v)
-            if (region[v] && pinned[v] < 0)
+            if (movable(v))
                 free_vertices.push_back(v);
         for (std::size_t f = 0; f < ops.size(); ++f)
-            if (std::any_of(ops[f].corner.begin(), ops[f].corner.end(),
-                            [&](int v) { return region[v] && pinned[v] < 0; }))
+            if (std::any_of(ops[f].corner.begin(), ops[f].corner.end(), movable))
                 faces.push_back(static_cast<int>(f));
         ++summary.rounds;
         summary.free_vertices = static_cast<int>(free_vertices.size());
@@ -236,8 +234,7 @@ UntangleSummary untangle(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pin
         rings *= 2;
     }
     summary.flipped_after = static_cast<int>(flipped.size());
-    for (int v = 0; v < n; ++v)
-        uv.row(v) = x.segment<2>(2 * v).transpose();
+    detail::deinterleave(x, uv);
     summary.report = "untangle: " + std::to_string(summary.flipped_before) + " -> " +
                      std::to_string(summary.flipped_after) + " flipped triangles in " +
                      std::to_string(summary.rounds) + " round(s), " +

@@ -38,6 +38,23 @@ inline Eigen::Matrix2d jacobian(const FaceOperator& op, const double* x)
     return J;
 }
 
+//! \p uv (|V| x 2, row `v.idx()`) as the interleaved vector [u_0, v_0, u_1, v_1, ...] the face
+//! operators read, with room for \p extra_vertices more (left at 0).
+inline Eigen::VectorXd interleaved(const Eigen::MatrixX2d& uv, int extra_vertices = 0)
+{
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * (uv.rows() + extra_vertices));
+    for (Eigen::Index v = 0; v < uv.rows(); ++v)
+        x.segment<2>(2 * v) = uv.row(v).transpose();
+    return x;
+}
+
+//! The first `uv.rows()` vertices of the interleaved \p x written back into \p uv.
+inline void deinterleave(const Eigen::VectorXd& x, Eigen::MatrixX2d& uv)
+{
+    for (Eigen::Index v = 0; v < uv.rows(); ++v)
+        uv.row(v) = x.segment<2>(2 * v).transpose();
+}
+
 //! Threads for per-face loops: two where they pay (the machines this runs on have two cores);
 //! small meshes stay serial, where starting a thread costs more than it saves.
 inline int face_threads(std::size_t faces)
