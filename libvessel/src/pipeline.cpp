@@ -190,7 +190,7 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     std::string restart;
     // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
     // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
-    // ARAP never removed a crossing of the LSCM map (8 of 8 stayed crossed), so this skips
+    // ARAP never removed a crossing of the LSCM map (9 of 9 stayed crossed), so this skips
     // only work whose result was thrown away (docs/benchmarks.md).
     if (may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0)
         restart = crossing;
