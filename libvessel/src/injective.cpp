@@ -193,8 +193,8 @@ double max_injective_step(const std::vector<FaceOperator>& ops, const Eigen::Vec
 // corners in increasing vertex order, local unknown l = 2 * (sorted corner) + (0 for u, 1 for
 // v) increases with the global one, so the block's lower triangle is a >= b: 21 entries. They
 // are stored transposed, as the upper triangle: CHOLMOD then spends less of each supernodal
-// factorization transposing its input (cholmod_transpose_sym 6.8% -> 4.3% of the samples; the
-// SLIM factorizations of the 44k phantom 6% faster, bit-identical map).
+// factorization transposing its input (cholmod_transpose_sym 5.4% -> 4.3% of the perf samples
+// of a 44k phantom run; its SLIM factorizations 6% faster, the map bit-identical).
 struct FaceBlock
 {
     std::array<int, 21> slot{};  //!< value index of (a, b), a >= b, in order a = 0..5, b <= a

@@ -79,7 +79,9 @@ struct FlattenOptions
     //! Step 7 refinement. With Injective, when untangling fails or the map at the layout
     //! overlaps itself (see `overlaps`), the map restarts from the Tutte embedding: the
     //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
-    //! FlattenResult::notes.
+    //! FlattenResult::notes. When the LSCM map at the layout already crosses itself, the restart
+    //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
+    //! ::untangle stay empty).
     Refinement refinement = Refinement::Injective;
     OverlapPolicy overlaps = OverlapPolicy::Restart;
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
