@@ -202,13 +202,15 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
         if (!restart.empty())
         {
             // Tutte's map of the disk onto a circle is one-to-one; SLIM never flips a triangle
-            // of it, and with a scaffold never lets its boundary cross either. The layout's
+            // of it, and with a scaffold (from the start, or from the first contact of the
+            // boundary with itself) never lets its boundary cross either. The layout's
             // arrangement is lost; the loops keep their order around the map.
             result.notes.push_back(restart + "; restarted from the Tutte embedding");
             result.uv = tutte_embedding(mesh);
             pins.clear();  // the Tutte map cannot hold the inlet at the layout
             at_layout = false;
             slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
+            slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
             slim.max_iterations = std::max(slim.max_iterations, 1);
         }
         if (slim.max_iterations > 0)

@@ -24,7 +24,15 @@ struct InjectiveOptions
     //! triangle flip either, so the boundary cannot run into itself. Needs a start without
     //! overlaps (e.g. tutte_embedding).
     bool scaffold = false;
-    double scaffold_weight = 1e-2;  //!< the scaffold's total weight, as a fraction of the surface area
+    //! Start without a scaffold, check the map's boundary after every step, and build the
+    //! scaffold at the first step that would make it cross itself (that step is refused): the
+    //! map stays one-to-one, and the scaffold's cost is paid only once parts of the boundary
+    //! meet. Needs a start whose boundary is simple; otherwise it has no effect.
+    bool scaffold_on_contact = false;
+    //! The scaffold's total weight, as a fraction of the surface area. Lighter scaffolds barely
+    //! steer the step, which then stops at the first scaffold triangle about to collapse;
+    //! heavier ones resist the map's motion (0.1: least area distortion on the tree phantoms).
+    double scaffold_weight = 0.1;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -35,6 +43,7 @@ struct InjectiveSummary
     double initial_energy = 0.0;  //!< symmetric Dirichlet energy at the start (4 x area at best)
     double final_energy = 0.0;
     bool converged = false;
+    int scaffold_from = 0;  //!< with scaffold_on_contact: iteration the scaffold started (0: never)
     std::string report;  //!< one line: iterations and energies
 };
 
