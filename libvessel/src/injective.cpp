@@ -30,6 +30,8 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
     if (!(scaffold_weight > 0.0))
         throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
+    if (!(scaffold_tolerance > 0.0))
+        throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be > 0");
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
@@ -496,6 +498,12 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
 
     double e_surface = summary.initial_energy;
     int slow = 0;  // consecutive iterations below the tolerance
+    // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
+    Eigen::VectorXd last_simple = x;
+    int last_simple_it = 0;
+    for (int phase = 0; phase < 2; ++phase)
+    {
+    const int done = summary.iterations;
     for (int it = 0; it < options.max_iterations; ++it)
     {
         if (scaffold)
@@ -575,54 +583,50 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             t *= 0.5;
             e_new = energy(ops, x + t * d, threads);
         }
-        summary.iterations = it + 1;
+        summary.iterations = done + it + 1;
         if (!(e_new <= e))
         {
             summary.converged = true;  // no descent left along the proxy's direction
             break;
         }
-        if (watch && crosses(x + t * d))
-        {
-            // This step would make the boundary run into itself. Shorter steps that do not
-            // (found by halving) are still descent steps of the convex-along-d energy; once
-            // even a step of a tenth does, parts of the boundary have met: from then on a
-            // scaffold keeps the free space between them open.
-            double s = t;
-            for (int k = 0; k < 4 && crosses(x + s * d); ++k)
-                s *= 0.5;
-            if (!crosses(x + s * d))
-            {
-                x += s * d;
-                const double e_now = energy(surface, x, threads);
-                e_surface = e_now;
-                slow = 0;
-                continue;
-            }
-            watch = false;
-            start_scaffold();
-            summary.scaffold_from = it;
-            slow = 0;
-            continue;
-        }
         x += t * d;
+        if (watch && !crosses(x))
+        {
+            last_simple = x;
+            last_simple_it = summary.iterations;
+        }
         const double e_surface_new = scaffold ? energy(surface, x, threads) : e_new;
         const double decrease = (e_surface - e_surface_new) / e_surface;
         e_surface = e_surface_new;
         // One small step can come from a short line search (a nearly collapsed triangle in
         // the way), not from convergence; three in a row cannot.
-        slow = decrease < options.tolerance ? slow + 1 : 0;
+        slow = decrease < (scaffold ? options.scaffold_tolerance : options.tolerance) ? slow + 1 : 0;
         if (slow == 3)
         {
             summary.converged = true;
             break;
         }
     }
+    // Unconstrained SLIM may move the boundary across itself (branches relaxing into each
+    // other). Then go back to the last iterate without that and go on with a scaffold, which
+    // keeps the free space between the boundary's parts open: the end map is one-to-one.
+    if (!watch || !crosses(x))
+        break;
+    watch = false;
+    x = last_simple;
+    summary.scaffold_from = last_simple_it;
+    summary.converged = false;
+    e_surface = energy(surface, x, threads);
+    slow = 0;
+    start_scaffold();
+    }
     detail::deinterleave(x, uv);
     summary.final_energy = e_surface;
-    summary.report = std::string(!scaffold                 ? "SLIM"
-                                 : summary.scaffold_from > 0 ? "SLIM, scaffold from iteration " +
-                                                                   std::to_string(summary.scaffold_from) + ","
-                                                             : "SLIM with scaffold") +
+    summary.report = std::string(!scaffold ? "SLIM"
+                                 : summary.scaffold_from >= 0
+                                     ? "SLIM (boundary crossed; scaffold from iterate " +
+                                           std::to_string(summary.scaffold_from) + ")"
+                                     : "SLIM with scaffold") +
                      " symmetric Dirichlet: " + std::to_string(summary.iterations) +
                      " iterations, energy " + std::to_string(summary.initial_energy) + " -> " +
                      std::to_string(summary.final_energy) +

@@ -210,11 +210,15 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
             pins.clear();  // the Tutte map cannot hold the inlet at the layout
             at_layout = false;
             slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
-            slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
             slim.max_iterations = std::max(slim.max_iterations, 1);
         }
         if (slim.max_iterations > 0)
+        {
+            slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
             result.injective = injective_refine(mesh, result.uv, pins, slim);
+            if (result.injective.scaffold_from >= 0)
+                result.notes.push_back(result.injective.report);
+        }
     }
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);

@@ -43,7 +43,7 @@ int main(int argc, char** argv)
                  "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
     std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
                                             init = "layout-lscm", refine = "injective",
-                                            overlaps = "prevent", layout = "fan";
+                                            overlaps = "restart", layout = "fan";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
     std::string fields_spec, field_name;

@@ -80,7 +80,7 @@ struct FlattenOptions
     //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
     //! FlattenResult::notes.
     Refinement refinement = Refinement::Injective;
-    OverlapPolicy overlaps = OverlapPolicy::Prevent;
+    OverlapPolicy overlaps = OverlapPolicy::Restart;
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
     UntangleOptions untangle;    //!< flip removal of Refinement::Injective
     InjectiveOptions injective;  //!< SLIM of Refinement::Injective (0 iterations: skipped)
