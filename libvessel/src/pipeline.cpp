@@ -217,7 +217,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
         if (!restart.empty())
         {
             // Tutte's map of the disk onto a circle is one-to-one; SLIM never flips a triangle
-            // of it, and with a scaffold never lets its boundary cross either. The layout's
+            // of it, and with a scaffold (from the start, or from the first contact of the
+            // boundary with itself) never lets its boundary cross either. The layout's
             // arrangement is lost; the loops keep their order around the map.
             result.notes.push_back(restart + "; restarted from the Tutte embedding");
             result.uv = tutte_embedding(mesh);
@@ -227,7 +228,12 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
             slim.max_iterations = std::max(slim.max_iterations, 1);
         }
         if (slim.max_iterations > 0)
+        {
+            slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
             result.injective = injective_refine(mesh, result.uv, pins, slim);
+            if (result.injective.scaffold_from >= 0)
+                result.notes.push_back(result.injective.report);
+        }
     }
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);

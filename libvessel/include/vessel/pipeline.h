@@ -53,9 +53,13 @@ enum class OverlapPolicy
     //! a triangle but can let the boundary cross (overlaps shrink, e.g. 42% -> 3% of the area
     //! on the pulmonary tree, but are not excluded)
     Restart,
-    //! as Restart, with a scaffold that excludes any overlap; the scaffold holds deep
-    //! branches compressed, so area distortion is much higher (docs/results.md)
+    //! as Restart, with a scaffold (free-space triangulation, InjectiveOptions::scaffold)
+    //! from the first iteration: no overlaps, but slower and more area distortion than Prevent
     RestartWithScaffold,
+    //! as Restart, and the boundary is checked after every SLIM step: steps that would make it
+    //! cross are shortened, and once parts of it meet the scaffold keeps them apart
+    //! (InjectiveOptions::scaffold_on_contact). The map is one-to-one: no flips, no overlaps.
+    Prevent,
 };
 
 struct FlattenOptions
