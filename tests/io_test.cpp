@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/checks.h"
 #include "support/io_refusal.h"
 #include "vessel/errors.h"
 #include "vessel/io.h"
@@ -20,9 +21,8 @@ namespace {
 
 std::string temp_path(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / "vessel_io_test";
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
+    static const std::string dir = vessel::test::temp_dir("io");
+    return dir + "/" + name;
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace vessel::test {
 
@@ -156,7 +157,10 @@ int run(const std::string& command)
 
 std::string temp_dir(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / ("vessel_test_" + name);
+    // Per process: several checkouts of the project run their suites on one machine, and a
+    // shared /tmp/vessel_test_<name> let one run's batch outputs be compared with another's.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vessel_test_" + std::to_string(::getpid()) + "_" + name);
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir.string();
