@@ -8,8 +8,12 @@ cd "$(dirname "$0")/.."
 "$(dirname "$0")/install-deps.sh"
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Release -DVESSEL_SANITIZE=ON \
   ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER}
-cmake --build build-sanitize -j"$(nproc)"
+nice cmake --build build-sanitize -j"$(nproc)"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1:suppressions=$PWD/scripts/ubsan.supp"
 export LSAN_OPTIONS="suppressions=$PWD/scripts/lsan.supp"
+# The batch over the real meshes (label `slow`) leaves out files over 1.1 MB here (the 207k and
+# 277k trees, the 69k .ply; the 69k .vtp stays): under ASan they take many minutes each. The
+# normal build (scripts/test.sh) runs it over every file.
+export VESSEL_BATCH_MAX_BYTES=1100000
 ctest --test-dir build-sanitize --output-on-failure -j2 -LE fuzz "$@"

@@ -193,6 +193,89 @@ TEST_CASE("cli: a truncated ASCII OFF is refused")
     check_bad(dir, dir + "/in.off", "is truncated or corrupt: the OFF header declares");
 }
 
+// The header variants of docs/bad-input.md's "OFF variants" rows: read and flattened.
+TEST_CASE("cli: OFF variants (COFF, NOFF, 4OFF, nOFF, comments, V F counts, BINARY) are flattened")
+{
+    const auto dir = temp_dir("cli_off_variants");
+    const Soup s = tube();
+    std::ostringstream head, body, binary;
+    body.precision(17);
+    for (const auto& p : s.v)
+        body << p.x() << " " << p.y() << " " << p.z() << " 0 0 1  # normal\n";
+    for (const auto& f : s.f)
+        body << "3 " << f[0] << " " << f[1] << " " << f[2] << " 255 0 0\n";
+    const std::string counts = std::to_string(s.v.size()) + " " + std::to_string(s.f.size());
+    // Geomview's binary OFF: big-endian words, a colour count after each face.
+    binary << "OFF BINARY\n";
+    auto word = [&](std::uint32_t u) {
+        for (int k = 3; k >= 0; --k)
+            binary.put(static_cast<char>((u >> (8 * k)) & 0xff));
+    };
+    word(static_cast<std::uint32_t>(s.v.size()));
+    word(static_cast<std::uint32_t>(s.f.size()));
+    word(0);
+    for (const auto& p : s.v)
+        for (int k = 0; k < 3; ++k)
+        {
+            const float c = static_cast<float>(p[k]);
+            std::uint32_t u = 0;
+            std::memcpy(&u, &c, 4);
+            word(u);
+        }
+    for (const auto& f : s.f)
+    {
+        word(3);
+        for (int v : f)
+            word(static_cast<std::uint32_t>(v));
+        word(0);
+    }
+    const std::vector<std::pair<std::string, std::string>> files = {
+        {"cnoff.off", "# comment before the header\n\nNOFF\n# counts without edges\n" + counts +
+                          "\n\n" + body.str()},
+        {"nOFF.off", "nOFF " + std::string("3 ") + counts + " 0\n" + body.str()},
+        {"binary.off", binary.str()},
+    };
+    for (const auto& [name, text] : files)
+    {
+        CAPTURE(name);
+        write_text(dir + "/" + name, text);
+        const std::string out = dir + "/" + name + ".obj";
+        const Outcome o = flatten_cli(dir, dir + "/" + name + " -o " + out);
+        CHECK_MESSAGE(o.status == 0, o.err);
+        CHECK(check_flat_obj(read_flat_obj(out)).euler == 1);
+    }
+}
+
+TEST_CASE("cli: OFF variants that are no 3D surface and OBJ corners out of range are refused")
+{
+    const auto dir = temp_dir("cli_off_obj_refused");
+    SUBCASE("nOFF of dimension 4")
+    {
+        write_text(dir + "/in.off", "nOFF 4\n3 1 0\n0 0 0 0\n1 0 0 0\n0 1 0 0\n3 0 1 2\n");
+        check_bad(dir, dir + "/in.off", "is an nOFF file of dimension 4; only 3-dimensional");
+    }
+    SUBCASE("4OFF with w = 0")
+    {
+        write_text(dir + "/in.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 0\n0 1 0 1\n3 0 1 2\n");
+        check_bad(dir, dir + "/in.off", "vertex 1 of " + dir +
+                                            "/in.off has the homogeneous coordinate w = 0");
+    }
+    SUBCASE("binary OFF whose data fit no layout")
+    {
+        write_text(dir + "/in.off", std::string("OFF BINARY\n\0\0\0\3\0\0\0\1\0\0\0\0", 23));
+        check_bad(dir, dir + "/in.off", "the binary OFF data fit none of the layouts");
+    }
+    SUBCASE("OBJ texture and normal indices past the last vt / vn")
+    {
+        write_text(dir + "/in.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1 2/2 3/1\n");
+        check_bad(dir, dir + "/in.obj", "face 0 of " + dir + "/in.obj refers to texture "
+                                        "coordinate '2' (corner '2/2'), which is not one of the 1 "
+                                        "'vt' lines before it; the file is corrupt");
+        write_text(dir + "/in.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//-2 3//1\n");
+        check_bad(dir, dir + "/in.obj", "refers to normal '-2' (corner '2//-2')");
+    }
+}
+
 TEST_CASE("cli: a truncated binary STL is refused")
 {
     const auto dir = temp_dir("cli_truncated_stl");

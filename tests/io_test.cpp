@@ -1,24 +1,28 @@
 #include <doctest/doctest.h>
 
+#include "support/checks.h"
+#include "support/io_refusal.h"
 #include "vessel/errors.h"
 #include "vessel/io.h"
 #include "vessel/phantom.h"
 
 #include <filesystem>
+#include <functional>
+#include <sstream>
 #include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
 
 using namespace vessel;
+using vessel::test::io_refusal;
 
 namespace {
 
 std::string temp_path(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / "vessel_io_test";
-    std::filesystem::create_directories(dir);
-    return (dir / name).string();
+    static const std::string dir = vessel::test::temp_dir("io");
+    return dir + "/" + name;
 }
 
 }  // namespace
@@ -117,5 +121,92 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
             what = e.what();
         }
         CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+    }
+}
+
+namespace {
+
+// A tube written as OBJ with one `vt` and one `vn` per vertex and faces whose corners are
+// spelled by \p corner(index 1-based, vertex count).
+std::string write_obj_corners(const std::string& name,
+                              const std::function<std::string(int, int)>& corner)
+{
+    const RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 12, 6));
+    const int n = static_cast<int>(raw.points.size());
+    std::ostringstream out;
+    out.precision(17);
+    for (const auto& p : raw.points)
+        out << "v " << p.x() << " " << p.y() << " " << p.z() << "\nvt 0.5 0.5\nvn 0 0 1\n";
+    for (const auto& f : raw.faces)
+        out << "f " << corner(f[0] + 1, n) << " " << corner(f[1] + 1, n) << " "
+            << corner(f[2] + 1, n) << "\n";
+    const std::string path = temp_path(name);
+    std::ofstream(path) << out.str();
+    return path;
+}
+
+}  // namespace
+
+TEST_CASE("io: OBJ corners with texture and normal indices, or counted back, are read")
+{
+    const std::vector<std::vector<int>> faces =
+        to_raw_mesh(open_cylinder(1.0, 4.0, 12, 6)).faces;
+    const std::vector<std::pair<std::string, std::function<std::string(int, int)>>> spellings = {
+        {"v/vt/vn", [](int i, int) { return std::to_string(i) + "/" + std::to_string(i) + "/" +
+                                            std::to_string(i); }},
+        {"v//vn", [](int i, int) { return std::to_string(i) + "//" + std::to_string(i); }},
+        {"v/vt", [](int i, int) { return std::to_string(i) + "/" + std::to_string(i); }},
+        // -1 is the last vertex (and texture coordinate, normal) before the face line.
+        {"negative", [](int i, int n) { return std::to_string(i - n - 1) + "/" +
+                                               std::to_string(i - n - 1) + "/-1"; }},
+    };
+    for (const auto& [name, corner] : spellings)
+    {
+        CAPTURE(name);
+        const RawMesh raw = read_raw_mesh(write_obj_corners("corners.obj", corner));
+        CHECK(raw.faces == faces);
+    }
+}
+
+TEST_CASE("io: OBJ corners referring to no texture coordinate, normal or vertex are refused")
+{
+    SUBCASE("texture index past the last vt")
+    {
+        const auto path = write_obj_corners("vt_range.obj", [](int i, int n) {
+            return std::to_string(i) + "/" + std::to_string(i == 1 ? n + 1 : i);
+        });
+        const std::string what = io_refusal(path);
+        CHECK(what.find("read_raw_mesh: face ") == 0);
+        CHECK(what.find(" of " + path + " refers to texture coordinate '85' (corner '1/85'), "
+                        "which is not one of the 84 'vt' lines before it; the file is corrupt") !=
+              std::string::npos);
+    }
+    SUBCASE("normal index 0")
+    {
+        const auto path = write_obj_corners(
+            "vn_zero.obj", [](int i, int) { return std::to_string(i) + "//" + (i == 2 ? "0" : "1"); });
+        CHECK(io_refusal(path).find("refers to normal '0' (corner '2//0'), which is not one of "
+                                    "the 84 'vn' lines before it") != std::string::npos);
+    }
+    SUBCASE("negative vertex index counting back past the first vertex")
+    {
+        const auto path = write_obj_corners(
+            "negative_range.obj", [](int i, int n) { return std::to_string(i == 3 ? -n - 1 : i); });
+        CHECK(io_refusal(path).find("refers to vertex '-85', which is not one of the 84 vertices "
+                                    "before it; the file is corrupt") != std::string::npos);
+    }
+    SUBCASE("malformed corners and too few corners")
+    {
+        const auto path = temp_path("corner_syntax.obj");
+        for (const std::string face : {"f 1/1/1/1 2 3", "f 1/ 2 3", "f 1/1/ 2 3"})
+        {
+            std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n" << face << "\n";
+            CAPTURE(face);
+            CHECK(io_refusal(path).find("which is not v, v/vt, v/vt/vn or v//vn; the file is "
+                                        "corrupt") != std::string::npos);
+        }
+        std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n";
+        CHECK(io_refusal(path) == "read_raw_mesh: face 0 of " + path +
+                                      " has 2 corners; a face needs at least 3; the file is corrupt");
     }
 }

@@ -6,6 +6,8 @@
 #include "vessel/properties.h"
 #include "vessel/validation.h"
 
+#include <algorithm>
+#include <sstream>
 #include <string>
 
 using namespace vessel;
@@ -106,7 +108,17 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     const int apex = static_cast<int>(fin.points.size());
     fin.points.push_back({0, 0, 10});
     fin.faces.push_back({fin.faces[128][1], fin.faces[128][0], apex});  // ring 4: interior edge
-    CHECK(refusal(fin).find("non-manifold edge") != std::string::npos);
+    {
+        // Located by vertex ids and coordinates.
+        const int a = std::min(fin.faces[128][0], fin.faces[128][1]);
+        const int b = std::max(fin.faces[128][0], fin.faces[128][1]);
+        std::ostringstream where;
+        where << "non-manifold edge (" << a << ", " << b << ") (from (" << fin.points[a].x()
+              << ", " << fin.points[a].y() << ", " << fin.points[a].z() << ") to ("
+              << fin.points[b].x() << ", " << fin.points[b].y() << ", " << fin.points[b].z()
+              << ")) is shared by 3 faces";
+        CHECK_MESSAGE(refusal(fin).find(where.str()) != std::string::npos, refusal(fin));
+    }
 
     RawMesh pinch = tube;  // a second tube touching the first at one vertex
     const int base = static_cast<int>(pinch.points.size());
@@ -119,7 +131,10 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
             i = (i + base == base + 8) ? 0 : i + base;
         pinch.faces.push_back(f);
     }
-    CHECK(refusal(pinch).find("non-manifold vertex 0") != std::string::npos);
+    std::ostringstream pinch_at;
+    pinch_at << "non-manifold vertex 0 at (" << tube.points[0].x() << ", " << tube.points[0].y()
+             << ", " << tube.points[0].z() << "): its faces form several fans";
+    CHECK_MESSAGE(refusal(pinch).find(pinch_at.str()) != std::string::npos, refusal(pinch));
 
     RawMesh degenerate = tube;
     degenerate.points.push_back(degenerate.points[0]);

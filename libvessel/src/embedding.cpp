@@ -59,7 +59,12 @@ std::pair<int, int> boundary_self_intersection(const Mesh& mesh, const Eigen::Ma
     if (segments.size() < 4)
         return {-1, -1};
     const double cell = std::max(2.0 * total / segments.size(), 1e-300);
-    const auto key = [](long long i, long long j) { return (i << 32) ^ (j & 0xffffffffLL); };
+    // Cell (i, j) -> one key; the shift is done unsigned (cells left of or below the origin
+    // have negative indices, and shifting a negative signed value is undefined).
+    const auto key = [](long long i, long long j) {
+        return static_cast<long long>(static_cast<unsigned long long>(i) << 32 ^
+                                      (static_cast<unsigned long long>(j) & 0xffffffffULL));
+    };
     std::unordered_map<long long, std::vector<int>> grid;
     grid.reserve(2 * segments.size());
     for (std::size_t k = 0; k < segments.size(); ++k)

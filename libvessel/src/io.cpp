@@ -3,6 +3,9 @@
 #include "vessel/errors.h"
 #include "vessel/vtk_io.h"
 
+#include "detail/off_reader.h"
+#include "detail/read_text.h"
+
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
@@ -14,12 +17,17 @@
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <regex>
+#include <mutex>
 #include <sstream>
 
 namespace vessel {
 
 namespace {
+
+using detail::printable;
+using detail::trimmed;
+using detail::truncated;
+using detail::kMaxElements;
 
 using ScratchMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 
@@ -82,30 +90,6 @@ private:
 // takes a binary STL whose size does not match its triangle count for ASCII and finds no faces.
 // So the sizes a header declares are checked against the file before OpenMesh reads it.
 
-std::string trimmed(std::string line)
-{
-    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
-        line.pop_back();
-    std::size_t start = 0;
-    while (start < line.size() && std::isspace(static_cast<unsigned char>(line[start])))
-        ++start;
-    return line.substr(start);
-}
-
-// More elements than any surface mesh has; larger (or negative) counts are corrupt headers, and
-// OpenMesh would try to allocate them.
-constexpr long long kMaxElements = 1LL << 31;
-
-// \p text cut to 40 characters with control bytes shown as '?', to quote it in a message.
-std::string printable(const std::string& text)
-{
-    std::string out = trimmed(text).substr(0, 40);
-    for (char& c : out)
-        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f)
-            c = '?';
-    return out;
-}
-
 // Counts the non-empty lines left in \p in (comments starting with '#' excluded).
 std::uintmax_t count_data_lines(std::istream& in)
 {
@@ -118,12 +102,6 @@ std::uintmax_t count_data_lines(std::istream& in)
             ++n;
     }
     return n;
-}
-
-[[noreturn]] void truncated(const std::string& path, const std::string& what)
-{
-    throw IoError("read_raw_mesh: " + path + " is truncated or corrupt: " + what +
-                  "; re-export or re-download the file");
 }
 
 int ply_type_size(const std::string& type)
@@ -243,63 +221,6 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
                             std::to_string(data) + " bytes follow it");
 }
 
-void check_off(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::getline(in, line);
-    line = trimmed(line);
-    // The header keyword is [ST][C][N]OFF, optionally followed by BINARY. Plain ASCII "OFF"
-    // (optionally with counts on the same line) is checked line by line; for the other variants
-    // only the counts are checked (OpenMesh allocates them before reading anything).
-    std::istringstream first(line);
-    std::string keyword, second_word;
-    first >> keyword >> second_word;
-    static const std::regex off_keyword("(ST)?C?N?OFF");
-    if (!std::regex_match(keyword, off_keyword))
-        truncated(path, "the first line '" + printable(line) + "' is not an OFF header");
-    if (second_word == "BINARY")
-    {
-        in.seekg(static_cast<std::streamoff>(line.size()) + 1);
-        std::int32_t counts[3] = {0, 0, 0};
-        in.read(reinterpret_cast<char*>(counts), sizeof(counts));
-        if (!in || counts[0] < 0 || counts[1] < 0)
-            truncated(path, "the binary OFF header has no valid vertex and face counts");
-        const std::uintmax_t min_bytes = line.size() + 1 + 12 + 12ULL * counts[0] + 16ULL * counts[1];
-        if (std::filesystem::file_size(path) < min_bytes)
-            truncated(path, "the binary OFF header declares " + std::to_string(counts[0]) +
-                                " vertices and " + std::to_string(counts[1]) +
-                                " faces, more than the file can hold");
-        return;
-    }
-    if (keyword != "OFF")
-        return;
-    std::istringstream counts(line.substr(3));
-    long long v = 0, f = 0;
-    if (!(counts >> v >> f))
-    {
-        do
-        {
-            if (!std::getline(in, line))
-                truncated(path, "the OFF header has no vertex and face counts");
-            line = trimmed(line);
-        } while (line.empty() || line[0] == '#');
-        std::istringstream second(line);
-        if (!(second >> v >> f))
-            truncated(path, "the OFF header has no vertex and face counts");
-    }
-    if (v < 0 || f < 0 || v > kMaxElements || f > kMaxElements)
-        truncated(path, "the OFF header declares " + std::to_string(v) + " vertices and " +
-                            std::to_string(f) + " faces");
-    const auto vertices = static_cast<std::uintmax_t>(v), faces = static_cast<std::uintmax_t>(f);
-    const std::uintmax_t found = count_data_lines(in);
-    if (found < vertices + faces)
-        truncated(path, "the OFF header declares " + std::to_string(vertices) + " vertices and " +
-                            std::to_string(faces) + " faces (" +
-                            std::to_string(vertices + faces) + " lines) but only " +
-                            std::to_string(found) + " lines follow it");
-}
-
 void check_stl(const std::string& path, std::uintmax_t file_size)
 {
     std::ifstream in(path, std::ios::binary);
@@ -325,78 +246,6 @@ void check_stl(const std::string& path, std::uintmax_t file_size)
         truncated(path, "the binary STL header declares " + std::to_string(triangles) +
                             " triangles (" + std::to_string(expected) + " bytes) but the file has " +
                             std::to_string(file_size) + " bytes");
-}
-
-// OpenMesh's text readers cannot parse "nan" or "inf": they drop or misread the vertex and the
-// faces then point at the wrong vertices. So the coordinates of OBJ `v` lines and of the vertex
-// lines of an ASCII OFF or PLY are checked here, and the user hears about the coordinate.
-void check_coordinate_words(const std::string& path, const std::string& text, std::size_t vertex,
-                            const std::vector<int>& columns)
-{
-    std::istringstream words(text);
-    std::vector<std::string> all{std::istream_iterator<std::string>(words), {}};
-    for (const int k : columns)
-    {
-        const std::string word = static_cast<std::size_t>(k) < all.size() ? all[k] : "";
-        char* end = nullptr;
-        const double value = std::strtod(word.c_str(), &end);
-        if (word.empty() || *end != '\0' || !std::isfinite(value))
-            throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
-                          " has a NaN, infinite or unreadable coordinate ('" + word +
-                          "'); fix or remove it in the source");
-    }
-}
-
-// The next non-empty, non-comment line of \p in, trimmed; false at the end of the file.
-bool next_data_line(std::istream& in, std::string& line)
-{
-    while (std::getline(in, line))
-    {
-        line = trimmed(line);
-        if (!line.empty() && line[0] != '#')
-            return true;
-    }
-    return false;
-}
-
-void check_off_coordinates(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::getline(in, line);
-    line = trimmed(line);
-    if (line.rfind("OFF", 0) != 0 || line.find("BINARY") != std::string::npos)
-        return;
-    std::istringstream counts(line.substr(3));
-    std::uintmax_t vertices = 0;
-    if (!(counts >> vertices))
-    {
-        if (!next_data_line(in, line))
-            return;  // check_off reports the missing counts
-        std::istringstream second(line);
-        if (!(second >> vertices))
-            return;
-    }
-    for (std::size_t vertex = 0; vertex < vertices && next_data_line(in, line); ++vertex)
-        check_coordinate_words(path, line, vertex, {0, 1, 2});
-    // Face lines: a corner count, then that many vertex indices (colours may follow). OpenMesh
-    // loops for a very long time on a count it cannot read.
-    for (std::size_t face = 0; next_data_line(in, line); ++face)
-    {
-        std::istringstream words(line);
-        long corners = 0;
-        bool ok = static_cast<bool>(words >> corners) && corners >= 3 && corners <= 1000;
-        for (long k = 0; ok && k < corners; ++k)
-        {
-            long index = -1;
-            ok = (words >> index) && index >= 0 && static_cast<std::uintmax_t>(index) < vertices;
-        }
-        if (!ok)
-            throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
-                          " is malformed ('" + printable(line) + "'): an OFF face is a corner "
-                          "count (3 to 1000) and that many vertex indices below " +
-                          std::to_string(vertices) + "; the file is corrupt");
-    }
 }
 
 // ASCII PLY: the x, y, z columns of the vertex element (after the lines of earlier elements).
@@ -441,56 +290,138 @@ void check_ply_coordinates(const std::string& path)
             if (!std::getline(in, line))
                 return;  // check_ply reports the missing lines
             if (name == "vertex")
-                check_coordinate_words(path, line, i, columns);
+                detail::coordinates(path, detail::words_of(line), i, columns);
         }
         if (name == "vertex")
             return;
     }
 }
 
-// OBJ: `v` lines, and `f` lines that name a vertex twice (OpenMesh's OBJ reader drops such a
-// face without a word, which leaves a hole that would be reported as something else).
+// An OBJ reference \p word to one of \p count earlier elements: 1-based, or negative counting
+// back from the last; the 0-based index, or -1 if \p word is not one.
+long obj_reference(const std::string& word, long count)
+{
+    char* end = nullptr;
+    const long i = std::strtol(word.c_str(), &end, 10);
+    const long index = i < 0 ? count + i : i - 1;
+    if (word.empty() || *end != '\0' || i == 0 || index < 0 || index >= count)
+        return -1;
+    return index;
+}
+
+[[noreturn]] void bad_obj_face(const std::string& path, std::size_t face, const std::string& what)
+{
+    throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path + " " + what +
+                  "; the file is corrupt");
+}
+
+// OBJ: `v` lines, and `f` lines whose corners (`v`, `v/vt`, `v/vt/vn`, `v//vn`) do not refer to
+// earlier `v`, `vt` and `vn` lines (OpenMesh's reader asserts on vertex indices it cannot
+// resolve) or name a vertex twice (OpenMesh's reader drops such a face without a word, which
+// leaves a hole that would be reported as something else).
 void check_obj(const std::string& path)
 {
     std::ifstream in(path, std::ios::binary);
     std::string line;
-    long vertices = 0;
+    long vertices = 0, texcoords = 0, normals = 0;
     std::size_t face = 0;
     while (std::getline(in, line))
     {
-        if (line.size() < 2 || (line[1] != ' ' && line[1] != '\t'))
-            continue;
-        if (line[0] == 'v')
-            check_coordinate_words(path, line.substr(2), static_cast<std::size_t>(vertices++),
-                                   {0, 1, 2});
-        else if (line[0] == 'f')
+        std::istringstream words(line);
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "vt")
+            ++texcoords;
+        else if (keyword == "vn")
+            ++normals;
+        else if (keyword == "v")
+            detail::coordinates(path, detail::words_of(line.substr(line.find('v') + 1)),
+                                static_cast<std::size_t>(vertices++), {0, 1, 2});
+        else if (keyword == "f")
         {
-            std::istringstream words(line.substr(2));
             std::vector<long> corners;
             for (std::string word; words >> word;)
             {
-                // "v", "v/t", "v/t/n" or "v//n"; only the vertex index is checked (OpenMesh's
-                // reader asserts on indices it cannot resolve).
-                char* end = nullptr;
-                const long i = std::strtol(word.c_str(), &end, 10);
-                const long index = i < 0 ? vertices + i : i - 1;
-                if (end == word.c_str() || (*end != '\0' && *end != '/') || i == 0 ||
-                    index < 0 || index >= vertices)
-                    throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path +
-                                  " refers to vertex '" + printable(word) + "', which is not one "
-                                  "of the " + std::to_string(vertices) +
-                                  " vertices before it; the file is corrupt");
+                std::vector<std::string> parts{""};
+                for (const char c : word)
+                {
+                    if (c == '/')
+                        parts.emplace_back();
+                    else
+                        parts.back().push_back(c);
+                }
+                const long index = obj_reference(parts[0], vertices);
+                if (index < 0)
+                    bad_obj_face(path, face, "refers to vertex '" + detail::printable(word) +
+                                                 "', which is not one of the " +
+                                                 std::to_string(vertices) + " vertices before it");
+                if (parts.size() > 3 || (parts.size() == 2 && parts[1].empty()) ||
+                    (parts.size() == 3 && parts[2].empty()))
+                    bad_obj_face(path, face, "has the corner '" + detail::printable(word) +
+                                                 "', which is not v, v/vt, v/vt/vn or v//vn");
+                if (parts.size() >= 2 && !parts[1].empty() && obj_reference(parts[1], texcoords) < 0)
+                    bad_obj_face(path, face, "refers to texture coordinate '" +
+                                                 detail::printable(parts[1]) + "' (corner '" +
+                                                 detail::printable(word) + "'), which is not one of the " +
+                                                 std::to_string(texcoords) + " 'vt' lines before it");
+                if (parts.size() == 3 && obj_reference(parts[2], normals) < 0)
+                    bad_obj_face(path, face, "refers to normal '" + detail::printable(parts[2]) +
+                                                 "' (corner '" + detail::printable(word) +
+                                                 "'), which is not one of the " +
+                                                 std::to_string(normals) + " 'vn' lines before it");
                 corners.push_back(index);
             }
+            if (corners.size() < 3)
+                bad_obj_face(path, face, "has " + std::to_string(corners.size()) +
+                                             " corners; a face needs at least 3");
             for (std::size_t a = 0; a < corners.size(); ++a)
                 for (std::size_t b = a + 1; b < corners.size(); ++b)
-                    if (corners[a] >= 0 && corners[a] == corners[b])
+                    if (corners[a] == corners[b])
                         throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " +
                                       path + " uses vertex " + std::to_string(corners[a]) +
                                       " twice (degenerate face); remove degenerate faces first");
             ++face;
         }
     }
+}
+
+// OpenMesh's readers and writers are process-wide singletons that keep per-file state (the PLY
+// reader's elements, the OFF reader's options) and omerr() is one global stream: one file at a
+// time, whichever thread asks.
+std::mutex& openmesh_io_mutex()
+{
+    static std::mutex mutex;
+    return mutex;
+}
+
+// OBJ, PLY and STL after the checks above, through OpenMesh's readers.
+RawMesh read_with_openmesh(const std::string& path, const std::string& ext)
+{
+    const std::uintmax_t size = std::filesystem::file_size(path);
+    if (ext == ".ply")
+    {
+        check_ply(path, size);
+        check_ply_coordinates(path);
+    }
+    else if (ext == ".obj")
+        check_obj(path);
+    else
+        check_stl(path, size);
+    RawMesh raw;
+    ScratchMesh scratch;
+    RecordingImporter importer(scratch, raw);
+    OpenMesh::IO::Options options;
+    const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
+    // OpenMesh prints warnings for the defects we report ourselves; keep stderr for our messages.
+    const bool was_enabled = omerr().is_enabled();
+    omerr().disable();
+    const bool ok = OpenMesh::IO::IOManager().read(path, importer, options);
+    if (was_enabled)
+        omerr().enable();
+    if (!ok)
+        throw IoError("read_raw_mesh: OpenMesh could not read " + path +
+                      " (truncated or malformed file?)");
+    return raw;
 }
 
 }  // namespace
@@ -508,34 +439,7 @@ RawMesh read_raw_mesh(const std::string& path)
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
         throw IoError("read_raw_mesh: unknown file format '" + ext + "' (" + path +
                       "); use .obj, .off, .ply, .stl, .vtp or .vtk");
-    const std::uintmax_t size = std::filesystem::file_size(path);
-    if (ext == ".ply")
-    {
-        check_ply(path, size);
-        check_ply_coordinates(path);
-    }
-    else if (ext == ".off")
-    {
-        check_off(path);
-        check_off_coordinates(path);
-    }
-    else if (ext == ".obj")
-        check_obj(path);
-    else
-        check_stl(path, size);
-    RawMesh raw;
-    ScratchMesh scratch;
-    RecordingImporter importer(scratch, raw);
-    OpenMesh::IO::Options options;
-    // OpenMesh prints warnings for the defects we report ourselves; keep stderr for our messages.
-    const bool was_enabled = omerr().is_enabled();
-    omerr().disable();
-    const bool ok = OpenMesh::IO::IOManager().read(path, importer, options);
-    if (was_enabled)
-        omerr().enable();
-    if (!ok)
-        throw IoError("read_raw_mesh: OpenMesh could not read " + path +
-                      " (truncated or malformed file?)");
+    const RawMesh raw = ext == ".off" ? detail::read_off(path) : read_with_openmesh(path, ext);
     if (raw.faces.empty())
         throw IoError("read_raw_mesh: no faces in " + path + "; expected a triangulated surface");
     return raw;
@@ -563,6 +467,7 @@ void write_mesh(const Mesh& mesh, const std::string& path)
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".ply" || ext == ".stl")
         options += OpenMesh::IO::Options::Binary;
+    const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
     if (!OpenMesh::IO::write_mesh(mesh, path, options))
         throw IoError("write_mesh: could not write " + path);
 }

@@ -154,6 +154,14 @@ void check_duplicates(const Triangulated& tri)
                "); remove them (vessel-flatten --repair, or MeshLab 'Remove Duplicate Faces')");
 }
 
+// "(x, y, z)" of a vertex, to locate a defect in a message.
+std::string position(const Eigen::Vector3d& p)
+{
+    std::ostringstream out;
+    out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+    return out.str();
+}
+
 // Boundary vertices at exactly the same position as another boundary vertex: the surface was
 // split along a seam (e.g. vmtk's branch clipper) and its pieces only touch there.
 void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
@@ -185,11 +193,9 @@ void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
     }
     if (count == 0)
         return;
-    std::ostringstream where;
-    where << "(" << P[first_a].x() << ", " << P[first_a].y() << ", " << P[first_a].z() << ")";
     refuse("coincident boundary loops: " + plural(count, "boundary vertex") +
            " lie exactly on other boundary vertices (first: vertices " + std::to_string(first_a) +
-           " and " + std::to_string(first_b) + " at " + where.str() +
+           " and " + std::to_string(first_b) + " at " + position(P[first_a]) +
            "), so pieces of the surface only touch along a seam; stitch them (vessel-flatten "
            "--repair)");
 }
@@ -227,7 +233,10 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
     // non-manifold edge is the defect to report.
     for_each_edge([&](std::size_t i, std::size_t count, const std::string& edge) {
         if (count > 2)
-            refuse("non-manifold edge " + edge + " is shared by " + plural(count, "face") +
+            refuse("non-manifold edge " + edge + " (from " +
+                   position(raw.points[corners[i].key / n]) + " to " +
+                   position(raw.points[corners[i].key % n]) + ") is shared by " +
+                   plural(count, "face") +
                    " (faces " + std::to_string(tri.source_face[corners[i].triangle]) + ", " +
                    std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
                    std::to_string(tri.source_face[corners[i + 2].triangle]) +
@@ -263,8 +272,8 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
             if (seen < 0)
                 seen = root;
             else if (seen != root)
-                refuse("non-manifold vertex " + std::to_string(T[t][k]) +
-                       ": its faces form several fans that touch only at this vertex; split or "
+                refuse("non-manifold vertex " + std::to_string(T[t][k]) + " at " +
+                       position(raw.points[T[t][k]]) + ": its faces form several fans that touch only at this vertex; split or "
                        "remove the pinched part");
         }
 

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <unistd.h>
 
 namespace vessel::test {
 
@@ -157,12 +158,10 @@ int run(const std::string& command)
 
 std::string temp_dir(const std::string& name)
 {
-    // One directory per checkout (VESSEL_SHARED_DATA names it): test runs of several
-    // checkouts on one machine must not write into each other's outputs.
-    const std::string checkout =
-        std::to_string(std::hash<std::string>{}(VESSEL_SHARED_DATA) % 1000000);
-    const auto dir =
-        std::filesystem::temp_directory_path() / ("vessel_test_" + checkout + "_" + name);
+    // Per process: several checkouts of the project run their suites on one machine, and a
+    // shared /tmp/vessel_test_<name> let one run's batch outputs be compared with another's.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("vessel_test_" + std::to_string(::getpid()) + "_" + name);
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir.string();
