@@ -250,6 +250,7 @@ async function start() {
   resize();
 
   let lastFrame = null;
+  let framesDrawn = 0;
   function frame(now) {
     if (pendingHover) resolveHover();
     if (state.playing) {
@@ -266,6 +267,7 @@ async function start() {
       dirty = false;
       view3d.render();
       view2d.render();
+      framesDrawn++;
     }
     requestAnimationFrame(frame);
   }
@@ -338,6 +340,8 @@ async function start() {
       return c;
     },
     nFaces: data.indices.length / 3,
+    nVertices: nv,
+    get framesDrawn() { return framesDrawn; },
   };
   document.body.dataset.ready = '1';
 }
