@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Flattens every valid real tree and seeded tree phantoms (3, 10, 20, 30 outlets) with the given
 # vessel-flatten options and prints one line per mesh: faces, flips, exact overlap figures (the
-# report's quality), mean |log area ratio|, and flatcheck.py's raster overlap fraction.
+# report's quality), mean |log area ratio|, flatcheck.py's raster overlap fraction and smoothed
+# seam alignment, the total seconds of the report, relief cuts kept, and how the map started.
 #   scripts/measure_overlaps.sh BUILD_DIR OUT_DIR [vessel-flatten options...]
 set -uo pipefail
 build=$1; out=$2; shift 2
@@ -21,7 +22,8 @@ for n in 3 10 20 30; do
   [ -f "$p" ] || "$build/bin/vessel-phantom" tree --outlets "$n" --seed "$n" -o "$p"
   inputs+=("$p")
 done
-printf "%-34s %7s %5s %7s %10s %10s %8s %9s\n" mesh faces flips overlap area fraction logarea flatcheck
+printf "%-34s %7s %5s %7s %10s %10s %8s %9s %6s %7s %6s %s\n" mesh faces flips overlap area fraction \
+  logarea flatcheck align total relief start
 for input in "${inputs[@]}"; do
   stem=$(basename "${input%.*}")
   # SKIP: an extended regex of stems to leave out (e.g. the 277k-face mesh on a busy machine).
@@ -30,13 +32,21 @@ for input in "${inputs[@]}"; do
       2> "$out/$stem.err"; then
     printf "%-34s failed: %s\n" "$stem" "$(tail -1 "$out/$stem.err")"; continue
   fi
-  fc=$(/usr/bin/python3 "$tools/flatcheck.py" "$input" "$out/$stem.obj" --json 2>/dev/null |
-       /usr/bin/python3 -c "import json,sys; print(json.load(sys.stdin).get('overlap_fraction'))")
-  /usr/bin/python3 - "$out/$stem.json" "$stem" "$fc" <<'PY'
+  /usr/bin/python3 "$tools/flatcheck.py" "$input" "$out/$stem.obj" --json > "$out/$stem.flatcheck.json" \
+    2>/dev/null
+  /usr/bin/python3 - "$out/$stem.json" "$stem" "$out/$stem.flatcheck.json" <<'PY'
 import json, sys
 j = json.load(open(sys.argv[1])); q = j["quality"]
+try:
+    f = json.load(open(sys.argv[3]))
+    fc, align = f.get("overlap_fraction"), f.get("seam", {}).get("alignment_smoothed")
+except (OSError, ValueError):
+    fc = align = None
+start = "Tutte" if any("Tutte" in n for n in j.get("notes", [])) else "layout"
 print(f"{sys.argv[2]:34s} {j['counts']['faces']:7d} {q['flipped_triangles']:5d} "
       f"{q['overlapping_triangles']:7d} {q['overlap_area']:10.4g} {q['overlap_fraction']:10.3g} "
-      f"{q['mean_abs_log_area_ratio']:8.4f} {sys.argv[3]:>9s}")
+      f"{q['mean_abs_log_area_ratio']:8.4f} {fc if fc is None else round(fc, 4)!s:>9s} "
+      f"{align if align is None else round(align, 3)!s:>6s} {j['timings']['total']:7.2f} "
+      f"{len(j.get('relief_cuts', [])):6d} {start}")
 PY
 done

@@ -19,16 +19,17 @@ std::vector<EdgeHandle> CutPlan::seam_edges(const Mesh& mesh) const
 {
     std::vector<char> seen(mesh.n_edges(), 0);
     std::vector<EdgeHandle> edges;
-    for (const auto& path : paths)
-        for (auto h : path.halfedges)
-        {
-            const auto e = mesh.edge_handle(h);
-            if (!seen[e.idx()])
+    for (const auto* list : {&paths, &relief})
+        for (const auto& path : *list)
+            for (auto h : path.halfedges)
             {
-                seen[e.idx()] = 1;
-                edges.push_back(e);
+                const auto e = mesh.edge_handle(h);
+                if (!seen[e.idx()])
+                {
+                    seen[e.idx()] = 1;
+                    edges.push_back(e);
+                }
             }
-        }
     return edges;
 }
 

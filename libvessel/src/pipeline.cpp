@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace vessel {
 
@@ -18,6 +19,7 @@ void FlattenOptions::validate() const
     curvature.validate();
     geodesic.validate();
     cuts.validate();
+    relief.validate();
     if (refinement != Refinement::None && arap.max_iterations > 0)
         arap.validate();
     if (refinement == Refinement::Injective)
@@ -103,11 +105,10 @@ Pins concat(const Pins& a, const Pins& b)
     return all;
 }
 
-}  // namespace
 
-FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
+// One pass of steps 3-7; with \p forced_plan the cuts are taken from it instead of planned.
+FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPlan* forced_plan)
 {
-    options.validate();
     FlattenResult result;
     // A copied mesh's arrays are exactly full, so the seam split's first new vertex would
     // reallocate them all (O(V)) inside the cut stage; make room for the duplicates up front.
@@ -135,8 +136,10 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     result.timings.GC = clock.lap("GC");
 
     // VC: cut paths.
-    result.plan = plan_cuts(mesh, result.loops, weights,
-                            winding_rate(mesh, z, curvature.k_max.cwiseAbs()), options.cuts);
+    result.plan = forced_plan ? *forced_plan
+                              : plan_cuts(mesh, result.loops, weights,
+                                          winding_rate(mesh, z, curvature.k_max.cwiseAbs()),
+                                          options.cuts);
     result.timings.VC = clock.lap("VC");
 
     // AC: split the seam in place.
@@ -222,6 +225,64 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
 
     result.quality = flat_quality(mesh, result.uv);
     result.mesh = std::move(mesh);
+    return result;
+}
+
+void add_timings(StageTimings& to, const StageTimings& from)
+{
+    to.Z += from.Z;
+    to.GC += from.GC;
+    to.VC += from.VC;
+    to.AC += from.AC;
+    to.L += from.L;
+    to.F += from.F;
+}
+
+}  // namespace
+
+FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
+{
+    options.validate();
+    const ReliefCutOptions& relief = options.relief;
+    if (relief.max_cuts == 0)
+        return flatten_once(std::move(mesh), options, nullptr);
+    const Mesh uncut = mesh;  // each relief cut re-cuts the mesh as it came in
+    FlattenResult result = flatten_once(std::move(mesh), options, nullptr);
+    std::vector<std::string> relief_notes;
+    while (static_cast<int>(result.plan.relief.size()) < relief.max_cuts &&
+           result.quality.mean_abs_log_area > relief.target_mean_abs_log_area)
+    {
+        const Eigen::VectorXd log_area =
+            vertex_log_area_ratio(uncut, result.mesh, result.uv, relief.smoothing_passes);
+        std::optional<CutPath> slit = plan_relief_cut(uncut, result.loops, result.plan, log_area, relief.min_rings);
+        if (!slit)
+            break;
+        CutPlan plan = result.plan;
+        plan.relief.push_back(std::move(*slit));
+        FlattenResult next = flatten_once(uncut, options, &plan);
+        add_timings(next.timings, result.timings);
+        const FlatQuality& before = result.quality;
+        const FlatQuality& after = next.quality;
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "relief cut %zu (%zu edges): mean |log area| %.3f -> %.3f, %d -> %d "
+                      "overlapping triangles",
+                      plan.relief.size(), plan.relief.back().halfedges.size(),
+                      before.mean_abs_log_area, after.mean_abs_log_area,
+                      before.overlapping_triangles, after.overlapping_triangles);
+        const bool better = after.mean_abs_log_area < before.mean_abs_log_area &&
+                            after.flipped_triangles <= before.flipped_triangles &&
+                            after.overlapping_triangles <= before.overlapping_triangles;
+        if (!better)
+        {
+            result.timings = next.timings;
+            relief_notes.push_back(std::string(line) + "; not better, not kept");
+            break;
+        }
+        relief_notes.push_back(line);
+        result = std::move(next);
+    }
+    result.notes.insert(result.notes.end(), relief_notes.begin(), relief_notes.end());
     return result;
 }
 

@@ -203,13 +203,14 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
     for (auto f : mesh.faces())
         for (auto v : f.vertices())
             indices.push_back(static_cast<std::uint32_t>(v.idx()));
-    for (const auto& path_ : result.plan.paths)
-        for (auto h : path_.halfedges)
-            for (auto v : {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)})
-            {
-                const Eigen::Vector3d p = to_eigen(mesh.point(v)) - centre;
-                seam.insert(seam.end(), {float(p.x()), float(p.y()), float(p.z())});
-            }
+    for (const auto* paths : {&result.plan.paths, &result.plan.relief})
+        for (const auto& path_ : *paths)
+            for (auto h : path_.halfedges)
+                for (auto v : {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)})
+                {
+                    const Eigen::Vector3d p = to_eigen(mesh.point(v)) - centre;
+                    seam.insert(seam.end(), {float(p.x()), float(p.y()), float(p.z())});
+                }
 
     std::ostringstream meta;
     meta << "{\"title\":" << json_string(options.title)

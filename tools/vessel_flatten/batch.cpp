@@ -333,6 +333,13 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"cost", c.cost},
                         {"winding_deg", c.winding_deg}});
     j["cuts"] = cuts;
+    nlohmann::json relief = nlohmann::json::array();
+    for (const auto& c : r.plan.relief)
+        relief.push_back({{"ends_on", c.parent < 0 ? std::string("loop or relief cut")
+                                                   : "cut " + std::to_string(c.parent)},
+                          {"edges", c.halfedges.size()},
+                          {"length", c.cost}});
+    j["relief_cuts"] = relief;
     const auto& q = r.quality;
     j["quality"] = {{"flipped_triangles", q.flipped_triangles},
                     {"area_ratio", q.area_ratio},

@@ -165,6 +165,16 @@ int main(int argc, char** argv)
                    "least winding one is taken (0 = plain Dijkstra)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    app.add_option("--relief-cuts", options.relief.max_cuts,
+                   "At most this many relief cuts: slits from the most compressed point to the "
+                   "seam, added while mean |log area| stays above --relief-target (0 = the "
+                   "paper's cuts only)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--relief-target", options.relief.target_mean_abs_log_area,
+                   "Mean |log area ratio| above which relief cuts are tried")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
     try
     {

@@ -44,7 +44,10 @@ struct CutPath
 struct CutPlan
 {
     std::vector<CutPath> paths;  //!< in the order they were made
-    //! Edges of all paths, each once.
+    //! Relief cuts (relief_cut.h): dead-end slits from a bulging region to the seam, made after
+    //! `paths`; `outlet` is -1. Layouts place `paths` only.
+    std::vector<CutPath> relief;
+    //! Edges of all paths and relief cuts, each once.
     std::vector<EdgeHandle> seam_edges(const Mesh& mesh) const;
 };
 

@@ -9,6 +9,7 @@
 #include "vessel/injective.h"
 #include "vessel/layout.h"
 #include "vessel/metrics.h"
+#include "vessel/relief_cut.h"
 #include "vessel/untangle.h"
 
 #include <functional>
@@ -67,6 +68,10 @@ struct FlattenOptions
     //! `prop::direction` (z), `prop::geodesic` and `prop::kmax` vertex properties are filled.
     AnyCost custom_cost;
     CutPlanOptions cuts;  //!< endpoint policy (imaginary node / viewpoint), winding control
+    //! Relief cuts (relief_cut.h): when the map's mean |log area ratio| stays above the target,
+    //! a slit from the most compressed point to the seam, and the map is made again. Default:
+    //! at most 2, target 0.15; `relief.max_cuts = 0` keeps the paper's cuts only.
+    ReliefCutOptions relief;
     double alpha_deg = 45.0;  //!< branch angle of the fan layout
     //! Layout policy; null = BranchFanLayout(alpha_deg).
     std::shared_ptr<const Layout> layout;
