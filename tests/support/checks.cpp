@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <set>
@@ -156,7 +157,12 @@ int run(const std::string& command)
 
 std::string temp_dir(const std::string& name)
 {
-    const auto dir = std::filesystem::temp_directory_path() / ("vessel_test_" + name);
+    // One directory per checkout (VESSEL_SHARED_DATA names it): test runs of several
+    // checkouts on one machine must not write into each other's outputs.
+    const std::string checkout =
+        std::to_string(std::hash<std::string>{}(VESSEL_SHARED_DATA) % 1000000);
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("vessel_test_" + checkout + "_" + name);
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir.string();
