@@ -3,6 +3,7 @@
 #include "support/checks.h"
 #include "vessel/errors.h"
 #include "vessel/layout.h"
+#include "vessel/overlap.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
 
@@ -23,20 +24,35 @@ namespace {
 const std::string kData = VESSEL_SHARED_DATA;
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 
-// Runs vessel-flatten on a valid real mesh and checks the output independently of the library.
-// `max_log_area` is the issue's bound (0.15) unless a mesh says otherwise, with the reason.
-void check_real_mesh(const std::string& relative, int loops, double max_log_area = 0.15)
+// Pairs of the flat OBJ's faces whose uv triangles' interiors intersect (exact predicates).
+std::size_t overlapping_pairs(const vessel::test::FlatObj& obj)
+{
+    std::vector<Triangle2> soup;
+    for (const auto& t : obj.ft)
+        soup.push_back({obj.vt[t[0]], obj.vt[t[1]], obj.vt[t[2]]});
+    return find_overlaps(soup).pairs.size();
+}
+
+// Runs vessel-flatten on a valid real mesh and checks the output independently of the library
+// (the overlap test reads the written OBJ). `max_log_area` is the issue's bound (0.15) unless a
+// mesh says otherwise, with the reason. `args`: extra options; with `--overlaps prevent` the
+// map must also be one-to-one (issue 7).
+void check_real_mesh(const std::string& relative, int loops, double max_log_area = 0.15,
+                     const std::string& args = "")
 {
     const std::string input = kData + "/" + relative;
     REQUIRE_MESSAGE(std::filesystem::exists(input), "missing shared data: " << input);
     const std::string dir = temp_dir(std::filesystem::path(relative).stem().string());
     const std::string out = dir + "/flat.obj";
     REQUIRE(run(kFlatten + " " + input + " -o " + out + " --report " + dir +
-                "/report.json --quiet") == 0);
-    const auto c = check_flat_obj(read_flat_obj(out));
+                "/report.json --quiet " + args) == 0);
+    const auto obj = read_flat_obj(out);
+    const auto c = check_flat_obj(obj);
     CHECK(c.euler == 1);  // a disk
     CHECK(c.boundary_loops == 1);
     CHECK(c.flipped == 0);
+    if (args.find("--overlaps prevent") != std::string::npos)
+        CHECK(overlapping_pairs(obj) == 0);
     CHECK(c.area_ratio >= 0.95);
     CHECK(c.area_ratio <= 1.05);
     CHECK(c.mean_abs_log_area <= max_log_area);
@@ -119,6 +135,17 @@ TEST_CASE("cli: clinical coronary branch (tube) flattens")
 TEST_CASE("cli: SimVascular demo model (open) flattens")
 {
     check_real_mesh("simvascular-tests/demo-model-open.ply", 3);
+}
+
+TEST_CASE("cli: --overlaps prevent maps real trees one-to-one, within the area bounds")
+{
+    const std::string prevent = "--overlaps prevent";
+    check_real_mesh("vmtk-test-data/aorta-surface-open-ends.ply", 3, 0.15, prevent);
+    check_real_mesh("vampy/artery.ply", 3, 0.15, prevent);
+    check_real_mesh("x-ray-angio-data/coronary-phantom-tri3-coarse.ply", 7, 0.15, prevent);
+    check_real_mesh("simvascular-tests/demo-model-open.ply", 3, 0.15, prevent);
+    // Its default map overlaps itself on 2.3% of its area (docs/overlaps.md).
+    check_real_mesh("svfsi-tests/pulmonary-glenn-wall.ply", 21, 0.15, prevent);
 }
 
 TEST_CASE("cli: closed and broken real meshes are refused with a clear message")

@@ -81,12 +81,12 @@ TEST_CASE("injective: with a scaffold, SLIM from the Tutte map keeps a cut cylin
 }
 
 TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map; the "
-          "scaffold one does not overlap itself")
+          "scaffold ones do not overlap themselves")
 {
     const TreeSurface surface =
         load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply");
     for (const auto policy : {OverlapPolicy::Keep, OverlapPolicy::Restart,
-                              OverlapPolicy::RestartWithScaffold})
+                              OverlapPolicy::RestartWithScaffold, OverlapPolicy::Prevent})
     {
         FlattenOptions options;
         options.overlaps = policy;
@@ -94,7 +94,7 @@ TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free 
         CAPTURE(static_cast<int>(policy));
         CHECK(r.quality.flipped_triangles == 0);
         CHECK(r.untangle.flipped_after == 0);
-        if (policy == OverlapPolicy::RestartWithScaffold)
+        if (policy == OverlapPolicy::RestartWithScaffold || policy == OverlapPolicy::Prevent)
             CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
     }
 }

@@ -1,11 +1,14 @@
 #include "vessel/arap.h"
 
 #include "detail/arap_ceres.h"
+#include "detail/face_jacobian.h"
+#include "detail/serial_openmp.h"
 #include "vessel/errors.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -167,20 +170,37 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
     Eigen::SparseMatrix<double> K(n_free, n_free);
     K.setFromTriplets(triplets.begin(), triplets.end());
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-    solver.compute(K);
+    {
+        const detail::SerialOpenMp serial;
+        solver.compute(K);
+    }
     if (solver.info() != Eigen::Success)
         throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
                           std::to_string(n_free) +
                           " free vertices); every connected component needs a pin");
 
     // Local step: the closest rotation per face. It also yields the energy of the current map,
-    // so each sweep evaluates the Jacobians once.
-    std::vector<Eigen::Matrix2d> rotations(faces.size());
+    // so each sweep evaluates the Jacobians once, and each face's right-hand-side terms
+    // cot_k R_t (x_j - x_l) for the next global step. Per face, so on two threads for large
+    // meshes; the terms are summed into b in face order, as on one thread.
+    const int threads = detail::face_threads(faces.size());
+    std::vector<std::array<Eigen::RowVector2d, 3>> rotated(faces.size());
     const auto local_step = [&] {
-        double e = 0.0;
-        for (std::size_t t = 0; t < faces.size(); ++t)
-            e += detail::face_energy(faces[t], uv, rotations[t]);
-        return e;
+        std::array<double, 2> partial{0.0, 0.0};
+        detail::parallel_chunks(faces.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+            double e = 0.0;
+            Eigen::Matrix2d R;
+            for (std::size_t f = begin; f < end; ++f)
+            {
+                const auto& face = faces[f];
+                e += detail::face_energy(face, uv, R);
+                for (int k = 0; k < 3; ++k)
+                    rotated[f][k] = face.cot[k] *
+                                    (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
+            }
+            partial[t] = e;
+        });
+        return partial[0] + partial[1];
     };
     double energy = local_step();
     Eigen::MatrixX2d b(n_free, 2);
@@ -193,13 +213,10 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
             for (int k = 0; k < 3; ++k)
             {
                 const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
-                const Eigen::RowVector2d r =
-                    face.cot[k] *
-                    (rotations[t] * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
                 if (dof[j] >= 0)
-                    b.row(dof[j]) += r;
+                    b.row(dof[j]) += rotated[t][k];
                 if (dof[l] >= 0)
-                    b.row(dof[l]) -= r;
+                    b.row(dof[l]) -= rotated[t][k];
             }
         }
         const Eigen::MatrixX2d x = solver.solve(b);

@@ -3,6 +3,9 @@
 #include "vessel/errors.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Delaunay_mesh_face_base_2.h>
+#include <CGAL/Delaunay_mesh_size_criteria_2.h>
+#include <CGAL/Delaunay_mesher_no_edge_refinement_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -14,9 +17,15 @@ namespace vessel::detail {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;
+// Vertex index into x; -1 for the vertices the mesher adds (Steiner points).
+struct VertexId
+{
+    int id = -1;
+};
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<VertexId, Kernel>;
 using FaceInfoBase = CGAL::Triangulation_face_base_with_info_2<int, Kernel>;  // nesting depth
-using FaceBase = CGAL::Constrained_triangulation_face_base_2<Kernel, FaceInfoBase>;
+using FaceBase = CGAL::Delaunay_mesh_face_base_2<
+    Kernel, CGAL::Constrained_triangulation_face_base_2<Kernel, FaceInfoBase>>;
 using Tds = CGAL::Triangulation_data_structure_2<VertexBase, FaceBase>;
 // Intersecting constraints are an error (a crossing boundary), not something to resolve.
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Kernel, Tds, CGAL::No_constraint_intersection_tag>;
@@ -61,14 +70,14 @@ void mark_depths(Cdt& cdt)
 
 }  // namespace
 
-std::vector<std::array<int, 3>> scaffold_triangles(const Eigen::VectorXd& x,
-                                                   const std::vector<int>& boundary,
-                                                   const std::array<int, 4>& box)
+ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>& boundary,
+                                const std::array<int, 4>& box, const Eigen::Vector2d& inside,
+                                int first_steiner)
 {
     Cdt cdt;
     const auto insert = [&](int v) {
         auto handle = cdt.insert(Kernel::Point_2(x[2 * v], x[2 * v + 1]));
-        handle->info() = v;
+        handle->info().id = v;
         return handle;
     };
     try
@@ -92,12 +101,28 @@ std::vector<std::array<int, 3>> scaffold_triangles(const Eigen::VectorXd& x,
     }
     if (static_cast<std::size_t>(cdt.number_of_vertices()) != boundary.size() + 4)
         throw SolverError("scaffold: two boundary vertices of the map coincide");
+    // Quality refinement of the free space only (the map's inside is excluded by a seed); the
+    // boundary edges are never split, as they are the map's own edges.
+    using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
+    CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria> mesher(cdt, Criteria(0.125));
+    const std::array<Kernel::Point_2, 1> seeds = {Kernel::Point_2(inside.x(), inside.y())};
+    mesher.set_seeds(seeds.begin(), seeds.end(), false);
+    mesher.refine_mesh();
     mark_depths(cdt);
-    std::vector<std::array<int, 3>> triangles;
+    ScaffoldMesh scaffold;
+    const auto index = [&](Cdt::Vertex_handle v) {
+        if (v->info().id < 0)
+        {
+            v->info().id = first_steiner + static_cast<int>(scaffold.steiner.size());
+            scaffold.steiner.emplace_back(CGAL::to_double(v->point().x()),
+                                          CGAL::to_double(v->point().y()));
+        }
+        return v->info().id;
+    };
     for (auto f : cdt.finite_face_handles())
         if (f->info() == 1)  // CGAL's faces are counter-clockwise
-            triangles.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
-    return triangles;
+            scaffold.triangles.push_back({index(f->vertex(0)), index(f->vertex(1)), index(f->vertex(2))});
+    return scaffold;
 }
 
 }  // namespace vessel::detail

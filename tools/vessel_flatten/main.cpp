@@ -149,9 +149,10 @@ int main(int argc, char** argv)
         ->capture_default_str();
     app.add_option("--overlaps", overlaps, "With --refine injective, when the map at the "
                                            "layout overlaps itself: keep it, restart from a "
-                                           "Tutte map (fewer overlaps), or scaffold (restart "
-                                           "with none; more area distortion)")
-        ->check(CLI::IsMember({"keep", "restart", "scaffold"}))
+                                           "Tutte map (fewer overlaps), prevent (restart; a "
+                                           "scaffold from the boundary's first contact: none) "
+                                           "or scaffold (restart with a scaffold throughout)")
+        ->check(CLI::IsMember({"keep", "restart", "prevent", "scaffold"}))
         ->capture_default_str();
     app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
         ->check(CLI::IsMember({"ceres", "local-global"}))
@@ -203,7 +204,8 @@ int main(int argc, char** argv)
                                                 : vessel::Refinement::Injective;
         options.overlaps = overlaps == "keep"    ? vessel::OverlapPolicy::Keep
                            : overlaps == "scaffold" ? vessel::OverlapPolicy::RestartWithScaffold
-                                                    : vessel::OverlapPolicy::Restart;
+                           : overlaps == "restart"  ? vessel::OverlapPolicy::Restart
+                                                    : vessel::OverlapPolicy::Prevent;
         options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
                        : cost == "blend"  ? vessel::CostKind::Blend
                                           : vessel::CostKind::Curvature;

@@ -24,7 +24,19 @@ struct InjectiveOptions
     //! triangle flip either, so the boundary cannot run into itself. Needs a start without
     //! overlaps (e.g. tutte_embedding).
     bool scaffold = false;
-    double scaffold_weight = 1e-2;  //!< the scaffold's total weight, as a fraction of the surface area
+    //! Run without a scaffold, checking the map's boundary after every step; if the end map's
+    //! boundary crosses itself, go back to the last iterate whose boundary was simple and go on
+    //! from there with the scaffold (up to max_iterations more). The result is one-to-one, and
+    //! the scaffold's cost is paid only when needed. Needs a start whose boundary is simple;
+    //! otherwise it has no effect.
+    bool scaffold_on_contact = false;
+    //! The scaffold's total weight, as a fraction of the surface area, shared equally by its
+    //! triangles. Heavier scaffolds resist the map's motion more (pulmonary tree, mean |log
+    //! area|: 0.1598 at 0.1, 0.1561 at 0.02; the weight does not stall the steps).
+    double scaffold_weight = 0.002;
+    //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
+    //! progress continues below 1e-4 (pulmonary tree: 0.1527 at 1e-4, 0.1456 at 1e-5).
+    double scaffold_tolerance = 1e-5;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -35,6 +47,9 @@ struct InjectiveSummary
     double initial_energy = 0.0;  //!< symmetric Dirichlet energy at the start (4 x area at best)
     double final_energy = 0.0;
     bool converged = false;
+    //! With scaffold_on_contact: the iterate (0 = the start) the scaffold phase went on from;
+    //! -1 if the boundary never crossed (no scaffold was needed).
+    int scaffold_from = -1;
     std::string report;  //!< one line: iterations and energies
 };
 

@@ -53,9 +53,13 @@ enum class OverlapPolicy
     //! a triangle but can let the boundary cross (overlaps shrink, e.g. 42% -> 3% of the area
     //! on the pulmonary tree, but are not excluded)
     Restart,
-    //! as Restart, with a scaffold that excludes any overlap; the scaffold holds deep
-    //! branches compressed, so area distortion is much higher (docs/results.md)
+    //! as Restart, with a scaffold (free-space triangulation, InjectiveOptions::scaffold)
+    //! from the first iteration: no overlaps, but slower and more area distortion than Prevent
     RestartWithScaffold,
+    //! as Restart, and the boundary is checked after every SLIM step: steps that would make it
+    //! cross are shortened, and once parts of it meet the scaffold keeps them apart
+    //! (InjectiveOptions::scaffold_on_contact). The map is one-to-one: no flips, no overlaps.
+    Prevent,
 };
 
 struct FlattenOptions
@@ -79,7 +83,9 @@ struct FlattenOptions
     //! Step 7 refinement. With Injective, when untangling fails or the map at the layout
     //! overlaps itself (see `overlaps`), the map restarts from the Tutte embedding: the
     //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
-    //! FlattenResult::notes.
+    //! FlattenResult::notes. When the LSCM map at the layout already crosses itself, the restart
+    //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
+    //! ::untangle stay empty).
     Refinement refinement = Refinement::Injective;
     OverlapPolicy overlaps = OverlapPolicy::Restart;
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)

@@ -1,0 +1,44 @@
+#include <doctest/doctest.h>
+
+#include "support/checks.h"
+#include "vessel/embedding.h"
+#include "vessel/phantom.h"
+#include "vessel/pipeline.h"
+
+using namespace vessel;
+
+namespace {
+
+// The pipeline on a seeded tree phantom; with `overlaps` = Keep, the unconstrained map (the
+// layout's map, overlaps and all) for comparison.
+FlattenResult flatten_tree(int outlets, OverlapPolicy overlaps)
+{
+    TreePhantomOptions tree;
+    tree.outlets = outlets;
+    tree.seed = static_cast<std::uint32_t>(outlets);
+    tree.edge_length = 0.75;  // coarser than the default 0.5, to keep the test short
+    FlattenOptions options;
+    options.overlaps = overlaps;
+    return flatten(tree_phantom(tree), options);
+}
+
+}  // namespace
+
+TEST_CASE("overlaps prevent: tree phantoms with 3, 10 and 30 outlets map one-to-one")
+{
+    for (int outlets : {3, 10, 30})
+    {
+        CAPTURE(outlets);
+        const FlattenResult r = flatten_tree(outlets, OverlapPolicy::Prevent);
+        CHECK(r.quality.flipped_triangles == 0);
+        CHECK(r.quality.overlapping_triangles == 0);  // exact pairwise test (overlap.h)
+        CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+        CHECK(r.quality.area_ratio >= 0.95);
+        CHECK(r.quality.area_ratio <= 1.05);
+        const FlattenResult keep = flatten_tree(outlets, OverlapPolicy::Keep);
+        MESSAGE(outlets << " outlets: mean |log area| " << r.quality.mean_abs_log_area
+                        << " (unconstrained " << keep.quality.mean_abs_log_area << ", "
+                        << keep.quality.overlapping_triangles << " overlapping faces); "
+                        << r.injective.report);
+    }
+}
