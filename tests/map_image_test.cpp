@@ -2,6 +2,7 @@
 
 #include "support/checks.h"
 #include "support/meshes.h"
+#include "support/png.h"
 #include "vessel/errors.h"
 #include "vessel/io.h"
 #include "vessel/map_frames.h"
@@ -9,7 +10,6 @@
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
 
-#include <cairo.h>
 
 #include <algorithm>
 #include <array>
@@ -25,6 +25,8 @@
 #include <string>
 
 using namespace vessel;
+using vessel::test::color_error;
+using vessel::test::Png;
 using vessel::test::run;
 using vessel::test::temp_dir;
 
@@ -46,36 +48,6 @@ MapImageInput carotid_input()
 Eigen::VectorXd linear_field(const Mesh& mesh, const Eigen::Vector3d& a, double b)
 {
     return vertex_positions(mesh) * a + Eigen::VectorXd::Constant(mesh.n_vertices(), b);
-}
-
-//! A PNG read back with cairo; pixel() gives RGB in [0, 1].
-class Png
-{
-public:
-    explicit Png(const std::string& path)
-        : surface_(cairo_image_surface_create_from_png(path.c_str()), &cairo_surface_destroy)
-    {
-        REQUIRE(cairo_surface_status(surface_.get()) == CAIRO_STATUS_SUCCESS);
-        cairo_surface_flush(surface_.get());
-    }
-    int width() const { return cairo_image_surface_get_width(surface_.get()); }
-    int height() const { return cairo_image_surface_get_height(surface_.get()); }
-    Eigen::Vector3d pixel(int x, int y) const
-    {
-        const unsigned char* row = cairo_image_surface_get_data(surface_.get()) +
-                                   y * cairo_image_surface_get_stride(surface_.get());
-        std::uint32_t p;
-        std::memcpy(&p, row + 4 * x, 4);
-        return Eigen::Vector3d((p >> 16) & 0xff, (p >> 8) & 0xff, p & 0xff) / 255.0;
-    }
-
-private:
-    std::unique_ptr<cairo_surface_t, void (*)(cairo_surface_t*)> surface_;
-};
-
-double color_error(const Eigen::Vector3d& a, const Eigen::Vector3d& b)
-{
-    return (a - b).cwiseAbs().maxCoeff();
 }
 
 struct PixelCheck

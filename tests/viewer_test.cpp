@@ -3,6 +3,7 @@
 
 #include "support/checks.h"
 #include "vessel/errors.h"
+#include "vessel/io.h"
 #include "vessel/phantom.h"
 #include "vessel/properties.h"
 #include "vessel/viewer.h"
@@ -15,6 +16,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -246,4 +248,96 @@ TEST_CASE("viewer: vessel-view and vessel-flatten --html write pages with the re
     CHECK(flat_meta["fields"].size() == 1);
     CHECK(flat_meta["flatten_command"].get<std::string>().find("--html") != std::string::npos);
     CHECK(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir + "/x.obj -q") != 0);
+}
+
+TEST_CASE("viewer: vessel-view shows the input's arrays and a --fields series, as vessel-flatten")
+{
+    const std::string dir = test::temp_dir("viewer-fields");
+    const std::string view = std::string(VESSEL_VIEW_EXE) + " ";
+    REQUIRE(test::run(std::string(VESSEL_PHANTOM_EXE) + " carotid --edge-length 1.0 -o " + dir +
+                      "/carotid.ply --pulse " + dir + "/pulse --pulse-steps 12 -q") == 0);
+    if (!viewer_available())
+    {
+        CHECK(test::run(view + dir + "/carotid.ply -o " + dir + "/v.html --fields " + dir +
+                        "/pulse.pvd -q") != 0);
+        return;
+    }
+    REQUIRE(test::run(view + dir + "/carotid.ply -o " + dir + "/v.html --fields " + dir +
+                      "/pulse.csv --field WSS -q") == 0);
+    const std::string html = read_file(dir + "/v.html");
+    const nlohmann::json meta = nlohmann::json::parse(script_text(html, "vessel-meta"));
+    REQUIRE(meta["fields"].size() == 2);  // geodesic distance + the series
+    CHECK(meta["fields"][1]["name"] == "WSS");
+    REQUIRE(meta["fields"][1]["times"].size() == 12);
+    CHECK(meta["fields"][1]["times"][3].get<double>() == doctest::Approx(0.45));
+    const std::string flatten = meta["flatten_command"];
+    CHECK(flatten.find("-o carotid-flat.vtp --fields " + dir + "/pulse.csv --field WSS") !=
+          std::string::npos);
+
+    // Every cut vertex shows, at every step, the CSV value of the input vertex at its position
+    // (seam copies included), to the page's 16-bit quantization.
+    std::vector<std::vector<double>> table;  // [vertex][step]
+    {
+        std::ifstream csv(dir + "/pulse.csv");
+        std::string line;
+        std::getline(csv, line);
+        while (std::getline(csv, line))
+        {
+            std::vector<double> row;
+            std::stringstream cells(line);
+            std::string cell;
+            std::getline(cells, cell, ',');  // vertex id = row number
+            while (std::getline(cells, cell, ','))
+                row.push_back(std::stod(cell));
+            table.push_back(row);
+        }
+    }
+    const RawMesh input = read_raw_mesh(dir + "/carotid.ply");
+    REQUIRE(table.size() == input.points.size());
+    const auto positions = buffer<float>(html, "positions");
+    const auto q = buffer<std::uint16_t>(html, "field1");
+    const std::size_t nv = positions.size() / 3;
+    REQUIRE(q.size() == 12 * nv);
+    REQUIRE(nv > input.points.size());  // seam copies
+    const double lo = meta["fields"][1]["lo"], hi = meta["fields"][1]["hi"];
+    double worst = 0;
+    for (std::size_t v = 0; v < nv; ++v)
+    {
+        Eigen::Vector3d p;
+        for (int d = 0; d < 3; ++d)
+            p[d] = positions[3 * v + d] + meta["centre"][d].get<double>();
+        std::size_t nearest = 0;
+        for (std::size_t i = 1; i < input.points.size(); ++i)
+            if ((input.points[i] - p).squaredNorm() < (input.points[nearest] - p).squaredNorm())
+                nearest = i;
+        for (std::size_t s = 0; s < 12; ++s)
+            worst = std::max(worst, std::abs(lo + q[s * nv + v] * (hi - lo) / 65535.0 -
+                                             table[nearest][s]));
+    }
+    MESSAGE("largest difference from the CSV: ", worst, " (range ", hi - lo, ")");
+    CHECK(worst <= (hi - lo) / 65535.0 + 1e-6 * hi);
+
+    // The same series through vessel-flatten --html gives the same fields.
+    REQUIRE(test::run(std::string(VESSEL_FLATTEN_EXE) + " " + dir + "/carotid.ply -o " + dir +
+                      "/f.vtp --fields " + dir + "/pulse.pvd --html " + dir + "/f.html -q") == 0);
+    const std::string flat_html = read_file(dir + "/f.html");
+    const nlohmann::json flat_meta = nlohmann::json::parse(script_text(flat_html, "vessel-meta"));
+    REQUIRE(flat_meta["fields"].size() == 2);
+    CHECK(flat_meta["fields"][1]["name"] == "WSS");
+    CHECK(buffer<std::uint16_t>(flat_html, "field1") == q);
+
+    // A real .vtp input: its point array (Normals, a vector) is shown as its length.
+    const std::string artery = std::string(VESSEL_SHARED_DATA) + "/vampy/artery.vtp";
+    REQUIRE(test::run(view + artery + " -o " + dir + "/artery.html -q") == 0);
+    const nlohmann::json artery_meta =
+        nlohmann::json::parse(script_text(read_file(dir + "/artery.html"), "vessel-meta"));
+    REQUIRE(artery_meta["fields"].size() == 2);
+    CHECK(artery_meta["fields"][1]["name"] == "|Normals|");
+
+    // A series of another mesh is refused with vessel-flatten's message; no page is written.
+    CHECK(test::run(view + artery + " -o " + dir + "/bad.html --fields " + dir +
+                    "/pulse.pvd -q 2> " + dir + "/err.txt") == 1);
+    CHECK(read_file(dir + "/err.txt").find("the series was computed on another mesh") !=
+          std::string::npos);
+    CHECK_FALSE(std::ifstream(dir + "/bad.html").good());
 }

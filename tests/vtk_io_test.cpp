@@ -57,21 +57,27 @@ TEST_CASE("vtk_io: every VTK encoding round-trips points, polygons and all array
     {
         std::string name;
         VtkEncoding encoding;
-        bool compress;
+        VtkCompressor compressor;
         int digits = 0;  // exact
     };
-    const std::vector<Case> cases = {{"ascii.vtp", VtkEncoding::Ascii, false},
-                                     {"binary.vtp", VtkEncoding::Binary, false},
-                                     {"binary-zlib.vtp", VtkEncoding::Binary, true},
-                                     {"appended.vtp", VtkEncoding::Appended, false},
-                                     {"appended-zlib.vtp", VtkEncoding::Appended, true},
-                                     {"ascii.vtk", VtkEncoding::Ascii, false, 10},
-                                     {"binary.vtk", VtkEncoding::Binary, false}};
+    using E = VtkEncoding;
+    using C = VtkCompressor;
+    const std::vector<Case> cases = {{"ascii.vtp", E::Ascii, C::None},
+                                     {"binary.vtp", E::Binary, C::None},
+                                     {"binary-zlib.vtp", E::Binary, C::ZLib},
+                                     {"binary-lz4.vtp", E::Binary, C::LZ4},
+                                     {"binary-lzma.vtp", E::Binary, C::LZMA},
+                                     {"appended.vtp", E::Appended, C::None},
+                                     {"appended-zlib.vtp", E::Appended, C::ZLib},
+                                     {"appended-lz4.vtp", E::Appended, C::LZ4},
+                                     {"appended-lzma.vtp", E::Appended, C::LZMA},
+                                     {"ascii.vtk", E::Ascii, C::None, 10},
+                                     {"binary.vtk", E::Binary, C::None}};
     for (const auto& c : cases)
     {
         INFO(c.name);
         const std::string path = dir + "/" + c.name;
-        write_polydata(path, d, {c.encoding, c.compress});
+        write_polydata(path, d, {c.encoding, c.compressor});
         CHECK_FALSE(std::filesystem::exists(path + ".tmp"));
         check_same(d, read_polydata(path), c.digits);
     }
@@ -83,9 +89,17 @@ TEST_CASE("vtk_io: every VTK encoding round-trips points, polygons and all array
     std::string packed((std::istreambuf_iterator<char>(zlib)), {});
     CHECK(packed.find("vtkZLibDataCompressor") != std::string::npos);
     CHECK(packed.find("format=\"appended\"") != std::string::npos);
+    for (const auto& [name, header] : {std::pair<std::string, std::string>{"appended-lz4.vtp",
+                                                                           "vtkLZ4DataCompressor"},
+                                       {"binary-lzma.vtp", "vtkLZMADataCompressor"}})
+    {
+        std::ifstream in(dir + "/" + name);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+        CHECK_MESSAGE(bytes.find(header) != std::string::npos, name);
+    }
 }
 
-TEST_CASE("vtk_io: files written by python3-vtk9 with its defaults are read with their arrays")
+TEST_CASE("vtk_io: files written by python3-vtk9 (defaults, lz4, lzma) are read with their arrays")
 {
     const std::string dir = temp_dir("vtk_io_python");
     const std::string script = dir + "/write.py";
@@ -103,13 +117,18 @@ for i in range(poly.GetNumberOfPolys()):
 poly.GetCellData().AddArray(c)
 w = vtk.vtkXMLPolyDataWriter(); w.SetFileName(sys.argv[1]); w.SetInputData(poly); w.Write()
 l = vtk.vtkPolyDataWriter(); l.SetFileName(sys.argv[2]); l.SetInputData(poly); l.Write()
+for name, mode in (("lz4", "Appended"), ("lzma", "Binary")):
+    c = vtk.vtkXMLPolyDataWriter(); c.SetFileName(sys.argv[1][:-4] + "-" + name + ".vtp")
+    c.SetInputData(poly); getattr(c, "SetDataModeTo" + mode)()
+    getattr(c, "SetCompressorTypeTo" + name.upper())(); c.Write()
 print(poly.GetNumberOfPoints(), poly.GetNumberOfPolys())
 )";
     REQUIRE(run("/usr/bin/python3 " + script + " " + dir + "/py.vtp " + dir + "/py.vtk > " + dir +
                 "/counts.txt") == 0);
     int points = 0, polys = 0;
     std::ifstream(dir + "/counts.txt") >> points >> polys;
-    for (const std::string name : {"py.vtp", "py.vtk"})
+    // Python's defaults (appended, zlib), legacy, and the lz4 and lzma compressors.
+    for (const std::string name : {"py.vtp", "py.vtk", "py-lz4.vtp", "py-lzma.vtp"})
     {
         INFO(name);
         const PolyData d = read_polydata(dir + "/" + name);
@@ -149,7 +168,7 @@ TEST_CASE("vtk_io: unreadable or unsuitable files are refused with a message")
     CHECK_THROWS_AS(read_polydata(dir + "/grid.vtk"), IoError);
     // Truncated appended data.
     write_polydata(dir + "/ok.vtp", vessel::test::tube_with_fields(10, 4),
-                   {VtkEncoding::Appended, true});
+                   {VtkEncoding::Appended, VtkCompressor::ZLib});
     const auto size = std::filesystem::file_size(dir + "/ok.vtp");
     std::filesystem::copy_file(dir + "/ok.vtp", dir + "/cut.vtp");
     std::filesystem::resize_file(dir + "/cut.vtp", size / 2);
@@ -171,7 +190,7 @@ TEST_CASE("vtk_io: unreadable or unsuitable files are refused with a message")
     bad.point_data[0].values.conservativeResize(3, 1);
     CHECK_THROWS_AS(write_polydata(dir + "/bad.vtp", bad), InvalidInputError);
     CHECK_THROWS_AS(write_polydata(dir + "/x.vtk", vessel::test::tube_with_fields(10, 4),
-                                   {VtkEncoding::Appended, false}),
+                                   {VtkEncoding::Appended, VtkCompressor::None}),
                     InvalidInputError);
     CHECK_THROWS_AS(write_polydata(dir + "/x.ply", vessel::test::tube_with_fields(10, 4)),
                     InvalidInputError);

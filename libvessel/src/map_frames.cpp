@@ -109,6 +109,29 @@ Eigen::VectorXd interpolate_series(const FieldSeries& series, double t)
     return (1.0 - a) * series.values[k - 1] + a * series.values[k];
 }
 
+MapImageOptions series_range_options(const FieldSeries& series, const MapImageOptions& image)
+{
+    series.validate();
+    image.validate();
+    if (!image.auto_range)
+        return image;
+    // One range over every step: linear blends never leave [min, max] of their ends.
+    Eigen::VectorXd all(series.values.size() * series.values[0].size());
+    Eigen::Index at = 0;
+    for (const auto& v : series.values)
+    {
+        all.segment(at, v.size()) = v;
+        at += v.size();
+    }
+    const MapImageLayout range = map_image_range(all, image);
+    MapImageOptions fixed = image;
+    fixed.auto_range = false;
+    fixed.range_min = range.range_min;
+    fixed.range_max = range.range_max;
+    fixed.colormap = range.colormap;
+    return fixed;
+}
+
 std::vector<double> frame_times(const FieldSeries& series, const FrameOptions& options)
 {
     series.validate();
@@ -131,23 +154,8 @@ FramesSummary render_frames(const std::string& dir, const MapImageInput& input,
 {
     FramesSummary summary;
     summary.frame_times = frame_times(series, options);
-    MapImageOptions frame_options = image;
-    if (image.auto_range && options.fixed_range)
-    {
-        // One range over every step: linear blends never leave [min, max] of their ends.
-        Eigen::VectorXd all(series.values.size() * series.values[0].size());
-        Eigen::Index at = 0;
-        for (const auto& v : series.values)
-        {
-            all.segment(at, v.size()) = v;
-            at += v.size();
-        }
-        const MapImageLayout range = map_image_range(all, image);
-        frame_options.auto_range = false;
-        frame_options.range_min = range.range_min;
-        frame_options.range_max = range.range_max;
-        frame_options.colormap = range.colormap;
-    }
+    const MapImageOptions frame_options =
+        options.fixed_range ? series_range_options(series, image) : image;
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)

@@ -260,10 +260,13 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
             writer->SetDataModeToAppended();
             writer->EncodeAppendedDataOff();
         }
-        if (options.compress)
-            writer->SetCompressorTypeToZLib();
-        else
-            writer->SetCompressorTypeToNone();
+        switch (options.compressor)
+        {
+        case VtkCompressor::None: writer->SetCompressorTypeToNone(); break;
+        case VtkCompressor::ZLib: writer->SetCompressorTypeToZLib(); break;
+        case VtkCompressor::LZ4: writer->SetCompressorTypeToLZ4(); break;
+        case VtkCompressor::LZMA: writer->SetCompressorTypeToLZMA(); break;
+        }
         std::tie(ok, message) = run_writer(writer.Get(), errors);
     }
     else

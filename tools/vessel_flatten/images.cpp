@@ -4,6 +4,7 @@
 #include "vessel/map_frames.h"
 #include "vessel/map_image.h"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace vessel::cli {
@@ -31,34 +32,94 @@ const Field& chosen(const std::string& name, const std::vector<Field>& candidate
     throw InvalidInputError("--image/--frames: no point field to draw; give --fields");
 }
 
+// True if \p name is a field of a series of several steps.
+bool in_series(const TimeSeries& series, const std::string& name)
+{
+    return series.size() > 1 &&
+           std::any_of(series.steps[0].begin(), series.steps[0].end(),
+                       [&](const Field& f) { return f.name == name; });
+}
+
+std::string seconds(double t)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%g s", t);
+    return text;
+}
+
+// The values --image draws from a series, and the colorbar title's "at t = ..." suffix.
+std::pair<Eigen::VectorXd, std::string> series_moment(const ImageRequest& request,
+                                                      const FieldSeries& values)
+{
+    const auto& times = values.times;
+    if (request.time)
+    {
+        const double t = *request.time;
+        if (!(t >= times.front() && t <= times.back()))
+            throw InvalidInputError("--image-time " + seconds(t) + " is outside the series (" +
+                                    seconds(times.front()) + " to " + seconds(times.back()) +
+                                    ")");
+        return {interpolate_series(values, t), " at t = " + seconds(t)};
+    }
+    const int k = request.step.value_or(0);
+    if (k < 0 || k >= static_cast<int>(times.size()))
+        throw InvalidInputError("--image-step " + std::to_string(k) + ": the series has steps 0 to " +
+                                std::to_string(times.size() - 1));
+    return {values.values[k], " at t = " + seconds(times[k])};
+}
+
 }  // namespace
 
 void render_images(const ImageRequest& request, const FlattenResult& result,
                    const std::vector<Field>& fields, const TimeSeries& series)
 {
-    if (request.image.empty() && request.frames.empty())
+    if (request.images.empty() && request.frames.empty())
         return;
     std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
     candidates.insert(candidates.end(), fields.begin(), fields.end());
     const Field& field = chosen(request.field, candidates);
+    const bool over_time = in_series(series, field.name);
+    if ((request.step || request.time) && !over_time)
+        throw InvalidInputError("--image-step/--image-time choose a moment of a time series; '" +
+                                field.name + "' is not one (give --fields with a series)");
     const MapImageInput input = map_image_input(result);
     MapImageOptions options;
     options.field_name = field.components() == 1 ? field.name : "|" + field.name + "|";
-    if (!request.image.empty())
+    options.units = request.units;
+    FieldSeries values;
+    if (over_time)
     {
-        render_map_image(request.image, input, scalar_values(field), options);
-        if (!request.quiet)
-            std::fprintf(stderr, "[  ] image of %s -> %s\n", field.name.c_str(),
-                         request.image.c_str());
+        values.times = series.times;
+        for (const auto& step : series.steps)
+            values.values.push_back(scalar_values(find_field(step, field.name)));
+    }
+    if (!request.images.empty())
+    {
+        MapImageOptions image_options = options;
+        Eigen::VectorXd shown;
+        if (over_time)
+        {
+            std::string when;
+            std::tie(shown, when) = series_moment(request, values);
+            image_options = series_range_options(values, options);
+            image_options.field_name += when;
+        }
+        else
+            shown = scalar_values(field);
+        image_options.view3d = request.view3d;
+        for (const auto& path : request.images)
+        {
+            render_map_image(path, input, shown, image_options);
+            if (!request.quiet)
+                std::fprintf(stderr, "[  ] image of %s -> %s\n",
+                             image_options.field_name.c_str(), path.c_str());
+        }
     }
     if (request.frames.empty())
         return;
-    if (series.size() < 2)
-        throw InvalidInputError("--frames needs a time series with several steps (--fields)");
-    FieldSeries values;
-    values.times = series.times;
-    for (const auto& step : series.steps)
-        values.values.push_back(scalar_values(find_field(step, field.name)));
+    if (!over_time)
+        throw InvalidInputError("--frames needs a time series with several steps (--fields); '" +
+                                field.name + "' has one");
     const FramesSummary s = render_frames(request.frames, input, values, options);
     if (!request.quiet)
         std::fprintf(stderr, "[  ] %d frames of %s -> %s\n", s.frames, field.name.c_str(),

@@ -5,6 +5,7 @@
 #include "vessel/fields.h"
 #include "vessel/pipeline.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,17 +13,26 @@ namespace vessel::cli {
 
 struct ImageRequest
 {
-    std::string image;   //!< --image OUT.png|svg|pdf (empty: none)
+    //! --image OUT.png|svg|pdf ...: the same image in each of these files (empty: none)
+    std::vector<std::string> images;
     std::string frames;  //!< --frames DIR (empty: none)
     std::string field;   //!< --field NAME (empty: the first point field)
+    std::string units;   //!< --image-units: after the colorbar title, e.g. "Pa"
+    bool view3d = false;  //!< --image-3d: the 3D cut mesh beside the map
+    //! --image-step N: the series step --image draws (0-based); none = step 0 unless `time`.
+    std::optional<int> step;
+    //! --image-time T: the series time (s) --image draws, linearly interpolated between the
+    //! two steps around it; must lie within the series' times.
+    std::optional<double> time;
     bool quiet = false;
 };
 
 //! \brief Draw the chosen point field (fields carried to the cut mesh) on the map: --image shows
-//! the static field, or step 0 of a series; --frames renders every step of the series,
-//! interpolated in time. Vectors are drawn as their magnitude.
-//! \throw InvalidInputError if there is no point field to draw, the field is a cell field, or
-//! --frames has no series.
+//! the static field, or one moment of a series (step 0, `step`, or `time` interpolated) with the
+//! colour range of the whole series; --frames renders every step of the series, interpolated in
+//! time. Vectors are drawn as their magnitude.
+//! \throw InvalidInputError if there is no point field to draw, the field is a cell field,
+//! --frames has no series, or the step or time is not in the series (or there is no series).
 void render_images(const ImageRequest& request, const FlattenResult& result,
                    const std::vector<Field>& fields, const TimeSeries& series);
 

@@ -1,6 +1,7 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
 #include "../vessel_view/command.h"
 #include "batch.h"
+#include "field_input.h"
 #include "images.h"
 #include "viewer_fields.h"
 #include "vessel/errors.h"
@@ -46,9 +47,7 @@ int main(int argc, char** argv)
                                             overlaps = "restart", layout = "fan";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
-    std::string fields_spec, field_name;
     vessel::cli::ImageRequest images;
-    vessel::FieldSeriesOptions series_options;
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
@@ -60,23 +59,24 @@ int main(int argc, char** argv)
     app.add_option("-o,--output", output, "Flattened mesh (.obj, .vtp or .ply); with --batch, "
                                           "the output directory")
         ->required();
-    auto* fields_option = app.add_option(
-        "--fields", fields_spec,
-        "Fields over the input mesh to carry to the output: a .vtp/.vtk, a .pvd series, numbered "
-        "files (wss_%03d.vtp or 'wss_*.vtp') or a CSV table (wide: vertex,t0,t1,...; long: "
-        "vertex,time,NAME); see docs/fields.md");
-    app.add_option("--field", field_name, "Keep only this array of --fields (and check that it "
-                                          "exists); also the CSV field's name in wide form");
-    app.add_option("--image", images.image,
+    vessel::cli::FieldArgs field_args;
+    auto* fields_option =
+        vessel::cli::add_field_options(app, field_args, "to carry to the output");
+    app.add_option("--image", images.images,
                    "Also draw --field (default: the first point field) on the map: .png, .svg or "
-                   ".pdf; a series shows its first step");
+                   ".pdf (several files: the same image in each); a series shows step 0, "
+                   "--image-step or --image-time");
+    app.add_option("--image-units", images.units, "With --image: units after the colorbar title");
+    app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map");
+    auto* image_step = app.add_option("--image-step", images.step,
+                                      "With --image and a series: draw this step (0-based)")
+                           ->check(CLI::NonNegativeNumber);
+    app.add_option("--image-time", images.time, "With --image and a series: draw the field at "
+                                                "this time (s), interpolated between steps")
+        ->excludes(image_step);
     app.add_option("--frames", images.frames,
                    "With a --fields series: PNG frames of --field over time in this directory "
                    "(25 fps, linear interpolation between steps)");
-    app.add_option("--time-step", series_options.time_step,
-                   "Seconds between numbered files (and CSV columns without times)")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
     app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
                                             ".ply/.stl files, recursively) or a text file with "
                                             "one path per line; writes OUTDIR/<stem>.obj, "
@@ -242,31 +242,17 @@ int main(int argc, char** argv)
             };
 
         auto start = Clock::now();
-        vessel::PolyData input_data;
-        if (vessel::is_vtk_path(input))
-            input_data = vessel::read_polydata(input);
-        else
-            input_data.mesh = vessel::read_raw_mesh(input);
+        const vessel::cli::FieldInput field_input =
+            vessel::cli::read_field_input(input, field_args);
         const vessel::cli::PreparedInput in =
-            vessel::cli::prepare_input(input_data.mesh, surface_options, batch.repair);
+            vessel::cli::prepare_input(field_input.data.mesh, surface_options, batch.repair);
         const vessel::TreeSurface& surface = in.surface;
-        std::vector<vessel::Field> fields = input_data.point_data;
-        fields.insert(fields.end(), input_data.cell_data.begin(), input_data.cell_data.end());
-        vessel::TimeSeries series;
-        if (!fields_spec.empty())
-        {
-            series_options.name = field_name;
-            series = vessel::read_field_series(fields_spec, input_data, series_options);
-            if (!field_name.empty())
-                for (auto& step : series.steps)
-                    step = {vessel::find_field(step, field_name)};
-            if (series.size() > 1 && out_ext != ".vtp")
-                throw vessel::InvalidInputError(
-                    "--fields gives " + std::to_string(series.size()) +
-                    " time steps; write them with an OUT.vtp output (OUT.pvd series)");
-        }
-        else if (!field_name.empty())
-            vessel::find_field(fields, field_name);
+        const std::vector<vessel::Field>& fields = field_input.fields;
+        const vessel::TimeSeries& series = field_input.series;
+        if (series.size() > 1 && out_ext != ".vtp")
+            throw vessel::InvalidInputError(
+                "--fields gives " + std::to_string(series.size()) +
+                " time steps; write them with an OUT.vtp output (OUT.pvd series)");
         if (batch.repair && (!fields.empty() || series.size() > 0))
             throw vessel::InvalidInputError("--repair may merge or drop vertices and faces; "
                                             "fields cannot be carried through it (repair the "
@@ -336,7 +322,7 @@ int main(int argc, char** argv)
                     shown.push_back(std::move(f));
                 vessel::write_viewer_html(html, result, shown, view);
             }
-            images.field = field_name;
+            images.field = field_args.name;
             images.quiet = quiet;
             vessel::cli::render_images(images, result, cut_fields, cut_series);
             const double write_s = seconds_since(start);

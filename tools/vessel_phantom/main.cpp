@@ -2,6 +2,8 @@
 // vessel tree) to a mesh file.
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
+#include "pulse_files.h"
+
 #include "vessel/boundary.h"
 #include "vessel/errors.h"
 #include "vessel/field_series.h"
@@ -164,13 +166,8 @@ int main(int argc, char** argv)
         if (!pulse_prefix.empty())
         {
             const vessel::TimeSeries series = vessel::travelling_pulse(mesh, pulse);
-            vessel::write_pvd_series(pulse_prefix + ".pvd",
-                                     {{"", vessel::PolyData{vessel::to_raw_mesh(mesh), {}, {}, {}}}},
-                                     series);
-            vessel::write_csv_series(pulse_prefix + ".csv", series, pulse.name,
-                                     vessel::CsvLayout::Wide);
-            vessel::write_csv_series(pulse_prefix + "-long.csv", series, pulse.name,
-                                     vessel::CsvLayout::Long);
+            vessel::cli::write_pulse_files(pulse_prefix, vessel::to_raw_mesh(mesh), series,
+                                           pulse.name);
             if (!quiet)
                 std::cout << "pulse: " << series.size() << " steps over " << pulse.duration_s
                           << " s -> " << pulse_prefix << ".pvd, .csv, -long.csv\n";

@@ -1,4 +1,6 @@
 // vessel-view: flatten a vessel tree surface and write an interactive HTML viewer of the result.
+#include "../vessel_flatten/field_input.h"
+#include "../vessel_flatten/viewer_fields.h"
 #include "command.h"
 #include "vessel/errors.h"
 #include "vessel/pipeline.h"
@@ -17,13 +19,14 @@ int main(int argc, char** argv)
         "3D surface and its flattened map in linked views (fields colormapped on both, "
         "animated over time)."};
     std::string input, output, cost = "curvature", title;
+    vessel::cli::FieldArgs field_args;
     std::vector<double> viewpoint;
     bool demo_field = false, quiet = false;
     vessel::FlattenOptions options;
     vessel::PulseOptions pulse;
     app.add_option("input", input,
-                   "Vessel surface (.obj, .off, .ply, .stl), open at inlet and "
-                   "outlets")
+                   "Vessel surface (.obj, .off, .ply, .stl, .vtp, .vtk), open at inlet and "
+                   "outlets; the point arrays of a .vtp/.vtk are shown")
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("-o,--output", output, "The HTML page to write")->required();
@@ -38,6 +41,7 @@ int main(int argc, char** argv)
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str();
+    vessel::cli::add_field_options(app, field_args, "to show");
     app.add_flag("--demo-field", demo_field,
                  "Add a synthetic travelling pulse (90 steps over "
                  "1.8 s) to try the time controls");
@@ -69,19 +73,34 @@ int main(int argc, char** argv)
             throw vessel::IoError(
                 "this build has no viewer bundle (node and npm were not found "
                 "when libvessel was built); install nodejs and npm and rebuild");
-        const vessel::TreeSurface surface = vessel::load_tree_surface(input);
+        const vessel::cli::FieldInput in =
+            vessel::cli::read_field_input(input, field_args);
+        const vessel::TreeSurface surface = vessel::make_tree_surface(in.data.mesh);
         if (!quiet)
             std::fprintf(stderr, "read %zu vertices, %zu faces; flattening...\n",
                          surface.mesh.n_vertices(), surface.mesh.n_faces());
         const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
 
         std::vector<vessel::ViewerField> fields = {vessel::geodesic_field(result)};
+        for (auto& f : vessel::cli::viewer_fields(vessel::transfer_fields(in.fields, result.mesh),
+                                                  vessel::transfer_series(in.series, result.mesh)))
+            fields.push_back(std::move(f));
         if (demo_field)
             fields.push_back(vessel::pulse_field(result, pulse));
-        const std::filesystem::path in(input);
-        view.title = title.empty() ? in.filename().string() : title;
+        const std::filesystem::path path(input);
+        view.title = title.empty() ? path.filename().string() : title;
+        // A series of several steps is written as OUT.vtp + OUT.pvd; other fields fit any output.
+        const bool series = in.series.size() > 1;
         std::vector<std::string> flatten = {"vessel-flatten", input, "-o",
-                                            in.stem().string() + "-flat.obj"};
+                                            path.stem().string() + (series ? "-flat.vtp"
+                                                                           : "-flat.obj")};
+        if (!field_args.spec.empty())
+            flatten.insert(flatten.end(), {"--fields", field_args.spec});
+        if (!field_args.name.empty())
+            flatten.insert(flatten.end(), {"--field", field_args.name});
+        if (app.count("--time-step"))
+            flatten.insert(flatten.end(),
+                           {"--time-step", std::to_string(field_args.series.time_step)});
         if (cost != "curvature")
             flatten.insert(flatten.end(), {"--cost", cost});
         if (app.count("--alpha"))

@@ -50,6 +50,12 @@ struct FramesSummary
     std::string message;  //!< why no animation was written (e.g. ffmpeg not found), else empty
 };
 
+//! \brief \p image with its colour range fixed to the range of every step of \p series (what
+//! render_frames() uses with `fixed_range`), so that images at different times compare; \p image
+//! unchanged when it fixes the range itself (`auto_range = false`).
+//! \throw InvalidInputError if `series.validate()` or `image.validate()` fails.
+MapImageOptions series_range_options(const FieldSeries& series, const MapImageOptions& image);
+
 //! Times of the frames: t0, t0 + 1 / (fps slowdown), ... up to the last step's time.
 std::vector<double> frame_times(const FieldSeries& series, const FrameOptions& options);
 

@@ -31,13 +31,23 @@ enum class VtkEncoding
     Appended,  //!< XML only: raw binary block after the XML (ParaView's default)
 };
 
+//! Compression of a `.vtp`'s binary or appended data (VTK's `SetCompressorType`).
+enum class VtkCompressor
+{
+    None,
+    ZLib,  //!< VTK's and ParaView's default
+    LZ4,   //!< fastest to read and write, larger files
+    LZMA,  //!< smallest files, slowest to write
+};
+
 struct VtkWriteOptions
 {
     VtkEncoding encoding = VtkEncoding::Appended;  //!< default: compact and fast
-    bool compress = true;  //!< XML binary/appended: zlib compression (ignored otherwise)
+    //! XML binary/appended data only (ignored for ascii and legacy `.vtk`).
+    VtkCompressor compressor = VtkCompressor::ZLib;
 };
 
-//! \brief Read a `.vtp` (ascii, binary or appended; zlib-compressed or not) or legacy `.vtk`
+//! \brief Read a `.vtp` (ascii, binary or appended; uncompressed or zlib, lz4 or lzma) or legacy `.vtk`
 //! POLYDATA file with all its point and cell data arrays (scalars, vectors, tensors; float,
 //! double and integer types). Field data arrays are ignored.
 //! \throw IoError if the file is missing, unreadable, not PolyData, or holds vertex, line or

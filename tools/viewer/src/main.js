@@ -65,12 +65,18 @@ async function start() {
 
   function currentField() { return fields[state.field]; }
 
+  // Per frame while playing: the blend weight always, the two step attributes only when the
+  // pair changes (a new pair makes three.js re-bind the vertex attributes of both views).
+  let bound = null;
   function applyTime() {
     const field = currentField();
     const [a, b, f] = stepsAt(field.times, state.time, state.interpolate);
-    for (const view of [view3d, view2d]) {
-      view.geometry.setAttribute('valueA', field.steps[a]);
-      view.geometry.setAttribute('valueB', field.steps[b]);
+    if (!bound || bound.field !== field || bound.a !== a || bound.b !== b) {
+      for (const view of [view3d, view2d]) {
+        view.geometry.setAttribute('valueA', field.steps[a]);
+        view.geometry.setAttribute('valueB', field.steps[b]);
+      }
+      bound = { field, a, b };
     }
     uniforms.mixT.value = f;
     state.steps = [a, b, f];
@@ -250,6 +256,7 @@ async function start() {
   resize();
 
   let lastFrame = null;
+  let framesDrawn = 0;
   function frame(now) {
     if (pendingHover) resolveHover();
     if (state.playing) {
@@ -266,6 +273,7 @@ async function start() {
       dirty = false;
       view3d.render();
       view2d.render();
+      framesDrawn++;
     }
     requestAnimationFrame(frame);
   }
@@ -289,6 +297,15 @@ async function start() {
     timings,
     setTime(t) { state.time = t; applyTime(); },
     renderNow() { view3d.render(); view2d.render(); },
+    // RGB of the map view at canvas (CSS pixel) position (x, y), drawn just before: the drawing
+    // buffer is not preserved once the page has shown it.
+    mapPixel(x, y) {
+      this.renderNow();
+      const gl = view2d.renderer.getContext(), r = view2d.canvas.width / view2d.canvas.clientWidth;
+      const px = new Uint8Array(4);
+      gl.readPixels(Math.floor(x * r), view2d.canvas.height - 1 - Math.floor(y * r), 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+      return Array.from(px.slice(0, 3));
+    },
     // Canvas (CSS pixel) position in the 2D view of the centroid of face f.
     faceOnMap(f) {
       let u = 0, v = 0;
@@ -338,6 +355,8 @@ async function start() {
       return c;
     },
     nFaces: data.indices.length / 3,
+    nVertices: nv,
+    get framesDrawn() { return framesDrawn; },
   };
   document.body.dataset.ready = '1';
 }

@@ -7,7 +7,7 @@ export class View2d {
   constructor(canvas, data, shared, onChange) {
     this.canvas = canvas;
     this.onChange = onChange;
-    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: false });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setClearColor(0x1b1e24);
     this.scene = new THREE.Scene();

@@ -7,7 +7,7 @@ import { fieldMaterial, pickMaterial, decodePick } from './material.js';
 export class View3d {
   constructor(canvas, data, shared, onChange) {
     this.canvas = canvas;
-    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: false });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     this.renderer.setClearColor(0x1b1e24);
     this.scene = new THREE.Scene();

@@ -4,7 +4,11 @@
 // and that hovering one view marks the same wall point on the other. Saves a screenshot.
 //
 //   node test/e2e.mjs --exe build/bin/vessel-view --mesh MESH.ply --workdir DIR
+//                     [--pulse-exe build/bin/vessel-pulse --fields-mesh MESH.vtp]
 //                     [--screenshot docs/images/viewer.png] [--chromium /usr/bin/chromium]
+// With --pulse-exe, a second page shows a series read with --fields (vessel-pulse's synthetic
+// pulse over FIELDS-MESH's points, as a .pvd): its map must show the stored steps blended in
+// time, and the screenshot is taken of that page.
 import { execFileSync } from 'node:child_process';
 import { mkdirSync } from 'node:fs';
 import { resolve, dirname } from 'node:path';
@@ -31,6 +35,51 @@ function check(ok, what, detail) {
 mkdirSync(args.workdir, { recursive: true });
 const html = resolve(args.workdir, 'viewer-e2e.html');
 execFileSync(args.exe, [args.mesh, '-o', html, '--demo-field', '-q'], { stdio: 'inherit' });
+
+// The page of a --fields series: starts, lists the series, draws it, the slider changes the map,
+// and a map pixel has the colour of the stored steps blended at the current time.
+async function fieldsPage(page, snapshot, frame) {
+  const prefix = resolve(args.workdir, 'pulse');
+  execFileSync(args['pulse-exe'], [args['fields-mesh'], prefix, '--name', 'WSS_synthetic', '-q'], { stdio: 'inherit' });
+  const html2 = resolve(args.workdir, 'viewer-e2e-fields.html');
+  execFileSync(args.exe, [args['fields-mesh'], '-o', html2, '--fields', prefix + '.pvd', '-q'], { stdio: 'inherit' });
+  await page.goto(pathToFileURL(html2).href);
+  await page.waitForFunction(() => document.body.dataset.ready || document.body.dataset.error, null, { timeout: 60000 });
+  const bootError = await page.evaluate(() => document.body.dataset.error || '');
+  check(!bootError, 'the --fields page starts', bootError);
+  if (bootError) return;
+  const options = await page.locator('#vv-field option').allTextContents();
+  const steps = await page.evaluate(() => window.vesselViewer.fieldTimes(Number(document.getElementById('vv-field').value)).length);
+  check(options.some((o) => o.startsWith('WSS_synthetic')) && steps === 90, 'the --fields series is offered and shown',
+    `fields ${options.join(', ')}; ${steps} steps shown`);
+  const first = await snapshot();
+  for (const id of ['vv-canvas3d', 'vv-canvas2d'])
+    check(first[id].coloured > 0.02 * first[id].total, `--fields page: ${id} draws coloured pixels`, `${first[id].coloured} coloured`);
+  const slider = await page.locator('#vv-time').boundingBox();
+  await page.mouse.click(slider.x + slider.width * 0.17, slider.y + slider.height / 2);
+  const moved = await snapshot();
+  check(moved['vv-canvas2d'].changed > 0.01 * moved['vv-canvas2d'].total, '--fields page: the slider changes the map',
+    `${moved['vv-canvas2d'].changed} pixels changed`);
+  // Hover a mid-index face: the map pixel there vs the series' value, interpolated from the
+  // stored steps at the current time (not a step's own value).
+  const box2d = await page.locator('#vv-canvas2d').boundingBox();
+  const [mx, my] = await page.evaluate(() => window.vesselViewer.faceOnMap(Math.floor(window.vesselViewer.nFaces / 2)));
+  await page.mouse.move(box2d.x + mx, box2d.y + my);
+  await frame();
+  const c = await page.evaluate(([x, y]) => {
+    const v = window.vesselViewer, f = Math.floor(v.nFaces / 2), t = v.state.time, k = v.state.field;
+    const px = v.mapPixel(x, y);
+    const [lo, hi] = v.fieldRange(k);
+    return { px, want: v.colourOf(v.valueAtCentroid(k, f, t)), t, steps: v.state.steps, shown: v.state.hoverValue,
+      value: v.valueAtCentroid(k, f, t), span: hi - lo };
+  }, [mx, my]);
+  const err = Math.max(...c.px.map((x, i) => Math.abs(x - c.want[i])));
+  check(c.steps[2] > 0 && c.steps[2] < 1 && err <= 3, '--fields page: the map shows the series blended in time',
+    `t = ${c.t.toFixed(3)} s between steps ${c.steps[0] + 1} and ${c.steps[1] + 1}; pixel rgb(${c.px}) vs rgb(${c.want.map(Math.round)})`);
+  check(Math.abs(c.shown - c.value) < 0.01 * c.span, '--fields page: the read-out is the series value there',
+    `${c.shown.toFixed(4)} vs ${c.value.toFixed(4)} (range ${c.span.toFixed(3)})`);
+  await page.evaluate(() => window.vesselViewer.setTime(0.31));
+}
 
 const browser = await launchChromium(args.chromium, args.workdir);
 try {
@@ -130,20 +179,13 @@ try {
   // is the demo pulse computed from the geodesic field: sin(2 pi (t / 1.8 - 1.5 d / d_max)).
   const colour = await page.evaluate(([x, y]) => {
     const v = window.vesselViewer, f = Math.floor(v.nFaces / 2), t = v.state.time;
-    const canvas = document.getElementById('vv-canvas2d');
-    const copy = document.createElement('canvas');
-    copy.width = canvas.width;
-    copy.height = canvas.height;
-    const ctx = copy.getContext('2d');
-    ctx.drawImage(canvas, 0, 0);
-    const r = canvas.width / canvas.clientWidth;
-    const px = ctx.getImageData(Math.floor(x * r), Math.floor(y * r), 1, 1).data;
+    const px = v.mapPixel(x, y);
     const d = v.valueAtCentroid(0, f, 0), dMax = v.fieldRange(0)[1];
     const expected = Math.sin(2 * Math.PI * (t / 1.8 - 1.5 * d / dMax));
     // The colours of the two stored steps around t, which a nearest-step display would show.
     const times = v.fieldTimes(1), [a, b] = v.state.steps;
     const stepColours = [times[a], times[b]].map((ts) => v.colourOf(v.valueAtCentroid(1, f, ts)));
-    return { pixel: Array.from(px.slice(0, 3)), want: v.colourOf(expected), expected, shown: v.state.hoverValue, t,
+    return { pixel: px, want: v.colourOf(expected), expected, shown: v.state.hoverValue, t,
       between: v.state.steps, stepColours };
   }, [mx, my]);
   const distance = (p, q) => Math.max(...p.map((c, i) => Math.abs(c - q[i])));
@@ -197,9 +239,12 @@ try {
     'the field selector switches field and colormap', `${cmap}, ${geodesic['vv-canvas2d'].changed} map pixels changed`);
   await page.selectOption('#vv-field', '1');
   await page.evaluate(() => window.vesselViewer.setTime(0.708));
+  if (args['pulse-exe']) await fieldsPage(page, snapshot, frame);
 
   // Screenshot: mid-cycle, a hovered point, both views.
   if (args.screenshot) {
+    const box2d = await page.locator('#vv-canvas2d').boundingBox();
+    const [mx, my] = await page.evaluate(() => window.vesselViewer.faceOnMap(Math.floor(window.vesselViewer.nFaces / 2)));
     await page.mouse.move(box2d.x + mx, box2d.y + my);
     await frame();
     mkdirSync(dirname(resolve(args.screenshot)), { recursive: true });

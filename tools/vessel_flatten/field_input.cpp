@@ -1,0 +1,49 @@
+#include "field_input.h"
+
+#include "vessel/io.h"
+
+namespace vessel::cli {
+
+CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose)
+{
+    auto* fields = app.add_option(
+        "--fields", args.spec,
+        "Fields over the input mesh " + purpose + ": a .vtp/.vtk, a .pvd series, numbered "
+        "files (wss_%03d.vtp or 'wss_*.vtp') or a CSV table (wide: vertex,t0,t1,...; long: "
+        "vertex,time,NAME); see docs/fields.md");
+    app.add_option("--field", args.name, "Keep only this array of --fields (and check that it "
+                                         "exists); also the CSV field's name in wide form");
+    app.add_option("--time-step", args.series.time_step,
+                   "Seconds between numbered files (and CSV columns without times)")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    return fields;
+}
+
+FieldInput read_field_input(const std::string& input, const FieldArgs& args)
+{
+    const std::string& spec = args.spec;
+    const std::string& field_name = args.name;
+    FieldSeriesOptions series_options = args.series;
+    FieldInput in;
+    if (is_vtk_path(input))
+        in.data = read_polydata(input);
+    else
+        in.data.mesh = read_raw_mesh(input);
+    in.fields = in.data.point_data;
+    in.fields.insert(in.fields.end(), in.data.cell_data.begin(), in.data.cell_data.end());
+    if (spec.empty())
+    {
+        if (!field_name.empty())
+            find_field(in.fields, field_name);
+        return in;
+    }
+    series_options.name = field_name;
+    in.series = read_field_series(spec, in.data, series_options);
+    if (!field_name.empty())
+        for (auto& step : in.series.steps)
+            step = {find_field(step, field_name)};
+    return in;
+}
+
+}  // namespace vessel::cli

@@ -1,0 +1,41 @@
+#pragma once
+
+// The input mesh with its arrays and a --fields series, read the same way by vessel-flatten and
+// vessel-view.
+
+#include "vessel/field_series.h"
+#include "vessel/vtk_io.h"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace vessel::cli {
+
+struct FieldInput
+{
+    PolyData data;              //!< the input file: mesh (file indices) and, for .vtp/.vtk, arrays
+    std::vector<Field> fields;  //!< the input's point arrays, then its cell arrays
+    TimeSeries series;          //!< --fields (empty without), checked against `data`
+};
+
+//! The command-line options --fields, --field and --time-step.
+struct FieldArgs
+{
+    std::string spec;  //!< --fields SPEC (empty: none)
+    std::string name;  //!< --field NAME (empty: all arrays)
+    FieldSeriesOptions series;  //!< --time-step; `name` is set from --field when reading
+};
+
+//! Adds --fields (\p purpose says what they are for), --field and --time-step to \p app.
+//! \return the --fields option.
+CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose);
+
+//! \brief Read \p input (any mesh format; .vtp/.vtk with their arrays) and the series
+//! `args.spec` (empty: none) with read_field_series(). With `args.name`, the series keeps only
+//! that array, or, with no series, the input must have it.
+//! \throw InvalidInputError / IoError as read_polydata(), read_field_series() and find_field().
+FieldInput read_field_input(const std::string& input, const FieldArgs& args);
+
+}  // namespace vessel::cli
