@@ -4,6 +4,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/properties.h"
+#include "detail/uv_rows.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -18,9 +19,7 @@ void write_flat_obj(const std::string& path, const std::vector<Eigen::Vector3d>&
     if (!mesh.get_property_handle(input_index, prop::input_index))
         throw InvalidInputError(std::string("write_flat_obj: the mesh has no '") +
                                 prop::input_index + "' property; load it with load_tree_surface");
-    if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
-        throw InvalidInputError("write_flat_obj: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
+    detail::require_uv_rows(mesh, uv, "write_flat_obj");
     detail::write_atomically(path, "write_flat_obj", [&](FILE* out) {
         std::fprintf(out, "# libvessel flattened vessel: v = input positions, vt = (u, v)\n");
         for (const auto& p : input_points)

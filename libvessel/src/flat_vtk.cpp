@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/properties.h"
+#include "detail/uv_rows.h"
 
 #include <filesystem>
 
@@ -19,9 +20,7 @@ PolyData flat_polydata(const Mesh& mesh, const Eigen::MatrixX2d& uv,
                                 "' properties; load it with load_tree_surface()");
     const auto nv = static_cast<Eigen::Index>(mesh.n_vertices());
     const auto nf = static_cast<Eigen::Index>(mesh.n_faces());
-    if (uv.rows() != nv)
-        throw InvalidInputError("flat_polydata: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(nv) + " vertices");
+    detail::require_uv_rows(mesh, uv, "flat_polydata");
     PolyData out;
     out.mesh.points.reserve(mesh.n_vertices());
     for (auto v : mesh.vertices())

@@ -7,6 +7,7 @@
 #include "detail/scaffold.h"
 #include "detail/serial_openmp.h"
 #include "vessel/metrics.h"
+#include "detail/uv_rows.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -439,9 +440,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
 {
     options.validate();
     const int n = static_cast<int>(mesh.n_vertices());
-    if (uv.rows() != n)
-        throw InvalidInputError("injective_refine: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(n) + " vertices");
+    detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
 
     const std::vector<FaceOperator> surface = face_operators(mesh);

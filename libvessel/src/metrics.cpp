@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/overlap.h"
+#include "detail/uv_rows.h"
 
 #include <algorithm>
 #include <cmath>
@@ -20,9 +21,7 @@ double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f
 
 FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
-    if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
-        throw InvalidInputError("flat_quality: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
+    detail::require_uv_rows(mesh, uv, "flat_quality");
     FlatQuality q;
     double area3 = 0.0, area2 = 0.0, log_sum = 0.0, conformal_sum = 0.0, weight = 0.0;
     for (auto f : mesh.faces())

@@ -1,6 +1,7 @@
 #include "vessel/overlap.h"
 
 #include "vessel/errors.h"
+#include "detail/uv_rows.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -258,9 +259,7 @@ OverlapReport find_overlaps(const std::vector<Triangle2>& triangles)
 
 OverlapReport find_overlaps(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
-    if (static_cast<std::size_t>(uv.rows()) != mesh.n_vertices())
-        throw InvalidInputError("find_overlaps: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(mesh.n_vertices()) + " vertices");
+    detail::require_uv_rows(mesh, uv, "find_overlaps");
     std::vector<Triangle2> triangles;
     triangles.reserve(mesh.n_faces());
     for (auto f : mesh.faces())

@@ -4,6 +4,7 @@
 #include "vessel/errors.h"
 #include "vessel/metrics.h"
 #include "vessel/properties.h"
+#include "detail/uv_rows.h"
 
 #include <cmath>
 #include <limits>
@@ -26,9 +27,7 @@ void ReliefCutOptions::validate() const
 Eigen::VectorXd vertex_log_area_ratio(const Mesh& uncut, const Mesh& cut,
                                       const Eigen::MatrixX2d& uv, int smoothing_passes)
 {
-    if (uv.rows() != static_cast<Eigen::Index>(cut.n_vertices()))
-        throw InvalidInputError("vertex_log_area_ratio: uv has " + std::to_string(uv.rows()) +
-                                " rows for " + std::to_string(cut.n_vertices()) + " vertices");
+    detail::require_uv_rows(cut, uv, "vertex_log_area_ratio");
     OpenMesh::VPropHandleT<int> origin_handle;
     if (!cut.get_property_handle(origin_handle, prop::origin))
         throw InvalidInputError(std::string("vertex_log_area_ratio: the cut mesh has no ") +

@@ -2,6 +2,7 @@
 
 #include "detail/face_jacobian.h"
 #include "vessel/errors.h"
+#include "detail/uv_rows.h"
 
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
@@ -201,9 +202,7 @@ UntangleSummary untangle(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pin
 {
     options.validate();
     const int n = static_cast<int>(mesh.n_vertices());
-    if (uv.rows() != n)
-        throw InvalidInputError("untangle: uv has " + std::to_string(uv.rows()) + " rows for " +
-                                std::to_string(n) + " vertices");
+    detail::require_uv_rows(mesh, uv, "untangle");
     const std::vector<int> pinned = pin_index(mesh, pins, "untangle");
     const std::vector<FaceOperator> ops = detail::face_operators(mesh);
     Eigen::VectorXd x = detail::interleaved(uv);

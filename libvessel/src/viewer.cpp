@@ -3,6 +3,7 @@
 #include "detail/viewer_bundle.h"
 #include "vessel/errors.h"
 #include "vessel/properties.h"
+#include "detail/uv_rows.h"
 
 #include <cmath>
 #include <cstdint>
@@ -173,9 +174,7 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
         throw InvalidInputError(
             "write_viewer_html: no fields; pass at least one, e.g. "
             "geodesic_field(result)");
-    if (static_cast<std::size_t>(result.uv.rows()) != nv)
-        throw InvalidInputError("write_viewer_html: uv has " + std::to_string(result.uv.rows()) +
-                                " rows for " + std::to_string(nv) + " vertices");
+    detail::require_uv_rows(mesh, result.uv, "write_viewer_html");
     for (std::size_t i = 0; i < fields.size(); ++i)
         check_field(fields[i], i, nv);
     const std::string bundle = detail::viewer_bundle();
