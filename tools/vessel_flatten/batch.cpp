@@ -1,9 +1,12 @@
 #include "batch.h"
 
+#include "vessel/cut_metrics.h"
+#include "vessel/direction.h"
 #include "vessel/errors.h"
 #include "vessel/flat_io.h"
 #include "vessel/io.h"
 #include "vessel/overlap.h"
+#include "vessel/properties.h"
 
 #include <OpenMesh/Core/System/omstream.hh>
 
@@ -293,6 +296,28 @@ PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool
     return in;
 }
 
+namespace {
+
+// Alignment of each cut with the harmonic longitudinal direction (cut_metrics.h), measured on
+// the uncut surface: the plan's handles and the first |V| vertices of the cut mesh are its own.
+std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult& r)
+{
+    OpenMesh::VPropHandleT<double> geodesic_of;
+    if (!r.mesh.get_property_handle(geodesic_of, prop::geodesic))
+        throw std::logic_error("flatten() left no geodesic distance on the cut mesh");
+    Eigen::VectorXd G(static_cast<Eigen::Index>(uncut.n_vertices()));
+    for (auto v : uncut.vertices())
+        G[v.idx()] = r.mesh.property(geodesic_of, VertexHandle(v.idx()));
+    const Eigen::MatrixX3d reference =
+        descent_direction(uncut, harmonic_longitudinal(uncut, r.loops, G));
+    std::vector<PathAlignment> result;
+    for (const auto& path : r.plan.paths)
+        result.push_back(path_alignment(uncut, path, reference));
+    return result;
+}
+
+}  // namespace
+
 nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                            const FlattenResult& r, double read_s, double write_s)
 {
@@ -324,14 +349,21 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                    {"cut_vertices", r.mesh.n_vertices()},
                    {"seam_edges", r.seam_edges},
                    {"duplicated_vertices", r.duplicated_vertices}};
+    const std::vector<PathAlignment> aligned = cut_alignments(surface.mesh, r);
+    const PathAlignment seam = seam_alignment(aligned);
     nlohmann::json cuts = nlohmann::json::array();
-    for (const auto& c : r.plan.paths)
+    for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
+    {
+        const CutPath& c = r.plan.paths[i];
         cuts.push_back({{"outlet", c.outlet},
                         {"ends_on", c.parent < 0 ? std::string("inlet")
                                                  : "cut " + std::to_string(c.parent)},
                         {"edges", c.halfedges.size()},
                         {"cost", c.cost},
-                        {"winding_deg", c.winding_deg}});
+                        {"winding_deg", c.winding_deg},
+                        {"length", aligned[i].length},
+                        {"alignment", aligned[i].mean}});
+    }
     j["cuts"] = cuts;
     nlohmann::json relief = nlohmann::json::array();
     for (const auto& c : r.plan.relief)
@@ -348,7 +380,9 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                     {"max_conformal_distortion", q.max_conformal},
                     {"overlapping_triangles", q.overlapping_triangles},
                     {"overlap_area", q.overlap_area},
-                    {"overlap_fraction", q.overlap_fraction}};
+                    {"overlap_fraction", q.overlap_fraction},
+                    {"seam_alignment", seam.mean},
+                    {"seam_low_alignment_fraction", seam.low_fraction}};
     // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces).
     j["overlaps"] = {{"triangles", find_overlaps(r.mesh, r.uv).triangles},
                      {"area_kind", "sum of pairwise intersection areas"}};
