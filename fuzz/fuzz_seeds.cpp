@@ -6,7 +6,9 @@
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -35,8 +37,8 @@ int main(int argc, char** argv)
         for (const auto& [name, mesh] : meshes)
             for (const bool binary : {false, true})
             {
-                if (binary && (ext == "obj" || ext == "off"))
-                    continue;  // OpenMesh's binary OFF is rare; OBJ has no binary form
+                if (binary && ext == "obj")
+                    continue;  // OBJ has no binary form
                 OpenMesh::IO::Options options;
                 if (binary)
                     options += OpenMesh::IO::Options::Binary;
@@ -53,5 +55,36 @@ int main(int argc, char** argv)
     std::ofstream(dir / "obj" / "slashes.obj")
         << "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 -1//1\n";
     std::ofstream(dir / "off" / "counts_apart.off") << "OFF\n# comment\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    // The header variants of libvessel's own OFF reader (off_reader.cpp), one small file each.
+    const std::vector<std::pair<std::string, std::string>> variants = {
+        {"coff", "COFF\n3 1 0\n0 0 0 1 0 0 1\n1 0 0 0 1 0 1\n0 1 0 0 0 1 1\n3 0 1 2 255 0 0\n"},
+        {"noff", "NOFF 3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n"},
+        {"stoff", "STOFF\n3 1\n0 0 0 0 0\n1 0 0 1 0\n0 1 0 0 1\n3 0 1 2\n"},
+        {"4off", "4OFF\n3 1 0\n0 0 0 1\n2 0 0 2\n0 1 0 1\n3 0 1 2\n"},
+        {"noff_dim", "nOFF\n3\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"},
+        {"cnoff_comments", "# lead\nCNOFF # c\n\n3 1 0\n0 0 0 0 0 1 1 1 1 1 # v\n"
+                           "1 0 0 0 0 1 1 1 1 1\n0 1 0 0 0 1 1 1 1 1\n3 0 1 2\n"}};
+    for (const auto& [name, text] : variants)
+        std::ofstream(dir / "off" / (name + ".off")) << text;
+    // Geomview's binary OFF: big-endian, a colour count after each face's indices.
+    {
+        std::string bytes = "OFF BINARY\n";
+        const auto put = [&](std::uint32_t word) {
+            for (int shift = 24; shift >= 0; shift -= 8)
+                bytes.push_back(static_cast<char>((word >> shift) & 0xff));
+        };
+        const auto put_float = [&](float x) {
+            std::uint32_t word;
+            std::memcpy(&word, &x, sizeof word);
+            put(word);
+        };
+        for (const std::uint32_t count : {3u, 1u, 0u})
+            put(count);
+        for (const float x : {0.f, 0.f, 0.f, 1.f, 0.f, 0.f, 0.f, 1.f, 0.f})
+            put_float(x);
+        for (const std::uint32_t word : {3u, 0u, 1u, 2u, 0u})
+            put(word);
+        std::ofstream(dir / "off" / "geomview_big_endian.off", std::ios::binary) << bytes;
+    }
     return 0;
 }

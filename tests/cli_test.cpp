@@ -45,6 +45,8 @@ Soup soup(const Mesh& mesh)
     return {std::move(raw.points), std::move(raw.faces)};
 }
 
+Soup soup(RawMesh raw) { return {std::move(raw.points), std::move(raw.faces)}; }
+
 Soup tube() { return soup(open_cylinder(1.0, 4.0, 12, 6)); }
 
 void write_text(const std::string& path, const std::string& text)
@@ -371,13 +373,33 @@ TEST_CASE("cli: a non-manifold vertex is refused")
     check_bad(dir, dir + "/in.obj", "not a valid vessel tree surface: non-manifold vertex ");
 }
 
-TEST_CASE("cli: inconsistent orientation is refused")
+TEST_CASE("cli: inconsistent orientation is fixed with a warning; a Moebius strip is refused")
 {
     const auto dir = temp_dir("cli_orientation");
     Soup s = tube();
-    std::swap(s.f[30][1], s.f[30][2]);
+    for (int f = 30; f < 40; ++f)  // a patch of 10 faces wound against the rest
+        std::swap(s.f[f][1], s.f[f][2]);
     write_obj(dir + "/in.obj", s);
-    check_bad(dir, dir + "/in.obj", "not a valid vessel tree surface: inconsistent orientation: ");
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.obj --report " + dir +
+                                           "/r.json");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    CHECK_MESSAGE(o.err.find("note: re-oriented 10 faces to agree with their neighbours\n") !=
+                      std::string::npos,
+                  o.err);
+    CHECK_MESSAGE(o.err.find("warning: the input's faces were not wound consistently; 10 faces "
+                             "were re-oriented") != std::string::npos,
+                  o.err);
+    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    CHECK(report["notes"][0] == "re-oriented 10 faces to agree with their neighbours");
+    const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
+    CHECK(c.euler == 1);
+    CHECK(c.flipped == 0);
+
+    const auto moebius = temp_dir("cli_moebius");
+    write_obj(moebius + "/in.obj", soup(vessel::test::moebius_strip(24, 0.3)));
+    check_bad(moebius, moebius + "/in.obj",
+              "not a valid vessel tree surface: the surface is not orientable (like a Moebius "
+              "strip): faces ");
 }
 
 TEST_CASE("cli: NaN and infinite coordinates are refused")
@@ -560,10 +582,12 @@ TEST_CASE("cli: --repair fixes duplicate, zero-area, mis-oriented and split inpu
         note = "note: repair: removed 2 degenerate faces", key = "degenerate_faces_removed";
         count = 2;
     }
+    int refused = 1;  // exit code without --repair
     SUBCASE("a face wound against its neighbours")
     {
         std::swap(s.f[30][1], s.f[30][2]);
         note = "note: repair: reversed the winding of 1 face", key = "faces_reoriented", count = 1;
+        refused = 0;  // re-oriented by default too (validation), with a note
     }
     SUBCASE("pieces touching along a seam")
     {
@@ -573,7 +597,7 @@ TEST_CASE("cli: --repair fixes duplicate, zero-area, mis-oriented and split inpu
     }
     write_obj(dir + "/in.obj", s);
     const std::string args = dir + "/in.obj -o " + dir + "/flat.obj --report " + dir + "/r.json";
-    CHECK(flatten_cli(dir, args).status == 1);  // refused without --repair
+    CHECK(flatten_cli(dir, args).status == refused);
     const Outcome o = flatten_cli(dir, args + " --repair");
     CHECK(o.status == 0);
     CHECK_MESSAGE(o.err.find(note) != std::string::npos, o.err);
@@ -665,11 +689,44 @@ TEST_CASE("cli: genus > 0 is refused")
     check_bad(dir, dir + "/in.obj", "genus 1 (Euler characteristic -1 with 1 boundary loop)");
 }
 
-TEST_CASE("cli: a surface with only one open end is refused")
+TEST_CASE("cli: a surface with one open end (a blind-ended vessel) is flattened without cuts")
 {
     const auto dir = temp_dir("cli_one_end");
-    write_obj(dir + "/in.obj", soup(plane_grid(1.0, 4)));
-    check_bad(dir, dir + "/in.obj", "only one open end; a vessel tree needs an inlet");
+    // A blind-ended vessel: radius 1.5, closed by a dome 1.5 above its open end.
+    write_obj(dir + "/in.obj", soup(vessel::test::blind_tube(1.5, 1.5, 32, 4, 8)));
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.obj --report " + dir +
+                                           "/r.json");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    CHECK_MESSAGE(o.err.find("note: one open end: the surface is already a disk, flattened "
+                             "without cuts") != std::string::npos,
+                  o.err);
+    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    CHECK(report["cuts"].empty());
+    CHECK(report["counts"]["seam_edges"] == 0);
+    CHECK(report["counts"]["boundary_loops"].size() == 1);
+    CHECK(report["counts"]["boundary_loops"][0]["role"] == "inlet");
+    const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
+    CHECK(c.euler == 1);
+    CHECK(c.boundary_loops == 1);
+    CHECK(c.flipped == 0);
+    CHECK(c.area_ratio >= 0.95);
+    CHECK(c.area_ratio <= 1.05);
+    CHECK(report["quality"]["flipped_triangles"] == 0);
+    MESSAGE("blind tube: mean |log area| " << report["quality"]["mean_abs_log_area_ratio"]
+                                           << ", area ratio " << c.area_ratio);
+}
+
+TEST_CASE("cli: a blind-ended vessel with its open end capped too is refused as closed")
+{
+    // The blind tube with its open end capped too: 0 loops.
+    const auto dir = temp_dir("cli_one_end_capped");
+    RawMesh tube = vessel::test::blind_tube(1.5, 4.0, 32, 10, 8);
+    const int centre = static_cast<int>(tube.points.size());
+    tube.points.emplace_back(0.0, 0.0, 0.0);
+    for (int i = 0; i < 32; ++i)
+        tube.faces.push_back({(i + 1) % 32, i, centre});
+    write_obj(dir + "/in.obj", soup(tube));
+    check_bad(dir, dir + "/in.obj", "the surface is closed (no open ends); remove the caps");
 }
 
 TEST_CASE("cli: an output that is not .obj, .vtp or .ply is refused")

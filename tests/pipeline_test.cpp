@@ -6,6 +6,8 @@
 #include "vessel/overlap.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
+#include "vessel/validation.h"
+#include "support/meshes.h"
 
 #include <nlohmann/json.hpp>
 
@@ -107,6 +109,55 @@ TEST_CASE("pipeline: a carotid phantom flattens into one disk with area kept")
     CHECK(r.quality.area_ratio == doctest::Approx(1.0).epsilon(0.05));
     CHECK(r.quality.mean_abs_log_area <= 0.15);
     CHECK(r.timings.total() > 0.0);
+}
+
+namespace {
+
+// flatten() of a surface with one open end: a disk, no cuts, the note, no flips.
+FlattenResult check_disk_flatten(const RawMesh& raw)
+{
+    const TreeSurface surface = make_tree_surface(raw);
+    REQUIRE(boundary_loops(surface.mesh).size() == 1);
+    FlattenResult r = flatten(surface.mesh);
+    const long euler = static_cast<long>(r.mesh.n_vertices()) -
+                       static_cast<long>(r.mesh.n_edges()) + static_cast<long>(r.mesh.n_faces());
+    CHECK(euler == 1);
+    CHECK(r.mesh.n_vertices() == surface.mesh.n_vertices());  // nothing was cut
+    CHECK(r.plan.paths.empty());
+    CHECK(r.plan.relief.empty());
+    CHECK(r.seam_edges == 0);
+    CHECK(r.duplicated_vertices == 0);
+    CHECK(r.loops.size() == 1);
+    REQUIRE_FALSE(r.notes.empty());
+    CHECK(r.notes[0] == "one open end: the surface is already a disk, flattened without cuts");
+    CHECK(r.quality.flipped_triangles == 0);
+    return r;
+}
+
+}  // namespace
+
+TEST_CASE("pipeline: an aneurysm dome (one open end) flattens without cuts, area kept")
+{
+    // A hemispherical dome of radius 1.5 on a neck 0.75 long: the sac alone, cut off at its
+    // neck, as it is often segmented.
+    const FlattenResult r = check_disk_flatten(vessel::test::blind_tube(1.5, 0.75, 48, 3, 12));
+    CHECK(r.quality.overlapping_triangles == 0);
+    CHECK(r.quality.area_ratio >= 0.95);
+    CHECK(r.quality.area_ratio <= 1.05);
+    MESSAGE("aneurysm dome: mean |log area| " << r.quality.mean_abs_log_area << ", area ratio "
+                                              << r.quality.area_ratio);
+}
+
+TEST_CASE("pipeline: a carotid with both outlets capped (one open end) flattens without cuts")
+{
+    // Both branches become blind tubes; without cuts their area must shrink towards the caps
+    // (a closed curve of the tube's girth cannot enclose the tube's area in the plane), so
+    // only a disk without flips is asserted here, and the distortion is reported.
+    const FlattenResult r =
+        check_disk_flatten(vessel::test::cap_loops_except(carotid_phantom(), 0));
+    MESSAGE("capped carotid: mean |log area| " << r.quality.mean_abs_log_area << ", area ratio "
+                                               << r.quality.area_ratio << ", overlapping "
+                                               << r.quality.overlapping_triangles);
 }
 
 TEST_CASE("pipeline: invalid options are refused before any work")

@@ -5,20 +5,22 @@
 #include "vessel/phantom.h"
 #include "vessel/properties.h"
 #include "vessel/validation.h"
+#include "support/meshes.h"
 
 #include <algorithm>
 #include <sstream>
 #include <string>
 
 using namespace vessel;
+using namespace vessel::test;
 
 namespace {
 
-std::string refusal(const RawMesh& raw)
+std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options = {})
 {
     try
     {
-        make_tree_surface(raw);
+        make_tree_surface(raw, options);
     }
     catch (const InvalidInputError& e)
     {
@@ -71,6 +73,51 @@ TEST_CASE("validation: polygons are triangulated with a note, or refused by opti
     CHECK_THROWS_AS(make_tree_surface(raw, strict), InvalidInputError);
 }
 
+TEST_CASE("validation: faces wound against their neighbours are re-oriented with a note; a "
+          "Moebius strip is refused")
+{
+    const RawMesh tube = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
+    RawMesh patch = tube;  // faces 40-51: a patch of 12 faces across two rings
+    for (int f = 40; f < 52; ++f)
+        std::swap(patch.faces[f][1], patch.faces[f][2]);
+    const TreeSurface s = make_tree_surface(patch);
+    CHECK(s.reoriented_faces == 12);
+    REQUIRE(s.notes.size() == 1);
+    CHECK(s.notes[0] == "re-oriented 12 faces to agree with their neighbours");
+    // Same faces, same winding as the tube's (outward): no face of the result differs.
+    const TreeSurface reference = make_tree_surface(tube);
+    REQUIRE(s.mesh.n_faces() == reference.mesh.n_faces());
+    for (auto f : s.mesh.faces())
+    {
+        const auto normal = s.mesh.calc_face_normal(f);
+        const auto expected = reference.mesh.calc_face_normal(reference.mesh.face_handle(f.idx()));
+        CHECK((normal | expected) > 0.99);
+    }
+
+    RawMesh inward = patch;  // most faces wound inward: the patch is the majority's way round
+    for (auto& f : inward.faces)
+        std::swap(f[1], f[2]);
+    const TreeSurface t = make_tree_surface(inward);
+    CHECK(t.reoriented_faces == 12);
+    REQUIRE(t.notes.size() == 2);
+    CHECK(t.notes[1].find("wound inward") != std::string::npos);
+
+    const std::string moebius = refusal(moebius_strip(24, 0.3));
+    CHECK_MESSAGE(moebius.find("the surface is not orientable (like a Moebius strip): faces ") !=
+                      std::string::npos,
+                  moebius);
+}
+
+TEST_CASE("validation: a surface with one open end is accepted (a disk)")
+{
+    const TreeSurface s = make_tree_surface(blind_tube(1.0, 3.0, 24, 12, 6));
+    CHECK(boundary_loops(s.mesh).size() == 1);
+    CHECK(s.notes.empty());
+    RawMesh one_hole = to_raw_mesh(icosphere(1.0, 1));
+    one_hole.faces.pop_back();
+    CHECK(boundary_loops(make_tree_surface(one_hole).mesh).size() == 1);
+}
+
 TEST_CASE("validation: every invalid class is refused with a message naming it")
 {
     const RawMesh tube = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
@@ -100,9 +147,11 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     torus_mesh.faces.erase(torus_mesh.faces.begin());
     CHECK(refusal(torus_mesh).find("genus 1") != std::string::npos);
 
-    RawMesh flipped = tube;
+    RawMesh flipped = tube;  // refused only when re-orienting is turned off
     std::swap(flipped.faces[10][1], flipped.faces[10][2]);
-    CHECK(refusal(flipped).find("inconsistent orientation") != std::string::npos);
+    TreeSurfaceOptions strict;
+    strict.orient_consistently = false;
+    CHECK(refusal(flipped, strict).find("inconsistent orientation") != std::string::npos);
 
     RawMesh fin = tube;  // a third face on an interior edge
     const int apex = static_cast<int>(fin.points.size());
@@ -146,10 +195,6 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     RawMesh repeated = tube;
     repeated.faces[3] = {1, 1, 2};
     CHECK(refusal(repeated).find("uses vertex 1 twice") != std::string::npos);
-
-    RawMesh one_hole = to_raw_mesh(icosphere(1.0, 1));
-    one_hole.faces.pop_back();
-    CHECK(refusal(one_hole).find("only one open end") != std::string::npos);
 
     RawMesh out_of_range = tube;
     out_of_range.faces[0][0] = 100000;

@@ -7,6 +7,8 @@
 #include "vessel/lscm.h"
 #include "vessel/properties.h"
 #include "vessel/spectral.h"
+#include "detail/disk_flatten.h"
+#include "detail/stage_clock.h"
 
 #include <chrono>
 #include <cmath>
@@ -38,25 +40,7 @@ void FlattenOptions::validate() const
 
 namespace {
 
-class StageClock
-{
-public:
-    StageClock(const FlattenOptions& options) : options_(options) {}
-    // Seconds since the previous call; reports the stage.
-    double lap(const char* stage)
-    {
-        const auto now = std::chrono::steady_clock::now();
-        const double seconds = std::chrono::duration<double>(now - last_).count();
-        last_ = now;
-        if (options_.on_stage)
-            options_.on_stage(stage, seconds);
-        return seconds;
-    }
-
-private:
-    const FlattenOptions& options_;
-    std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
+using detail::StageClock;
 
 HalfedgeWeights travel_weights(const Mesh& mesh, const Eigen::MatrixX3d& z,
                                const FlattenOptions& options)
@@ -261,6 +245,8 @@ void add_timings(StageTimings& to, const StageTimings& from)
 FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
 {
     options.validate();
+    if (boundary_loops(mesh).size() == 1)  // a disk already: no cuts, no relief cuts
+        return detail::flatten_disk(std::move(mesh), options);
     const ReliefCutOptions& relief = options.relief;
     // Without refinement the map is the raw initialization, whose distortion says nothing
     // about where the surface needs a slit.

@@ -1,6 +1,7 @@
 #include "vessel/validation.h"
 
 #include "vessel/boundary.h"
+#include "detail/orient.h"
 #include "detail/union_find.h"
 #include "vessel/errors.h"
 #include "vessel/properties.h"
@@ -378,6 +379,24 @@ double closed_volume(const Mesh& mesh, const std::vector<BoundaryLoop>& loops)
     return six_volume / 6.0;
 }
 
+// Winds all faces alike (issue 6: inconsistent orientation is fixed with a warning); refuses a
+// surface that cannot be (a Moebius strip).
+void orient(Triangulated& tri, std::size_t n_vertices, TreeSurface& out)
+{
+    const detail::Orientation o = detail::orient_consistently(tri.triangles, n_vertices);
+    if (o.conflict_a >= 0)
+        refuse("the surface is not orientable (like a Moebius strip): faces " +
+               std::to_string(tri.source_face[o.conflict_a]) + " and " +
+               std::to_string(tri.source_face[o.conflict_b]) +
+               " cannot both be wound to agree with their neighbours, so no side of the wall is "
+               "outside; check the segmentation for a twisted or self-glued piece");
+    if (o.reversed == 0)
+        return;
+    out.reoriented_faces = o.reversed;
+    out.notes.push_back("re-oriented " + plural(static_cast<std::size_t>(o.reversed), "face") +
+                        " to agree with their neighbours");
+}
+
 }  // namespace
 
 TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options)
@@ -389,6 +408,8 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
     check_degenerate(raw, tri, options);
     check_duplicates(tri);
     TreeSurface out;
+    if (options.orient_consistently)
+        orient(tri, raw.points.size(), out);
     select_component(tri, check_manifold(raw, tri), options, out.notes);
 
     out.input_vertices = static_cast<int>(raw.points.size());
@@ -405,8 +426,6 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
         refuse("genus " + std::to_string(genus) + " (Euler characteristic " +
                std::to_string(chi) + " with " + plural(loops.size(), "boundary loop") +
                "): the surface has handles (e.g. touching branches fused together); remove them");
-    if (loops.size() < 2)
-        refuse("only one open end; a vessel tree needs an inlet and at least one outlet");
 
     if (tri.polygons > 0)
         out.notes.push_back("triangulated " + plural(tri.polygons, "polygon") +

@@ -1,5 +1,6 @@
 #include "support/meshes.h"
 
+#include "vessel/boundary.h"
 #include "vessel/phantom.h"
 
 #include <algorithm>
@@ -179,6 +180,85 @@ RawMesh split_tube()
             for (int& i : face)
                 if (i >= 36 && i < 48)
                     i = n + i - 36;
+    return raw;
+}
+
+}  // namespace vessel::test
+
+namespace vessel::test {
+
+RawMesh blind_tube(double radius, double length, int n_around, int n_along, int n_cap)
+{
+    RawMesh raw;
+    const auto ring = [&](double r, double z) {
+        for (int i = 0; i < n_around; ++i)
+        {
+            const double t = 2.0 * M_PI * i / n_around;
+            raw.points.emplace_back(r * std::cos(t), r * std::sin(t), z);
+        }
+    };
+    for (int j = 0; j <= n_along; ++j)
+        ring(radius, length * j / n_along);
+    for (int k = 1; k < n_cap; ++k)
+    {
+        const double phi = 0.5 * M_PI * k / n_cap;
+        ring(radius * std::cos(phi), length + radius * std::sin(phi));
+    }
+    const int rings = n_along + n_cap;  // ring indices 0 .. rings - 1
+    for (int j = 0; j + 1 < rings; ++j)
+        for (int i = 0; i < n_around; ++i)
+        {
+            const int a = j * n_around + i, b = j * n_around + (i + 1) % n_around;
+            const int c = b + n_around, d = a + n_around;
+            raw.faces.push_back({a, b, c});
+            raw.faces.push_back({a, c, d});
+        }
+    const int pole = static_cast<int>(raw.points.size());
+    raw.points.emplace_back(0.0, 0.0, length + radius);
+    const int last = (rings - 1) * n_around;
+    for (int i = 0; i < n_around; ++i)
+        raw.faces.push_back({last + i, last + (i + 1) % n_around, pole});
+    return raw;
+}
+
+RawMesh cap_loops_except(const Mesh& mesh, int keep)
+{
+    RawMesh raw = to_raw_mesh(mesh);
+    const auto loops = boundary_loops(mesh);
+    for (std::size_t l = 0; l < loops.size(); ++l)
+    {
+        if (static_cast<int>(l) == keep)
+            continue;
+        const int centre = static_cast<int>(raw.points.size());
+        raw.points.push_back(loops[l].centroid);
+        // A boundary halfedge runs opposite to its inner face's edge, as the cap's face must.
+        for (const auto h : loops[l].halfedges)
+            raw.faces.push_back({mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx(),
+                                 centre});
+    }
+    return raw;
+}
+
+RawMesh moebius_strip(int n, double width)
+{
+    RawMesh raw;
+    for (int i = 0; i < n; ++i)
+    {
+        const double t = 2.0 * M_PI * i / n;
+        for (const double s : {-0.5 * width, 0.5 * width})
+        {
+            const double r = 1.0 + s * std::cos(0.5 * t);
+            raw.points.emplace_back(r * std::cos(t), r * std::sin(t), s * std::sin(0.5 * t));
+        }
+    }
+    for (int i = 0; i < n; ++i)
+    {
+        const int a = 2 * i, b = 2 * i + 1;
+        // After a full turn the strip's two edges have swapped (the half twist).
+        const int c = i + 1 < n ? 2 * (i + 1) : 1, d = i + 1 < n ? 2 * (i + 1) + 1 : 0;
+        raw.faces.push_back({a, c, d});
+        raw.faces.push_back({a, d, b});
+    }
     return raw;
 }
 

@@ -56,4 +56,16 @@ std::vector<VertexHandle> boundary_vertices(const Mesh& mesh);
 //! positions), so two pieces touch along coincident boundary loops.
 RawMesh split_tube();
 
+//! \brief A blind-ended vessel: an open tube of radius \p radius from z = 0 to \p length
+//! (\p n_around x \p n_along quads), closed at the top by a hemispherical dome of \p n_cap
+//! rings and a pole; its one open end (z = 0) is its only boundary loop. Normals outward.
+RawMesh blind_tube(double radius, double length, int n_around, int n_along, int n_cap);
+
+//! \brief \p mesh with every boundary loop except loop \p keep (boundary_loops() order) closed
+//! by a fan around the loop's centroid, as segmentations leave caps on vessel ends.
+RawMesh cap_loops_except(const Mesh& mesh, int keep);
+
+//! A Moebius strip: \p n quads around a circle of radius 1, width \p width, half a twist.
+RawMesh moebius_strip(int n, double width);
+
 }  // namespace vessel::test

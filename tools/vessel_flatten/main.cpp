@@ -269,6 +269,13 @@ int main(int argc, char** argv)
             for (const auto& note : surface.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
+        if (surface.reoriented_faces > 0)  // shown even with --quiet: the input had a defect
+            std::fprintf(stderr,
+                         "warning: the input's faces were not wound consistently; %d %s "
+                         "re-oriented to agree with their neighbours (fix the source if this "
+                         "is unexpected)\n",
+                         surface.reoriented_faces,
+                         surface.reoriented_faces == 1 ? "face was" : "faces were");
         // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
         const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
                                        const std::string& out, const std::string& report) {

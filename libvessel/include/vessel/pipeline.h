@@ -130,6 +130,9 @@ struct FlattenResult
 };
 
 //! \brief Cut \p mesh open along natural vessel cuts and flatten it into one patch (steps 3-7).
+//! A surface with one boundary loop (e.g. a vessel with its outlets capped) is a disk already:
+//! it is flattened without cuts (the loop is the inlet; FlattenResult::notes says so; no relief
+//! cuts), from the Tutte embedding scaled to its area, refined holding one loop vertex.
 //! \param mesh A valid vessel tree surface (see validation.h), outward oriented; taken by value
 //! because it is cut in place.
 //! \throw InvalidInputError, TopologyError, SolverError from the stages.

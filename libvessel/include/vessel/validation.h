@@ -14,6 +14,10 @@ struct TreeSurfaceOptions
     //! Reverse the winding of a surface wound inward (normals into the lumen, common in vmtk
     //! output) so that normals point out of the lumen (noted); otherwise keep it as read.
     bool orient_outward = true;
+    //! Reverse the winding of faces that disagree with their neighbours (in each connected
+    //! piece the winding most faces have is kept; noted, TreeSurface::reoriented_faces);
+    //! otherwise refuse inconsistent orientation. A non-orientable surface is always refused.
+    bool orient_consistently = true;
     //! Keep only the largest connected component (by faces) and drop the others (noted);
     //! otherwise refuse a surface in several pieces.
     bool keep_largest_component = false;
@@ -29,14 +33,20 @@ struct TreeSurface
     //! triangle's polygon in the input file.
     Mesh mesh;
     int input_vertices = 0;          //!< vertices in the file (including unused ones)
+    //! Faces whose winding was reversed to agree with their neighbours (orient_consistently);
+    //! not counting a reversal of all faces by orient_outward.
+    int reoriented_faces = 0;
     std::vector<std::string> notes;  //!< repairs applied, one human-readable line each
 };
 
 //! \brief Check that \p raw is a valid vessel tree surface (one connected, consistently oriented,
-//! 2-manifold, genus-0 surface with at least two open ends, finite coordinates, no degenerate
-//! or duplicate faces, no boundary loops lying on each other) and build the mesh. Checks run in
-//! this order: coordinates, face corners, zero area, duplicates, non-manifold edge, orientation,
-//! non-manifold vertex, coincident boundary loops, components, closed, genus, open ends.
+//! 2-manifold, genus-0 surface with at least one open end, finite coordinates, no degenerate
+//! or duplicate faces, no boundary loops lying on each other) and build the mesh. One open end
+//! makes a disk, which flatten() maps without cuts. Checks run in this order: coordinates, face
+//! corners, zero area, duplicates, orientation (fixed, see orient_consistently; a
+//! non-orientable surface is refused), non-manifold edge, orientation (only without
+//! orient_consistently), non-manifold vertex, coincident boundary loops, components, closed,
+//! genus.
 //! \throw InvalidInputError with a one-line message naming the problem (with element ids or
 //! counts) and what to do about it.
 TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options = {});

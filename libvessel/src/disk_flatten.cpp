@@ -1,0 +1,127 @@
+// flatten() of a surface with one open end (issue 6: "flatten without cuts, it is a disk
+// already"). The tree pipeline pins the cut-open inlet along a line; a closed loop cannot lie on
+// a segment, so here the map starts from the Tutte embedding (the loop on a circle, one-to-one;
+// or the spectral conformal map with --init spectral), scaled to the surface's area, and is
+// refined as the options ask holding one loop vertex (ARAP, untangling, SLIM: each is invariant
+// to rotation, so one pin fixes the map). A free-boundary LSCM start was tried first: on the
+// carotid phantom with both outlets capped it compressed the capped branches so much that the
+// refined map crossed itself (mean |log area| 15 after the fallback, 0.81 from Tutte).
+// With Refinement::Injective, as in the tree pipeline, when untangling leaves flips or (unless
+// OverlapPolicy::Keep) the boundary crosses itself, the map restarts from Tutte and SLIM runs
+// unpinned.
+#include "detail/disk_flatten.h"
+
+#include "detail/stage_clock.h"
+#include "vessel/cut.h"
+#include "vessel/embedding.h"
+#include "vessel/errors.h"
+#include "vessel/properties.h"
+#include "vessel/spectral.h"
+
+#include <cmath>
+
+namespace vessel::detail {
+
+namespace {
+
+// The start of the map: Tutte's (the loop on a circle) unless the options ask for the spectral
+// conformal map; the tree's layout LSCM has no layout to pin here. Scaled to the 3D area.
+Eigen::MatrixX2d initial_map(const Mesh& mesh, Initialization initialization)
+{
+    Eigen::MatrixX2d uv = initialization == Initialization::SpectralConformal
+                              ? spectral_conformal(mesh)
+                              : tutte_embedding(mesh);
+    double area_3d = 0.0, area_2d = 0.0;
+    for (const auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        const int a = h.from().idx(), b = h.to().idx(), c = h.next().to().idx();
+        area_3d += mesh.calc_face_area(f);
+        const Eigen::Vector2d e1 = (uv.row(b) - uv.row(a)).transpose();
+        const Eigen::Vector2d e2 = (uv.row(c) - uv.row(a)).transpose();
+        area_2d += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+    }
+    if (area_2d > 0.0)
+        uv *= std::sqrt(area_3d / area_2d);
+    return uv;
+}
+
+// ARAP, untangling and SLIM as FlattenOptions::refinement asks, holding \p pins.
+void refine(const Mesh& mesh, Pins pins, const FlattenOptions& options, FlattenResult& result)
+{
+    if (options.refinement != Refinement::None && options.arap.max_iterations > 0)
+        result.arap = arap(mesh, result.uv, pins, options.arap);
+    if (options.refinement != Refinement::Injective)
+        return;
+    result.untangle = untangle(mesh, result.uv, pins, options.untangle);
+    if (result.untangle.flipped_before > 0)
+        result.notes.push_back(result.untangle.report);
+    std::string restart;
+    if (result.untangle.flipped_after > 0)
+        restart = "untangling left " + std::to_string(result.untangle.flipped_after) +
+                  " flipped triangles";
+    else if (options.overlaps != OverlapPolicy::Keep &&
+             boundary_self_intersection(mesh, result.uv).first >= 0)
+        restart = "the map overlaps itself (its boundary crosses)";
+    InjectiveOptions slim = options.injective;
+    if (!restart.empty())
+    {
+        result.notes.push_back(restart + "; restarted from the Tutte embedding");
+        result.uv = tutte_embedding(mesh);
+        pins.clear();
+        slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
+        slim.max_iterations = std::max(slim.max_iterations, 1);
+    }
+    if (slim.max_iterations == 0)
+        return;
+    slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
+    result.injective = injective_refine(mesh, result.uv, pins, slim);
+    if (result.injective.scaffold_from >= 0)
+        result.notes.push_back(result.injective.report);
+}
+
+}  // namespace
+
+FlattenResult flatten_disk(Mesh mesh, const FlattenOptions& options)
+{
+    FlattenResult result;
+    StageClock clock(options);
+    result.loops = boundary_loops(mesh);
+    if (result.loops.size() != 1)
+        throw InvalidInputError("flatten_disk: the mesh has " +
+                                std::to_string(result.loops.size()) +
+                                " boundary loops; expected exactly one (a disk)");
+    result.notes.push_back(disk_note);
+
+    // Z: only the geodesic distance from the inlet (viewer and outputs); no cut needs the
+    // curvature directions.
+    const HeatGeodesics heat(mesh, options.geodesic);
+    const Eigen::VectorXd G = heat.distance(result.loops[0].vertices);
+    auto geodesic = OpenMesh::VProp<double>(mesh, prop::geodesic);
+    for (const auto v : mesh.vertices())
+        geodesic[v] = G[v.idx()];
+    result.timings.Z = clock.lap("Z");
+    result.timings.GC = clock.lap("GC");
+    result.timings.VC = clock.lap("VC");
+
+    // AC: no seam; this only adds the identity `prop::origin` the writers expect.
+    cut_along_edges(mesh, {});
+    result.timings.AC = clock.lap("AC");
+
+    result.timings.L = clock.lap("L");  // no layout: nothing to place
+
+    result.uv = initial_map(mesh, options.initialization);
+    const VertexHandle held = result.loops[0].vertices.front();
+    const Pins pins = {{held, result.uv.row(held.idx()).transpose()}};
+    refine(mesh, pins, options, result);
+    auto uv = OpenMesh::VProp<OpenMesh::Vec2d>(mesh, prop::uv);
+    for (const auto v : mesh.vertices())
+        uv[v] = OpenMesh::Vec2d(result.uv(v.idx(), 0), result.uv(v.idx(), 1));
+    result.timings.F = clock.lap("F");
+
+    result.quality = flat_quality(mesh, result.uv);
+    result.mesh = std::move(mesh);
+    return result;
+}
+
+}  // namespace vessel::detail
