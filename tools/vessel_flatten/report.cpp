@@ -17,6 +17,8 @@ namespace {
 // the uncut surface: the plan's handles and the first |V| vertices of the cut mesh are its own.
 std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult& r)
 {
+    if (r.plan.paths.empty())  // one open end: a disk flattened without cuts
+        return {};
     OpenMesh::VPropHandleT<double> geodesic_of;
     if (!r.mesh.get_property_handle(geodesic_of, prop::geodesic))
         throw std::logic_error("flatten() left no geodesic distance on the cut mesh");
