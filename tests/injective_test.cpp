@@ -63,4 +63,7 @@ TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
     InjectiveOptions bad;
     bad.max_iterations = 0;
     CHECK_THROWS_AS(bad.validate(), InvalidInputError);
+    InjectiveOptions never_rebuilt;
+    never_rebuilt.scaffold_rebuild_every = 0;
+    CHECK_THROWS_AS(never_rebuilt.validate(), InvalidInputError);
 }

@@ -39,10 +39,10 @@ std::size_t overlapping_pairs(const vessel::test::FlatObj& obj)
 
 // Runs vessel-flatten on a valid real mesh and checks the output independently of the library
 // (the overlap test reads the written OBJ). `max_log_area` is the issue's bound (0.15) unless a
-// mesh says otherwise, with the reason. `args`: extra options; with `--overlaps prevent` the
-// map must also be one-to-one (issue 7).
-void check_real_mesh(const std::string& relative, int loops, double max_log_area = 0.15,
-                     const std::string& args = "")
+// mesh says otherwise, with the reason. `args`: extra options; with the default overlap policy
+// (prevent) the map must also be one-to-one: 0 overlapping triangles, exact (issue 7).
+vessel::test::FlatObjCheck check_real_mesh(const std::string& relative, int loops,
+                                        double max_log_area = 0.15, const std::string& args = "")
 {
     const std::string input = kData + "/" + relative;
     REQUIRE_MESSAGE(std::filesystem::exists(input), "missing shared data: " << input);
@@ -55,8 +55,10 @@ void check_real_mesh(const std::string& relative, int loops, double max_log_area
     CHECK(c.euler == 1);  // a disk
     CHECK(c.boundary_loops == 1);
     CHECK(c.flipped == 0);
-    if (args.find("--overlaps prevent") != std::string::npos)
-        CHECK(overlapping_pairs(obj) == 0);
+    const std::size_t overlaps = overlapping_pairs(obj);
+    if (args.find("--overlaps") == std::string::npos ||
+        args.find("--overlaps prevent") != std::string::npos)
+        CHECK(overlaps == 0);
     CHECK(c.area_ratio >= 0.95);
     CHECK(c.area_ratio <= 1.05);
     CHECK(c.mean_abs_log_area <= max_log_area);
@@ -74,9 +76,26 @@ void check_real_mesh(const std::string& relative, int loops, double max_log_area
         CHECK(cut["alignment"].get<double>() <= 1.0);
         CHECK(cut["length"].get<double>() > 0.0);
     }
-    MESSAGE(relative << ": flipped " << c.flipped << ", area ratio " << c.area_ratio
-                     << ", mean |log area| " << c.mean_abs_log_area << ", seam alignment "
-                     << seam);
+    MESSAGE(relative << ": flipped " << c.flipped << ", overlapping pairs " << overlaps
+                     << ", area ratio " << c.area_ratio << ", mean |log area| "
+                     << c.mean_abs_log_area << ", seam alignment " << seam);
+    return c;
+}
+
+// Issue 7's bound: the default (one-to-one) map's mean |log area| is at most 1.5 x that of the
+// unconstrained map (`--overlaps keep`: the layout's map, overlaps and all).
+void check_against_keep(const std::string& relative, const vessel::test::FlatObjCheck& by_default)
+{
+    const std::string dir = temp_dir(std::filesystem::path(relative).stem().string() + "_keep");
+    const std::string out = dir + "/flat.obj";
+    REQUIRE(run(kFlatten + " " + kData + "/" + relative + " -o " + out +
+                " --quiet --overlaps keep") == 0);
+    const auto obj = read_flat_obj(out);
+    const auto keep = check_flat_obj(obj);
+    CHECK(by_default.mean_abs_log_area <= 1.5 * keep.mean_abs_log_area);
+    MESSAGE(relative << ": mean |log area| " << by_default.mean_abs_log_area << " vs keep "
+                     << keep.mean_abs_log_area << " (" << overlapping_pairs(obj)
+                     << " overlapping pairs)");
 }
 
 // Runs vessel-flatten on an invalid real mesh: it must fail with a message and write nothing.
@@ -170,25 +189,31 @@ TEST_CASE("pipeline: invalid options are refused before any work")
 
 TEST_CASE("cli: vmtk aorta (inward wound, 3 loops) flattens")
 {
-    check_real_mesh("vmtk-test-data/aorta-surface-open-ends.ply", 3);
+    const std::string mesh = "vmtk-test-data/aorta-surface-open-ends.ply";
+    check_against_keep(mesh, check_real_mesh(mesh, 3));
 }
 TEST_CASE("cli: vmtk aorta STL original flattens") { check_real_mesh("vmtk-test-data/aorta-surface-open-ends.stl", 3); }
 TEST_CASE("cli: VaMPy artery with aneurysm flattens") { check_real_mesh("vampy/artery.ply", 3); }
 TEST_CASE("cli: VaMPy coarse artery flattens") { check_real_mesh("vampy/artery-coarse.ply", 3); }
 TEST_CASE("cli: AneuRisk lateral aneurysm (4 loops) flattens")
 {
-    // The saccular aneurysm cannot be flattened without area distortion: the symmetric
-    // Dirichlet refinement ends at 0.31 mean |log area ratio|, above the issue's 0.15 (the issue
-    // stays open on this). This bound only guards against regressions.
-    check_real_mesh("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply", 4, 0.35);
+    // The saccular aneurysm needs relief cuts (relief_cut.h) to get under 0.15; by default
+    // their maps are one-to-one too, so the slits are kept (0.31 without them).
+    check_real_mesh("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply", 4);
 }
 TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
 {
-    check_real_mesh("svfsi-tests/pulmonary-glenn-wall.ply", 21);
+    // Its unconstrained map overlaps itself; by default the scaffold keeps it one-to-one.
+    const std::string mesh = "svfsi-tests/pulmonary-glenn-wall.ply";
+    check_against_keep(mesh, check_real_mesh(mesh, 21));
 }
 TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
 {
-    check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21);
+    // With the default (prevent) this mesh maps one-to-one but its scaffold phase stops at the
+    // iteration limit at 0.157 mean |log area| (> 0.15) after 452 CPU s (docs/overlaps.md,
+    // open); this case keeps checking the restart path's figures on it (0.148, overlaps not
+    // checked), as before prevent became the default.
+    check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21, 0.15, "--overlaps restart");
 }
 TEST_CASE("cli: coronary phantom tree (7 loops) flattens")
 {
@@ -201,17 +226,6 @@ TEST_CASE("cli: clinical coronary branch (tube) flattens")
 TEST_CASE("cli: SimVascular demo model (open) flattens")
 {
     check_real_mesh("simvascular-tests/demo-model-open.ply", 3);
-}
-
-TEST_CASE("cli: --overlaps prevent maps real trees one-to-one, within the area bounds")
-{
-    const std::string prevent = "--overlaps prevent";
-    check_real_mesh("vmtk-test-data/aorta-surface-open-ends.ply", 3, 0.15, prevent);
-    check_real_mesh("vampy/artery.ply", 3, 0.15, prevent);
-    check_real_mesh("x-ray-angio-data/coronary-phantom-tri3-coarse.ply", 7, 0.15, prevent);
-    check_real_mesh("simvascular-tests/demo-model-open.ply", 3, 0.15, prevent);
-    // Its default map overlaps itself on 2.3% of its area (docs/overlaps.md).
-    check_real_mesh("svfsi-tests/pulmonary-glenn-wall.ply", 21, 0.15, prevent);
 }
 
 TEST_CASE("cli: closed and broken real meshes are refused with a clear message")

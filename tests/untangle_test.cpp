@@ -70,14 +70,26 @@ TEST_CASE("embedding: a simple map boundary passes, a folded-over one is found")
 TEST_CASE("injective: with a scaffold, SLIM from the Tutte map keeps a cut cylinder one-to-one")
 {
     const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
-    Eigen::MatrixX2d uv = tutte_embedding(mesh);
-    InjectiveOptions options;
-    options.scaffold = true;
-    options.max_iterations = 30;
-    const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
-    CHECK(s.final_energy < s.initial_energy);
-    CHECK(test::count_flips(mesh, uv) == 0);
-    CHECK(boundary_self_intersection(mesh, uv).first == -1);
+    // Triangulated anew every iteration (Jiang et al.), and reused for up to 10 iterations.
+    for (int every : {1, 10})
+    {
+        CAPTURE(every);
+        Eigen::MatrixX2d uv = tutte_embedding(mesh);
+        InjectiveOptions options;
+        options.scaffold = true;
+        options.max_iterations = 30;
+        options.scaffold_rebuild_every = every;
+        const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
+        CHECK(s.final_energy < s.initial_energy);
+        CHECK(test::count_flips(mesh, uv) == 0);
+        CHECK(boundary_self_intersection(mesh, uv).first == -1);
+        CHECK(s.scaffold_rebuilds >= (s.iterations + every - 1) / every);
+        if (every == 1)
+            CHECK(s.scaffold_rebuilds == s.iterations);
+        else
+            CHECK(s.scaffold_rebuilds < s.iterations);
+        MESSAGE(s.report);
+    }
 }
 
 TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map; the "

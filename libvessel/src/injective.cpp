@@ -33,6 +33,9 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
     if (!(scaffold_tolerance > 0.0))
         throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be > 0");
+    if (scaffold_rebuild_every < 1)
+        throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
+                                std::to_string(scaffold_rebuild_every));
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
@@ -362,8 +365,9 @@ public:
 
     //! Places the box around the map and the Steiner vertices in \p x (resized) and returns
     //! the scaffold's face operators.
-    std::vector<FaceOperator> rebuild(Eigen::VectorXd& x) const
+    std::vector<FaceOperator> rebuild(Eigen::VectorXd& x)
     {
+        reused_count_ = -1;  // the new triangulation may drop slivers
         Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
         for (int v : boundary_)
         {
@@ -382,15 +386,26 @@ public:
         Eigen::Vector2d inside = Eigen::Vector2d::Zero();
         for (int v : inside_face_)
             inside += x.segment<2>(2 * v) / 3.0;
-        const detail::ScaffoldMesh scaffold =
+        detail::ScaffoldMesh scaffold =
             detail::scaffold_triangles(x, boundary_, box, inside, n_ + 4);
-        const auto& triangles = scaffold.triangles;
         x.conservativeResize(2 * (n_ + 4 + static_cast<int>(scaffold.steiner.size())));
         for (std::size_t j = 0; j < scaffold.steiner.size(); ++j)
             x.segment<2>(2 * (n_ + 4 + j)) = scaffold.steiner[j];
+        triangles_ = std::move(scaffold.triangles);
+        return *reshape(x);
+    }
+
+    //! The same scaffold triangles (box and Steiner vertices where the steps took them), with
+    //! their rest shapes set to their current shapes: no new triangulation, so the global
+    //! step's sparsity pattern stays the same. Empty if a triangle has become degenerate (then
+    //! rebuild).
+    std::optional<std::vector<FaceOperator>> reshape(const Eigen::VectorXd& x) const
+    {
+        if (triangles_.empty())
+            return std::nullopt;  // not triangulated yet
         std::vector<FaceOperator> ops;
-        ops.reserve(triangles.size());
-        for (const auto& t : triangles)
+        ops.reserve(triangles_.size());
+        for (const auto& t : triangles_)
         {
             FaceOperator op;
             op.corner = t;
@@ -399,6 +414,8 @@ public:
             Eigen::Matrix2d P;
             P << e1, e2;
             const double det = P.determinant();
+            if (!(det > 0.0) && reused_count_ >= 0)
+                return std::nullopt;  // dropping it would change the pattern: rebuild
             if (!(det > 0.0))
                 continue;  // a sliver at the scale of rounding: nothing can pass through it
             // Rest shape: the triangle's current shape (Jiang et al.), so the scaffold does not
@@ -423,12 +440,15 @@ public:
         // area, slivers would count for nothing and the steps would shrink to nothing).
         for (auto& op : ops)
             op.area = weight_ / static_cast<double>(ops.size());
+        reused_count_ = static_cast<int>(ops.size());
         return ops;
     }
 
 private:
     int n_;
     double weight_;
+    std::vector<std::array<int, 3>> triangles_;
+    mutable int reused_count_ = -1;
     std::vector<int> boundary_;
     std::vector<int> inside_face_;
 };
@@ -503,6 +523,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
     Eigen::VectorXd last_simple = x;
     int last_simple_it = 0;
+    int since_rebuild = 0;  // scaffold iterations since its last triangulation
     for (int phase = 0; phase < 2; ++phase)
     {
     const int done = summary.iterations;
@@ -510,11 +531,26 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     {
         if (scaffold)
         {
+            // A new triangulation (and symbolic factorization) only every few iterations; in
+            // between the same scaffold triangles, reshaped to where the steps took them.
+            std::optional<std::vector<FaceOperator>> extra;
+            if (since_rebuild + 1 < options.scaffold_rebuild_every)
+                extra = scaffold->reshape(x);
             ops = surface;
-            const auto extra = scaffold->rebuild(x);
-            ops.insert(ops.end(), extra.begin(), extra.end());
-            n_all = static_cast<int>(x.size() / 2);
-            analyse();
+            if (extra)
+                ++since_rebuild;
+            else
+            {
+                extra = scaffold->rebuild(x);
+                since_rebuild = 0;
+                ++summary.scaffold_rebuilds;
+            }
+            ops.insert(ops.end(), extra->begin(), extra->end());
+            if (since_rebuild == 0)
+            {
+                n_all = static_cast<int>(x.size() / 2);
+                analyse();
+            }
         }
         for (auto& r : partial_rhs)
             r.resize(2 * n_all);
@@ -632,7 +668,10 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                      " symmetric Dirichlet: " + std::to_string(summary.iterations) +
                      " iterations, energy " + std::to_string(summary.initial_energy) + " -> " +
                      std::to_string(summary.final_energy) +
-                     (summary.converged ? " (converged)" : " (iteration limit)");
+                     (summary.converged ? " (converged)" : " (iteration limit)") +
+                     (scaffold ? ", " + std::to_string(summary.scaffold_rebuilds) +
+                                     " scaffold triangulations"
+                               : std::string());
     return summary;
 }
 

@@ -44,7 +44,7 @@ int main(int argc, char** argv)
                  "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
     std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
                                             init = "layout-lscm", refine = "injective",
-                                            overlaps = "restart", layout = "fan";
+                                            overlaps = "prevent", layout = "fan";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
     vessel::cli::ImageRequest images;
@@ -149,10 +149,12 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"injective", "arap", "none"}))
         ->capture_default_str();
     app.add_option("--overlaps", overlaps, "With --refine injective, when the map at the "
-                                           "layout overlaps itself: keep it, restart from a "
-                                           "Tutte map (fewer overlaps), prevent (restart; a "
-                                           "scaffold from the boundary's first contact: none) "
-                                           "or scaffold (restart with a scaffold throughout)")
+                                           "layout overlaps itself: prevent (restart from a "
+                                           "Tutte map; if SLIM's map would overlap, a scaffold "
+                                           "from its last one-to-one iterate: no overlaps), "
+                                           "keep it, restart (Tutte map, fast, overlaps not "
+                                           "excluded) or scaffold (restart with a scaffold "
+                                           "throughout)")
         ->check(CLI::IsMember({"keep", "restart", "prevent", "scaffold"}))
         ->capture_default_str();
     app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")

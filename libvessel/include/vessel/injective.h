@@ -37,6 +37,14 @@ struct InjectiveOptions
     //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
     //! progress continues below 1e-4 (pulmonary tree: 0.1527 at 1e-4, 0.1456 at 1e-5).
     double scaffold_tolerance = 1e-5;
+    //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
+    //! many iterations; in between its triangles (box and Steiner vertices included) keep their
+    //! connectivity and only their rest shapes follow the map (a triangle that became
+    //! degenerate forces a new triangulation). 1 = every iteration (Jiang et al.). Measured
+    //! with 10: 10-outlet tree phantom 4.9 instead of 7.9 CPU s, mean |log area| 0.0964 vs
+    //! 0.0985; but pulmonary tree 0.179 vs 0.151 (the stale triangles block the steps), so
+    //! the default stays 1.
+    int scaffold_rebuild_every = 1;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -50,6 +58,7 @@ struct InjectiveSummary
     //! With scaffold_on_contact: the iterate (0 = the start) the scaffold phase went on from;
     //! -1 if the boundary never crossed (no scaffold was needed).
     int scaffold_from = -1;
+    int scaffold_rebuilds = 0;  //!< scaffold triangulations made
     std::string report;  //!< one line: iterations and energies
 };
 

@@ -56,9 +56,12 @@ enum class OverlapPolicy
     //! as Restart, with a scaffold (free-space triangulation, InjectiveOptions::scaffold)
     //! from the first iteration: no overlaps, but slower and more area distortion than Prevent
     RestartWithScaffold,
-    //! as Restart, and the boundary is checked after every SLIM step: steps that would make it
-    //! cross are shortened, and once parts of it meet the scaffold keeps them apart
+    //! The default. As Restart, and the boundary is checked after every SLIM step; if the end
+    //! map's boundary crosses itself, SLIM goes back to the last iterate whose boundary was
+    //! simple and goes on with a scaffold that keeps the boundary's parts apart
     //! (InjectiveOptions::scaffold_on_contact). The map is one-to-one: no flips, no overlaps.
+    //! The scaffold's cost (several times Restart's F) is paid only when the fast path's map
+    //! would overlap; a map at the layout that does not cross itself is kept (and watched).
     Prevent,
 };
 
@@ -88,7 +91,7 @@ struct FlattenOptions
     //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
     //! ::untangle stay empty).
     Refinement refinement = Refinement::Injective;
-    OverlapPolicy overlaps = OverlapPolicy::Restart;
+    OverlapPolicy overlaps = OverlapPolicy::Prevent;
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
     UntangleOptions untangle;    //!< flip removal of Refinement::Injective
     InjectiveOptions injective;  //!< SLIM of Refinement::Injective (0 iterations: skipped)
