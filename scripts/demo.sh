@@ -25,5 +25,5 @@ build/bin/vessel-flatten "$artery" -o out/demo/artery-flat.vtp \
   --image out/demo/artery-wss.png --image-3d --image-time 0.31 --image-units Pa
 build/bin/vessel-flatten "$artery" -o out/demo/artery-flat.vtp \
   --fields out/demo/artery-pulse.pvd --field WSS_synthetic --quiet \
-  --image out/demo/artery-wss.svg out/demo/artery-wss.pdf --image-time 0.31 --image-units Pa
+  --image out/demo/artery-wss.svg --image out/demo/artery-wss.pdf --image-time 0.31 --image-units Pa
 echo "demo: out/demo/artery-flat.vtp (+ -map.vtp, .pvd), out/demo/artery-wss.png, .svg, .pdf"

@@ -176,6 +176,12 @@ TEST_CASE("cli: --image-step and --image-time choose the moment of a series that
             0);
     REQUIRE(run(flatten + " -o " + dir + "/b.vtp --image " + dir + "/s1.png --image-step 1") == 0);
     REQUIRE(run(flatten + " -o " + dir + "/c.vtp --image " + dir + "/s0.png") == 0);
+    // --image takes one file per use: an input after it is the input, not a second image.
+    REQUIRE(run(kFlatten + " --fields " + dir + "/steps.csv --field P --refine none -q --image " +
+                dir + "/e.png " + dir + "/carotid.ply -o " + dir + "/e.vtp --image " + dir +
+                "/e.svg") == 0);
+    CHECK(std::filesystem::file_size(dir + "/e.png") > 0);
+    CHECK(std::filesystem::file_size(dir + "/e.svg") > 0);
     // The map fills tens of thousands of pixels in its one colour; the other images' colours
     // appear only in a thin band of the colorbar.
     const int at_quarter = pixels_of(dir + "/t025.png", 0.25);

@@ -64,8 +64,9 @@ int main(int argc, char** argv)
         vessel::cli::add_field_options(app, field_args, "to carry to the output");
     app.add_option("--image", images.images,
                    "Also draw --field (default: the first point field) on the map: .png, .svg or "
-                   ".pdf (several files: the same image in each); a series shows step 0, "
-                   "--image-step or --image-time");
+                   ".pdf; a series shows step 0, "
+                   "--image-step or --image-time; repeat --image for several files")
+        ->allow_extra_args(false);
     app.add_option("--image-units", images.units, "With --image: units after the colorbar title");
     app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map");
     auto* image_step = app.add_option("--image-step", images.step,
