@@ -7,6 +7,8 @@
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -58,8 +60,21 @@ void check_real_mesh(const std::string& relative, int loops, double max_log_area
     CHECK(c.mean_abs_log_area <= max_log_area);
     CHECK(c.loops_3d == loops);
     CHECK(c.seam_loops_touched == loops);  // the seam reaches the inlet and every outlet
+    // The report's own seam alignment (cut_metrics.h): one figure per cut and one for all.
+    const auto report = nlohmann::json::parse(std::ifstream(dir + "/report.json"));
+    const double seam = report["quality"]["seam_alignment"];
+    CHECK(seam > 0.0);
+    CHECK(seam <= 1.0);
+    CHECK(report["cuts"].size() == static_cast<std::size_t>(loops - 1));
+    for (const auto& cut : report["cuts"])
+    {
+        CHECK(cut["alignment"].get<double>() >= 0.0);
+        CHECK(cut["alignment"].get<double>() <= 1.0);
+        CHECK(cut["length"].get<double>() > 0.0);
+    }
     MESSAGE(relative << ": flipped " << c.flipped << ", area ratio " << c.area_ratio
-                     << ", mean |log area| " << c.mean_abs_log_area);
+                     << ", mean |log area| " << c.mean_abs_log_area << ", seam alignment "
+                     << seam);
 }
 
 // Runs vessel-flatten on an invalid real mesh: it must fail with a message and write nothing.

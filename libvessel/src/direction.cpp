@@ -3,6 +3,7 @@
 #include "vessel/errors.h"
 #include "vessel/operators.h"
 
+#include <cmath>
 #include <string>
 
 namespace vessel {
@@ -24,6 +25,19 @@ Eigen::MatrixX3d align_to_root(const Mesh& mesh, const Eigen::MatrixX3d& min_dir
         // unreachable from the inlet (G = inf, gradient NaN) keep the direction as given.
         const bool points_to_root = !(min_direction.row(i).dot(grad.row(i)) >= 0.0);
         z.row(i) = points_to_root ? min_direction.row(i) : Eigen::RowVector3d(-min_direction.row(i));
+    }
+    return z;
+}
+
+Eigen::MatrixX3d descent_direction(const Mesh& mesh, const Eigen::VectorXd& f)
+{
+    const Eigen::MatrixX3d grad = vertex_gradient(mesh, f);
+    Eigen::MatrixX3d z = Eigen::MatrixX3d::Zero(grad.rows(), 3);
+    for (Eigen::Index i = 0; i < grad.rows(); ++i)
+    {
+        const double length = grad.row(i).norm();
+        if (std::isfinite(length) && length > 0.0)
+            z.row(i) = -grad.row(i) / length;
     }
     return z;
 }

@@ -1,31 +1,13 @@
 #pragma once
 
+#include "prepare.h"
+#include "report.h"
+
 #include "vessel/pipeline.h"
-#include "vessel/repair.h"
-#include "vessel/validation.h"
 
-#include <nlohmann/json.hpp>
-
-#include <optional>
 #include <string>
 
 namespace vessel::cli {
-
-//! An input mesh as read, repaired (with `--repair`) and validated.
-struct PreparedInput
-{
-    RawMesh raw;  //!< the repaired mesh when repaired (its vertices are the output's `v` lines)
-    std::optional<RepairSummary> repairs;  //!< set when repairs were requested
-    TreeSurface surface;  //!< its notes start with the repairs that changed something
-};
-
-//! \brief Repairs \p raw if \p repair, then validates it with make_tree_surface().
-//! \throw InvalidInputError as make_tree_surface().
-PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair);
-
-//! The `--report` JSON of one flattened mesh (timings, counts, repairs, cuts, quality, notes).
-nlohmann::json report_json(const std::string& input, const PreparedInput& in,
-                           const FlattenResult& r, double read_s, double write_s);
 
 struct BatchOptions
 {

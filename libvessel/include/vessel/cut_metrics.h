@@ -1,0 +1,55 @@
+#pragma once
+
+#include "vessel/boundary.h"
+#include "vessel/cut_plan.h"
+
+namespace vessel {
+
+//! How well cuts follow the vessel: the project's own measure (../shared/tools/flatcheck.py
+//! gives a second opinion with another reference field).
+struct SeamAlignmentOptions
+{
+    //! Half-width, in path edges, of the chord that stands for the cut's local direction. A
+    //! path along mesh edges zig-zags around any smooth curve; its chord over 2 * window edges
+    //! does not. 1 = per edge pair.
+    int window = 3;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! Alignment of one cut with a reference direction field.
+struct PathAlignment
+{
+    double mean = 0.0;   //!< length-weighted mean |cos(chord, reference)|: 1 = along the field
+    double low_fraction = 0.0;  //!< fraction of the cut's length where |cos| < 0.5
+    double length = 0.0;        //!< 3D length of the cut
+};
+
+//! \brief Windowed alignment of \p path with \p reference: at every path vertex the chord from
+//! `window` edges before it to `window` edges after it (clamped at the ends) is compared with
+//! the reference direction there, weighted by the length of the vertex's half edges.
+//! \param reference |V| x 3 directions, row `v.idx()` (e.g. geodesic_descent()); zero rows
+//! (no direction) are skipped. A field of the uncut mesh also serves its cut copy: the cut
+//! only appends vertices.
+//! \throw InvalidInputError if \p reference has no row for a vertex of the path, or options
+//! are invalid.
+PathAlignment path_alignment(const Mesh& mesh, const CutPath& path,
+                             const Eigen::MatrixX3d& reference,
+                             const SeamAlignmentOptions& options = {});
+
+//! \brief Harmonic longitudinal coordinate of a vessel tree (as in vessel mapping, e.g. Antiga
+//! and Steinman 2004): Laplace's equation with 0 on the inlet (loops[0]) and, on each outlet,
+//! the mean of \p geodesic over that loop. Its descent_direction() runs along every vessel
+//! and, unlike the geodesic distance, is smooth across junctions and sacs; it is the reference
+//! field of the report's seam alignment. One sparse Cholesky factorization (CHOLMOD).
+//! \param loops boundary_loops(mesh). \param geodesic |V| distances from the inlet.
+//! \return |V| values, `v.idx()`.
+//! \throw InvalidInputError if there are fewer than two loops or sizes disagree;
+//! SolverError if the factorization fails (e.g. a component without a loop).
+Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                                      const Eigen::VectorXd& geodesic);
+
+//! Length-weighted mean of per-cut path_alignment() results (all zero when there are none).
+PathAlignment seam_alignment(const std::vector<PathAlignment>& paths);
+
+}  // namespace vessel

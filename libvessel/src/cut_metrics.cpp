@@ -1,0 +1,147 @@
+#include "vessel/cut_metrics.h"
+
+#include "vessel/errors.h"
+#include "vessel/operators.h"
+
+#include <Eigen/CholmodSupport>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace vessel {
+
+void SeamAlignmentOptions::validate() const
+{
+    if (window < 1)
+        throw InvalidInputError("SeamAlignmentOptions: window must be >= 1 edge, got " +
+                                std::to_string(window));
+}
+
+PathAlignment path_alignment(const Mesh& mesh, const CutPath& path,
+                             const Eigen::MatrixX3d& reference, const SeamAlignmentOptions& options)
+{
+    options.validate();
+    PathAlignment result;
+    if (path.halfedges.empty())
+        return result;
+    std::vector<Eigen::Vector3d> points{to_eigen(mesh.point(path.start))};
+    std::vector<int> ids{path.start.idx()};
+    for (auto h : path.halfedges)
+    {
+        const VertexHandle v = mesh.to_vertex_handle(h);
+        points.push_back(to_eigen(mesh.point(v)));
+        ids.push_back(v.idx());
+    }
+    for (int id : ids)
+        if (id >= reference.rows())
+            throw InvalidInputError("path_alignment: the cut passes vertex " + std::to_string(id) +
+                                    " but the reference field has " +
+                                    std::to_string(reference.rows()) +
+                                    " rows; pass one row per vertex, indexed by v.idx()");
+    const int n = static_cast<int>(points.size());
+    double weighted = 0.0, low = 0.0, total = 0.0;
+    for (int i = 0; i < n; ++i)
+    {
+        // Half of each edge at the vertex: the weights sum to the path length.
+        double weight = 0.0;
+        if (i > 0)
+            weight += 0.5 * (points[i] - points[i - 1]).norm();
+        if (i + 1 < n)
+            weight += 0.5 * (points[i + 1] - points[i]).norm();
+        result.length += i > 0 ? (points[i] - points[i - 1]).norm() : 0.0;
+        const Eigen::Vector3d chord =
+            points[std::min(n - 1, i + options.window)] - points[std::max(0, i - options.window)];
+        const Eigen::Vector3d z = reference.row(ids[i]).transpose();
+        const double norms = chord.norm() * z.norm();
+        if (!(norms > 0.0) || !std::isfinite(norms))
+            continue;
+        const double c = std::abs(chord.dot(z)) / norms;
+        weighted += weight * c;
+        low += c < 0.5 ? weight : 0.0;
+        total += weight;
+    }
+    if (total > 0.0)
+    {
+        result.mean = weighted / total;
+        result.low_fraction = low / total;
+    }
+    return result;
+}
+
+Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                                      const Eigen::VectorXd& geodesic)
+{
+    const auto n = static_cast<Eigen::Index>(mesh.n_vertices());
+    if (loops.size() < 2)
+        throw InvalidInputError("harmonic_longitudinal: " + std::to_string(loops.size()) +
+                                " boundary loop(s); an inlet and at least one outlet are needed");
+    if (geodesic.size() != n)
+        throw InvalidInputError("harmonic_longitudinal: " + std::to_string(geodesic.size()) +
+                                " distances for " + std::to_string(n) + " vertices");
+    // Dirichlet values on the loops; the other vertices are unknowns.
+    Eigen::VectorXd value = Eigen::VectorXd::Zero(n);
+    std::vector<char> fixed(n, 0);
+    for (std::size_t l = 0; l < loops.size(); ++l)
+    {
+        double mean = 0.0;
+        for (auto v : loops[l].vertices)
+            mean += geodesic[v.idx()];
+        mean = l == 0 ? 0.0 : mean / static_cast<double>(loops[l].vertices.size());
+        for (auto v : loops[l].vertices)
+        {
+            value[v.idx()] = mean;
+            fixed[v.idx()] = 1;
+        }
+    }
+    std::vector<Eigen::Index> unknown(n, -1);
+    Eigen::Index n_free = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+        if (!fixed[i])
+            unknown[i] = n_free++;
+    const Eigen::SparseMatrix<double> L = cotan_laplacian(mesh);
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(static_cast<std::size_t>(L.nonZeros()));
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
+    for (Eigen::Index col = 0; col < L.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(L, col); it; ++it)
+        {
+            const Eigen::Index r = unknown[it.row()];
+            if (r < 0)
+                continue;
+            if (unknown[col] >= 0)
+                entries.emplace_back(r, unknown[col], it.value());
+            else
+                rhs[r] -= it.value() * value[col];
+        }
+    Eigen::SparseMatrix<double> A(n_free, n_free);
+    A.setFromTriplets(entries.begin(), entries.end());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(A);
+    if (solver.info() != Eigen::Success)
+        throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
+                          "factorized; every connected part of the mesh needs a boundary loop");
+    const Eigen::VectorXd x = solver.solve(rhs);
+    for (Eigen::Index i = 0; i < n; ++i)
+        if (unknown[i] >= 0)
+            value[i] = x[unknown[i]];
+    return value;
+}
+
+PathAlignment seam_alignment(const std::vector<PathAlignment>& paths)
+{
+    PathAlignment all;
+    for (const auto& one : paths)
+    {
+        all.mean += one.mean * one.length;
+        all.low_fraction += one.low_fraction * one.length;
+        all.length += one.length;
+    }
+    if (all.length > 0.0)
+    {
+        all.mean /= all.length;
+        all.low_fraction /= all.length;
+    }
+    return all;
+}
+
+}  // namespace vessel

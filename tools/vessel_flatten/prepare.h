@@ -1,0 +1,22 @@
+#pragma once
+
+#include "vessel/repair.h"
+#include "vessel/validation.h"
+
+#include <optional>
+
+namespace vessel::cli {
+
+//! An input mesh as read, repaired (with `--repair`) and validated.
+struct PreparedInput
+{
+    RawMesh raw;  //!< the repaired mesh when repaired (its vertices are the output's `v` lines)
+    std::optional<RepairSummary> repairs;  //!< set when repairs were requested
+    TreeSurface surface;  //!< its notes start with the repairs that changed something
+};
+
+//! \brief Repairs \p raw if \p repair, then validates it with make_tree_surface().
+//! \throw InvalidInputError as make_tree_surface().
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair);
+
+}  // namespace vessel::cli

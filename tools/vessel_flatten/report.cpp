@@ -1,0 +1,125 @@
+#include "report.h"
+
+#include "vessel/cut_metrics.h"
+#include "vessel/direction.h"
+#include "vessel/overlap.h"
+#include "vessel/properties.h"
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vessel::cli {
+
+namespace {
+
+// Alignment of each cut with the harmonic longitudinal direction (cut_metrics.h), measured on
+// the uncut surface: the plan's handles and the first |V| vertices of the cut mesh are its own.
+std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult& r)
+{
+    OpenMesh::VPropHandleT<double> geodesic_of;
+    if (!r.mesh.get_property_handle(geodesic_of, prop::geodesic))
+        throw std::logic_error("flatten() left no geodesic distance on the cut mesh");
+    Eigen::VectorXd G(static_cast<Eigen::Index>(uncut.n_vertices()));
+    for (auto v : uncut.vertices())
+        G[v.idx()] = r.mesh.property(geodesic_of, VertexHandle(v.idx()));
+    const Eigen::MatrixX3d reference =
+        descent_direction(uncut, harmonic_longitudinal(uncut, r.loops, G));
+    std::vector<PathAlignment> result;
+    for (const auto& path : r.plan.paths)
+        result.push_back(path_alignment(uncut, path, reference));
+    return result;
+}
+
+}  // namespace
+
+nlohmann::json report_json(const std::string& input, const PreparedInput& in,
+                           const FlattenResult& r, double read_s, double write_s)
+{
+    const TreeSurface& surface = in.surface;
+    nlohmann::json j;
+    j["input"] = input;
+    if (in.repairs)
+    {
+        const RepairSummary& s = *in.repairs;
+        j["repairs"] = {{"degenerate_faces_removed", s.degenerate_faces},
+                        {"duplicate_faces_removed", s.duplicate_faces},
+                        {"faces_reoriented", s.reoriented_faces},
+                        {"vertices_split", s.split_vertices},
+                        {"edges_stitched", s.stitched_edges},
+                        {"vertices_removed", s.removed_vertices}};
+    }
+    const auto& t = r.timings;
+    j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
+                    {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
+    nlohmann::json loops = nlohmann::json::array();
+    for (std::size_t l = 0; l < r.loops.size(); ++l)
+        loops.push_back({{"role", l == 0 ? "inlet" : "outlet"},
+                         {"arc_length", r.loops[l].arc_length},
+                         {"vertices", r.loops[l].vertices.size()}});
+    j["counts"] = {{"input_vertices", surface.input_vertices},
+                   {"vertices", surface.mesh.n_vertices()},
+                   {"faces", surface.mesh.n_faces()},
+                   {"boundary_loops", loops},
+                   {"cut_vertices", r.mesh.n_vertices()},
+                   {"seam_edges", r.seam_edges},
+                   {"duplicated_vertices", r.duplicated_vertices}};
+    const std::vector<PathAlignment> aligned = cut_alignments(surface.mesh, r);
+    const PathAlignment seam = seam_alignment(aligned);
+    nlohmann::json cuts = nlohmann::json::array();
+    for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
+    {
+        const CutPath& c = r.plan.paths[i];
+        cuts.push_back({{"outlet", c.outlet},
+                        {"ends_on", c.parent < 0 ? std::string("inlet")
+                                                 : "cut " + std::to_string(c.parent)},
+                        {"edges", c.halfedges.size()},
+                        {"cost", c.cost},
+                        {"winding_deg", c.winding_deg},
+                        {"length", aligned[i].length},
+                        {"alignment", aligned[i].mean}});
+    }
+    j["cuts"] = cuts;
+    nlohmann::json relief = nlohmann::json::array();
+    for (const auto& c : r.plan.relief)
+        relief.push_back({{"ends_on", c.parent < 0 ? std::string("loop or relief cut")
+                                                   : "cut " + std::to_string(c.parent)},
+                          {"edges", c.halfedges.size()},
+                          {"length", c.cost}});
+    j["relief_cuts"] = relief;
+    const auto& q = r.quality;
+    j["quality"] = {{"flipped_triangles", q.flipped_triangles},
+                    {"area_ratio", q.area_ratio},
+                    {"mean_abs_log_area_ratio", q.mean_abs_log_area},
+                    {"mean_conformal_distortion", q.mean_conformal},
+                    {"max_conformal_distortion", q.max_conformal},
+                    {"overlapping_triangles", q.overlapping_triangles},
+                    {"overlap_area", q.overlap_area},
+                    {"overlap_fraction", q.overlap_fraction},
+                    {"seam_alignment", seam.mean},
+                    {"seam_low_alignment_fraction", seam.low_fraction}};
+    // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces).
+    j["overlaps"] = {{"triangles", find_overlaps(r.mesh, r.uv).triangles},
+                     {"area_kind", "sum of pairwise intersection areas"}};
+    j["arap"] = {{"iterations", r.arap.iterations},
+                 {"initial_energy", r.arap.initial_energy},
+                 {"final_energy", r.arap.final_energy},
+                 {"converged", r.arap.converged},
+                 {"report", r.arap.report}};
+    j["untangle"] = {{"flipped_before", r.untangle.flipped_before},
+                     {"flipped_after", r.untangle.flipped_after},
+                     {"rounds", r.untangle.rounds},
+                     {"free_vertices", r.untangle.free_vertices}};
+    j["slim"] = {{"iterations", r.injective.iterations},
+                 {"initial_energy", r.injective.initial_energy},
+                 {"final_energy", r.injective.final_energy},
+                 {"converged", r.injective.converged},
+                 {"report", r.injective.report}};
+    nlohmann::json notes = surface.notes;
+    for (const auto& note : r.notes)
+        notes.push_back(note);
+    j["notes"] = notes;
+    return j;
+}
+
+}  // namespace vessel::cli
