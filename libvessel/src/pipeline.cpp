@@ -264,7 +264,9 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
 {
     options.validate();
     const ReliefCutOptions& relief = options.relief;
-    if (relief.max_cuts == 0)
+    // Without refinement the map is the raw initialization, whose distortion says nothing
+    // about where the surface needs a slit.
+    if (relief.max_cuts == 0 || options.refinement == Refinement::None)
         return flatten_once(std::move(mesh), options, nullptr);
     const Mesh uncut = mesh;  // each relief cut re-cuts the mesh as it came in
     FlattenResult result = flatten_once(std::move(mesh), options, nullptr);

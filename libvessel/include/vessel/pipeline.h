@@ -74,7 +74,8 @@ struct FlattenOptions
     CutPlanOptions cuts;  //!< endpoint policy (imaginary node / viewpoint), winding control
     //! Relief cuts (relief_cut.h): when the map's mean |log area ratio| stays above the target,
     //! a slit from the most compressed point to the seam, and the map is made again. Default:
-    //! at most 2, target 0.15; `relief.max_cuts = 0` keeps the paper's cuts only.
+    //! at most 2, target 0.15; `relief.max_cuts = 0` keeps the paper's cuts only. Not tried
+    //! with Refinement::None.
     ReliefCutOptions relief;
     double alpha_deg = 45.0;  //!< branch angle of the fan layout
     //! Layout policy; null = BranchFanLayout(alpha_deg).
