@@ -437,4 +437,24 @@ nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& setti
     return out;
 }
 
+struct PeerCutStages::Impl
+{
+    SM sm;
+    Frames frames;
+    Graph graph;
+};
+
+PeerCutStages::PeerCutStages(const vessel::Mesh& mesh, const PeerSettings& settings)
+    : impl_(std::make_unique<Impl>())
+{
+    impl_->sm = to_cgal(mesh);
+    impl_->frames = stage_z(impl_->sm, settings);
+}
+
+PeerCutStages::~PeerCutStages() = default;
+
+void PeerCutStages::build_graph() { impl_->graph = stage_gc(impl_->sm, impl_->frames); }
+
+std::size_t PeerCutStages::cut_paths() { return stage_vc(impl_->sm, impl_->frames, impl_->graph).size(); }
+
 }  // namespace vessel_bench

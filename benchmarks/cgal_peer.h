@@ -7,6 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
+#include <memory>
+
 namespace vessel_bench {
 
 struct PeerSettings
@@ -22,5 +25,20 @@ struct PeerSettings
 //! "time_boxed", "quality" {lscm, arap: flat_quality() of the peer's uv on its seam mesh},
 //! "seam_edges", "cut_paths", "errors" (stage -> message; a failed stage ends that run).
 nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& settings);
+
+//! The peer's stage Z once (in the constructor), then its GC and VC as often as asked: what
+//! vessel-cut-bench times beside the library's cut stages. CGAL types stay in cgal_peer.cpp.
+class PeerCutStages
+{
+public:
+    PeerCutStages(const vessel::Mesh& mesh, const PeerSettings& settings);
+    ~PeerCutStages();
+    void build_graph();       //!< GC: the boost graph with the travel costs
+    std::size_t cut_paths();  //!< VC on the last graph; returns the number of seam edges
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace vessel_bench

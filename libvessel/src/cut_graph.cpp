@@ -13,13 +13,17 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-void check_query(const Mesh& mesh, const HalfedgeWeights& weights, const PathQuery& query)
+void check_weights(const Mesh& mesh, const HalfedgeWeights& weights)
 {
-    const std::size_t nv = mesh.n_vertices();
     if (weights.size() != mesh.n_halfedges())
         throw InvalidInputError("shortest_path: " + std::to_string(weights.size()) +
                                 " weights for " + std::to_string(mesh.n_halfedges()) +
                                 " halfedges; evaluate the cost on this mesh");
+}
+
+void check_query(const Mesh& mesh, const PathQuery& query)
+{
+    const std::size_t nv = mesh.n_vertices();
     if (query.sources.empty())
         throw InvalidInputError("shortest_path: no source vertices");
     if (query.is_target.size() != nv)
@@ -33,6 +37,9 @@ void check_query(const Mesh& mesh, const HalfedgeWeights& weights, const PathQue
             throw InvalidInputError("shortest_path: invalid source vertex handle");
 }
 
+constexpr char kSettled = 1;
+constexpr char kSource = 2;
+
 // Angle around the vessel gained walking along h.
 double winding_step(const Mesh& mesh, const Eigen::MatrixX3d& rate, HalfedgeHandle h)
 {
@@ -43,52 +50,140 @@ double winding_step(const Mesh& mesh, const Eigen::MatrixX3d& rate, HalfedgeHand
 
 }  // namespace
 
-GraphPath shortest_path(const Mesh& mesh, const HalfedgeWeights& weights, const PathQuery& query)
+CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
+    : mesh_(mesh), weights_(weights)
 {
-    check_query(mesh, weights, query);
+    check_weights(mesh, weights);
     const std::size_t nv = mesh.n_vertices();
-    const auto blocked = [&](int v) { return !query.is_blocked.empty() && query.is_blocked[v]; };
-
-    std::vector<double> dist(nv, kInfinity);
-    std::vector<int> parent(nv, -1);  // halfedge entering the vertex on the Dijkstra tree
-    std::vector<char> settled(nv, 0), is_source(nv, 0);
-    using Entry = std::pair<double, int>;
-    std::vector<Entry> heap;
-    const auto later = [](const Entry& a, const Entry& b) { return a.first > b.first; };
-    for (auto s : query.sources)
+    mean_weight_ = std::accumulate(weights.begin(), weights.end(), 0.0) /
+                   static_cast<double>(std::max<std::size_t>(1, weights.size()));
+    first_.assign(nv + 1, 0);
+    arc_to_.reserve(mesh.n_halfedges());
+    arc_halfedge_.reserve(mesh.n_halfedges());
+    arc_weight_.reserve(mesh.n_halfedges());
+    // Outgoing halfedges clockwise from the vertex's halfedge, as voh_range() visits them (the
+    // order decides between exactly equal routes), without the circulator's overhead.
+    for (std::size_t v = 0; v < nv; ++v)
     {
-        dist[s.idx()] = 0.0;
-        is_source[s.idx()] = 1;
-        heap.emplace_back(0.0, s.idx());
+        const HalfedgeHandle start = mesh.halfedge_handle(VertexHandle(static_cast<int>(v)));
+        if (start.is_valid())
+        {
+            HalfedgeHandle h = start;
+            do
+            {
+                arc_to_.push_back(mesh.to_vertex_handle(h).idx());
+                arc_halfedge_.push_back(h.idx());
+                arc_weight_.push_back(weights[h.idx()]);
+                h = mesh.cw_rotated_halfedge_handle(h);
+            } while (h != start);
+        }
+        first_[v + 1] = static_cast<int>(arc_to_.size());
     }
-    std::make_heap(heap.begin(), heap.end(), later);
+    dist_.assign(nv, kInfinity);
+    parent_.assign(nv, -1);
+    state_.assign(nv, 0);
+    slot_.assign(nv, -1);
+}
+
+// The heap is 4-ary over vertices with their distance as key; slot_[v] is v's place in it (-1
+// when not in it), so a shorter distance moves the vertex up instead of adding an entry.
+void CutGraph::relax(int v, double d, int parent)
+{
+    dist_[v] = d;
+    parent_[v] = parent;
+    int i = slot_[v];
+    if (i < 0)
+    {
+        i = static_cast<int>(heap_.size());
+        heap_.emplace_back();
+    }
+    while (i > 0)
+    {
+        const int up = (i - 1) / 4;
+        if (heap_[up].first <= d)
+            break;
+        heap_[i] = heap_[up];
+        slot_[heap_[i].second] = i;
+        i = up;
+    }
+    heap_[i] = {d, v};
+    slot_[v] = i;
+}
+
+int CutGraph::pop_min()
+{
+    const int top = heap_.front().second;
+    slot_[top] = -1;
+    const std::pair<double, int> last = heap_.back();
+    heap_.pop_back();
+    const int n = static_cast<int>(heap_.size());
+    if (n == 0)
+        return top;
+    int i = 0;
+    for (;;)
+    {
+        const int first = 4 * i + 1;
+        if (first >= n)
+            break;
+        int best = first;
+        const int end = std::min(first + 4, n);
+        for (int c = first + 1; c < end; ++c)
+            if (heap_[c].first < heap_[best].first)
+                best = c;
+        if (heap_[best].first >= last.first)
+            break;
+        heap_[i] = heap_[best];
+        slot_[heap_[i].second] = i;
+        i = best;
+    }
+    heap_[i] = last;
+    slot_[last.second] = i;
+    return top;
+}
+
+GraphPath CutGraph::shortest_path(const PathQuery& query)
+{
+    check_query(mesh_, query);
+    for (int v : touched_)
+    {
+        dist_[v] = kInfinity;
+        parent_[v] = -1;
+        state_[v] = 0;
+        slot_[v] = -1;
+    }
+    touched_.clear();
+    heap_.clear();
+    const bool any_blocked = !query.is_blocked.empty();
+    for (auto s : query.sources)
+        if (dist_[s.idx()] == kInfinity)
+        {
+            touched_.push_back(s.idx());
+            state_[s.idx()] |= kSource;
+            relax(s.idx(), 0.0, -1);
+        }
 
     int target = -1;
-    while (!heap.empty())
+    while (!heap_.empty())
     {
-        std::pop_heap(heap.begin(), heap.end(), later);
-        const auto [d, v] = heap.back();
-        heap.pop_back();
-        if (settled[v] || d > dist[v])
-            continue;
-        settled[v] = 1;
+        const int v = pop_min();
+        state_[v] |= kSettled;
         if (query.is_target[v])
         {
             target = v;
             break;
         }
-        for (auto h : mesh.voh_range(VertexHandle(v)))
+        const double d = dist_[v];
+        for (int a = first_[v]; a < first_[v + 1]; ++a)
         {
-            const int w = mesh.to_vertex_handle(h).idx();
-            if (settled[w] || blocked(w))
+            const int w = arc_to_[a];
+            if ((state_[w] & kSettled) || (any_blocked && query.is_blocked[w]))
                 continue;
-            const double nd = d + weights[h.idx()];
-            if (nd < dist[w])
+            const double nd = d + arc_weight_[a];
+            if (nd < dist_[w])
             {
-                dist[w] = nd;
-                parent[w] = h.idx();
-                heap.emplace_back(nd, w);
-                std::push_heap(heap.begin(), heap.end(), later);
+                if (dist_[w] == kInfinity)
+                    touched_.push_back(w);
+                relax(w, nd, arc_halfedge_[a]);
             }
         }
     }
@@ -102,30 +197,24 @@ GraphPath shortest_path(const Mesh& mesh, const HalfedgeWeights& weights, const 
     // choosing the one that keeps the accumulated winding closest to zero. Each step strictly
     // lowers the distance, so the walk ends at a source.
     const bool control = query.winding_rate.rows() != 0 && query.tie_tolerance > 0.0;
-    double slack = 0.0;
-    if (control)
-    {
-        const double mean = std::accumulate(weights.begin(), weights.end(), 0.0) /
-                            static_cast<double>(std::max<std::size_t>(1, weights.size()));
-        slack = query.tie_tolerance * mean;
-    }
+    const double slack = control ? query.tie_tolerance * mean_weight_ : 0.0;
     GraphPath path;
     int v = target;
-    while (!is_source[v])
+    while (!(state_[v] & kSource))
     {
-        int chosen = parent[v];
+        int chosen = parent_[v];
         if (control)
         {
-            double best = std::abs(path.winding_rad + winding_step(mesh, query.winding_rate,
+            double best = std::abs(path.winding_rad + winding_step(mesh_, query.winding_rate,
                                                                    HalfedgeHandle(chosen)));
-            for (auto h : mesh.vih_range(VertexHandle(v)))
+            for (auto h : mesh_.vih_range(VertexHandle(v)))
             {
-                const int u = mesh.from_vertex_handle(h).idx();
-                if (!settled[u] || query.is_target[u] || dist[u] >= dist[v] ||
-                    dist[u] + weights[h.idx()] > dist[v] + slack)
+                const int u = mesh_.from_vertex_handle(h).idx();
+                if (!(state_[u] & kSettled) || query.is_target[u] || dist_[u] >= dist_[v] ||
+                    dist_[u] + weights_[h.idx()] > dist_[v] + slack)
                     continue;
                 const double w = std::abs(path.winding_rad +
-                                          winding_step(mesh, query.winding_rate, h));
+                                          winding_step(mesh_, query.winding_rate, h));
                 if (w < best - 1e-12)
                 {
                     best = w;
@@ -135,13 +224,18 @@ GraphPath shortest_path(const Mesh& mesh, const HalfedgeWeights& weights, const 
         }
         const HalfedgeHandle h(chosen);
         path.halfedges.push_back(h);
-        path.cost += weights[chosen];
+        path.cost += weights_[chosen];
         if (query.winding_rate.rows() != 0)
-            path.winding_rad += winding_step(mesh, query.winding_rate, h);
-        v = mesh.from_vertex_handle(h).idx();
+            path.winding_rad += winding_step(mesh_, query.winding_rate, h);
+        v = mesh_.from_vertex_handle(h).idx();
     }
     std::reverse(path.halfedges.begin(), path.halfedges.end());
     return path;
+}
+
+GraphPath shortest_path(const Mesh& mesh, const HalfedgeWeights& weights, const PathQuery& query)
+{
+    return CutGraph(mesh, weights).shortest_path(query);
 }
 
 }  // namespace vessel

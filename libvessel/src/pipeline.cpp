@@ -48,15 +48,15 @@ HalfedgeWeights travel_weights(const Mesh& mesh, const Eigen::MatrixX3d& z,
     if (options.custom_cost)
         return evaluate_cost(mesh, options.custom_cost);
     const CurvatureCost curvature{&z};
-    const LengthCost length{mean_edge_length(mesh)};
     switch (options.cost)
     {
         case CostKind::Curvature:
             return evaluate_cost(mesh, curvature);
         case CostKind::Geodesic:
-            return evaluate_cost(mesh, length);
+            return evaluate_cost(mesh, LengthCost{mean_edge_length(mesh)});
         case CostKind::Blend:
-            return evaluate_cost(mesh, BlendCost{curvature, length, options.blend});
+            return evaluate_cost(mesh, BlendCost{curvature, LengthCost{mean_edge_length(mesh)},
+                                                 options.blend});
     }
     throw InvalidInputError("flatten: unknown cost kind");
 }
@@ -115,15 +115,17 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
                            [&](int i) { return to_openmesh(z.row(i).transpose()); });
     result.timings.Z = clock.lap("Z");
 
-    // GC: the directed cut graph's arc weights.
+    // GC: the directed cut graph (arc weights, arcs per vertex), released after VC.
     const HalfedgeWeights weights = travel_weights(mesh, z, options);
+    auto graph = forced_plan ? nullptr : std::make_unique<CutGraph>(mesh, weights);
     result.timings.GC = clock.lap("GC");
 
     // VC: cut paths.
     result.plan = forced_plan ? *forced_plan
-                              : plan_cuts(mesh, result.loops, weights,
+                              : plan_cuts(*graph, result.loops,
                                           winding_rate(mesh, z, curvature.k_max.cwiseAbs()),
                                           options.cuts);
+    graph.reset();
     result.timings.VC = clock.lap("VC");
 
     // AC: split the seam in place.

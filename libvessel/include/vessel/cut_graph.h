@@ -2,6 +2,7 @@
 
 #include "vessel/mesh.h"
 
+#include <utility>
 #include <vector>
 
 namespace vessel {
@@ -34,7 +35,45 @@ struct GraphPath
     double winding_rad = 0.0;  //!< signed angle gained around the vessel (0 without winding_rate)
 };
 
-//! \brief Dijkstra with a binary heap from the imaginary source to the cheapest target.
+//! \brief The directed cut graph built once for many queries (plan_cuts() runs one per outlet):
+//! each vertex's outgoing arcs stored contiguously (CSR) with their weights, in OpenMesh's
+//! outgoing-halfedge order, and scratch arrays kept between queries, so a query costs only the
+//! vertices it settles. Keeps references to \p mesh and \p weights, which must outlive the graph
+//! and not change. Not thread-safe (one query at a time).
+class CutGraph
+{
+public:
+    //! \throw InvalidInputError if \p weights does not have one entry per halfedge.
+    CutGraph(const Mesh& mesh, const HalfedgeWeights& weights);
+
+    //! \brief Dijkstra (4-ary heap with decrease-key) from the imaginary source to the cheapest
+    //! target; the same path as shortest_path(mesh, weights, query).
+    //! \throw InvalidInputError as shortest_path().
+    GraphPath shortest_path(const PathQuery& query);
+
+    const Mesh& mesh() const { return mesh_; }  //!< the mesh the graph was built on
+
+private:
+    void relax(int v, double d, int parent);  // d < dist_[v]: lower it, place v in the heap
+    int pop_min();                           // remove and return the closest vertex in the heap
+
+    const Mesh& mesh_;
+    const HalfedgeWeights& weights_;
+    double mean_weight_ = 0.0;
+    std::vector<int> first_;        // |V|+1: arcs of vertex v are [first_[v], first_[v+1])
+    std::vector<int> arc_to_;       // head vertex of each arc
+    std::vector<int> arc_halfedge_; // halfedge of each arc
+    std::vector<double> arc_weight_;
+    // Scratch, valid for the vertices in touched_ only; reset at the start of each query.
+    std::vector<double> dist_;
+    std::vector<int> parent_;  // halfedge entering the vertex on the Dijkstra tree
+    std::vector<char> state_;  // bit 1: settled, bit 2: source
+    std::vector<int> touched_;
+    std::vector<int> slot_;  // place in heap_, -1 if not there
+    std::vector<std::pair<double, int>> heap_;  // 4-ary min-heap of (distance, vertex)
+};
+
+//! \brief Dijkstra from the imaginary source to the cheapest target (a one-off CutGraph).
 //! \throw InvalidInputError if sizes disagree, there are no sources, or no target is reachable
 //! (the message names the source and target counts).
 GraphPath shortest_path(const Mesh& mesh, const HalfedgeWeights& weights, const PathQuery& query);

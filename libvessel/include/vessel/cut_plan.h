@@ -71,4 +71,8 @@ CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options = {});
 
+//! plan_cuts() on a cut graph already built (flatten() builds it in stage GC); the same plan.
+CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
+                  const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options = {});
+
 }  // namespace vessel

@@ -1,0 +1,154 @@
+// vessel-cut-bench: the cut stages alone, GC (travel costs) and VC (cut paths), on the valid
+// real trees and the carotid phantoms, beside the CGAL peer's GC (boost adjacency_list) and VC
+// (boost Dijkstra per outlet). Google Benchmark reports wall and CPU time per iteration; stage Z
+// runs once per mesh outside the timing. See docs/benchmarks.md.
+#include "cgal_peer.h"
+
+#include "vessel/boundary.h"
+#include "vessel/curvature.h"
+#include "vessel/cut_cost.h"
+#include "vessel/cut_graph.h"
+#include "vessel/cut_plan.h"
+#include "vessel/direction.h"
+#include "vessel/geodesic.h"
+#include "vessel/phantom.h"
+#include "vessel/validation.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace {
+
+// What flatten() has after stage Z, with its default options.
+struct Ours
+{
+    vessel::Mesh mesh;
+    std::vector<vessel::BoundaryLoop> loops;
+    vessel::PrincipalCurvature curvature;
+    Eigen::MatrixX3d z;
+    vessel::HalfedgeWeights weights;
+    std::unique_ptr<vessel::CutGraph> graph;
+};
+
+std::shared_ptr<Ours> stage_z(vessel::Mesh mesh)
+{
+    auto ours = std::make_shared<Ours>();
+    ours->mesh = std::move(mesh);
+    ours->loops = vessel::boundary_loops(ours->mesh);
+    ours->curvature = vessel::principal_curvature(ours->mesh);
+    const vessel::HeatGeodesics heat(ours->mesh);
+    const Eigen::VectorXd G = heat.distance(ours->loops[0].vertices);
+    ours->z = vessel::align_to_root(ours->mesh, ours->curvature.min_direction, G);
+    return ours;
+}
+
+// GC as flatten() runs it with the default CostKind::Curvature: the costs, then the graph.
+std::unique_ptr<vessel::CutGraph> ours_gc(Ours& o)
+{
+    o.weights = vessel::evaluate_cost(o.mesh, vessel::CurvatureCost{&o.z});
+    return std::make_unique<vessel::CutGraph>(o.mesh, o.weights);
+}
+
+// VC as flatten() runs it: the winding field, then one path per outlet.
+vessel::CutPlan ours_vc(Ours& o)
+{
+    return vessel::plan_cuts(*o.graph, o.loops,
+                             vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs()));
+}
+
+// FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal
+// checksums before and after a change of the search mean the same paths.
+double checksum(const vessel::CutPlan& plan)
+{
+    std::uint64_t hash = 1469598103934665603ull;
+    for (const auto& path : plan.paths)
+        for (auto h : path.halfedges)
+            hash = (hash ^ static_cast<std::uint64_t>(h.idx())) * 1099511628211ull;
+    return static_cast<double>(hash & ((1ull << 48) - 1));
+}
+
+void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load)
+{
+    // Set up lazily, at the first benchmark of the mesh, so a filter skips the work.
+    auto ours = std::make_shared<std::shared_ptr<Ours>>();
+    auto peer = std::make_shared<std::shared_ptr<vessel_bench::PeerCutStages>>();
+    auto get_ours = [=]() -> Ours& {
+        if (!*ours)
+        {
+            *ours = stage_z(load());
+            (*ours)->graph = ours_gc(**ours);
+        }
+        return **ours;
+    };
+    auto get_peer = [=]() -> vessel_bench::PeerCutStages& {
+        if (!*peer)
+        {
+            *peer = std::make_shared<vessel_bench::PeerCutStages>(get_ours().mesh,
+                                                                  vessel_bench::PeerSettings{});
+            (*peer)->build_graph();
+        }
+        return **peer;
+    };
+    benchmark::RegisterBenchmark(("GC/ours/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
+        for (auto _ : state)
+            o.graph = ours_gc(o);
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("GC/peer/" + name).c_str(), [=](benchmark::State& state) {
+        auto& p = get_peer();
+        for (auto _ : state)
+            p.build_graph();
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("VC/ours/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
+        vessel::CutPlan plan;
+        for (auto _ : state)
+            plan = ours_vc(o);
+        state.counters["seam_edges"] = static_cast<double>(plan.seam_edges(o.mesh).size());
+        state.counters["path_checksum"] = checksum(plan);
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("VC/peer/" + name).c_str(), [=](benchmark::State& state) {
+        auto& p = get_peer();
+        std::size_t seam = 0;
+        for (auto _ : state)
+            seam = p.cut_paths();
+        state.counters["seam_edges"] = static_cast<double>(seam);
+    })->Unit(benchmark::kMillisecond);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    const std::string real = VESSEL_SHARED_DATA;
+    for (const char* file :
+         {"vampy/artery-coarse.ply", "x-ray-angio-data/coronary-clinical-branch-fine.ply",
+          "vampy/artery.ply", "vmtk-test-data/aorta-surface-open-ends.ply",
+          "x-ray-angio-data/coronary-phantom-tri3-coarse.ply", "simvascular-tests/demo-model-open.ply",
+          "vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply",
+          "svfsi-tests/pulmonary-glenn-wall.ply", "svfsi-tests/pulmonary-glenn-wall-split4.ply"})
+    {
+        const std::string path = real + "/" + file;
+        add_mesh(file, [path] { return vessel::load_tree_surface(path).mesh; });
+    }
+    // The carotid phantoms of vessel-bench-table at 44k and 300k triangles.
+    for (const auto& [name, edge] : {std::pair{"carotid-44k", 0.263}, {"carotid-300k", 0.1013}})
+    {
+        const double e = edge;
+        add_mesh(name, [e] {
+            vessel::CarotidPhantomOptions o;
+            o.edge_length = e;
+            return vessel::carotid_phantom(o);
+        });
+    }
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
+}
