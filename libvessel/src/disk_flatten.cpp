@@ -11,10 +11,12 @@
 // unpinned.
 #include "detail/disk_flatten.h"
 
+#include "detail/refine_map.h"
 #include "detail/stage_clock.h"
 #include "vessel/cut.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
+#include "vessel/metrics.h"
 #include "vessel/properties.h"
 #include "vessel/spectral.h"
 
@@ -34,50 +36,12 @@ Eigen::MatrixX2d initial_map(const Mesh& mesh, Initialization initialization)
     double area_3d = 0.0, area_2d = 0.0;
     for (const auto f : mesh.faces())
     {
-        auto h = f.halfedge();
-        const int a = h.from().idx(), b = h.to().idx(), c = h.next().to().idx();
         area_3d += mesh.calc_face_area(f);
-        const Eigen::Vector2d e1 = (uv.row(b) - uv.row(a)).transpose();
-        const Eigen::Vector2d e2 = (uv.row(c) - uv.row(a)).transpose();
-        area_2d += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+        area_2d += std::abs(signed_uv_area(mesh, uv, f));
     }
     if (area_2d > 0.0)
         uv *= std::sqrt(area_3d / area_2d);
     return uv;
-}
-
-// ARAP, untangling and SLIM as FlattenOptions::refinement asks, holding \p pins.
-void refine(const Mesh& mesh, Pins pins, const FlattenOptions& options, FlattenResult& result)
-{
-    if (options.refinement != Refinement::None && options.arap.max_iterations > 0)
-        result.arap = arap(mesh, result.uv, pins, options.arap);
-    if (options.refinement != Refinement::Injective)
-        return;
-    result.untangle = untangle(mesh, result.uv, pins, options.untangle);
-    if (result.untangle.flipped_before > 0)
-        result.notes.push_back(result.untangle.report);
-    std::string restart;
-    if (result.untangle.flipped_after > 0)
-        restart = "untangling left " + std::to_string(result.untangle.flipped_after) +
-                  " flipped triangles";
-    else if (options.overlaps != OverlapPolicy::Keep &&
-             boundary_self_intersection(mesh, result.uv).first >= 0)
-        restart = "the map overlaps itself (its boundary crosses)";
-    InjectiveOptions slim = options.injective;
-    if (!restart.empty())
-    {
-        result.notes.push_back(restart + "; restarted from the Tutte embedding");
-        result.uv = tutte_embedding(mesh);
-        pins.clear();
-        slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
-        slim.max_iterations = std::max(slim.max_iterations, 1);
-    }
-    if (slim.max_iterations == 0)
-        return;
-    slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
-    result.injective = injective_refine(mesh, result.uv, pins, slim);
-    if (result.injective.scaffold_from >= 0)
-        result.notes.push_back(result.injective.report);
 }
 
 }  // namespace
@@ -113,7 +77,7 @@ FlattenResult flatten_disk(Mesh mesh, const FlattenOptions& options)
     result.uv = initial_map(mesh, options.initialization);
     const VertexHandle held = result.loops[0].vertices.front();
     const Pins pins = {{held, result.uv.row(held.idx()).transpose()}};
-    refine(mesh, pins, options, result);
+    refine_map(mesh, pins, options, "the map overlaps itself (its boundary crosses)", "", result);
     auto uv = OpenMesh::VProp<OpenMesh::Vec2d>(mesh, prop::uv);
     for (const auto v : mesh.vertices())
         uv[v] = OpenMesh::Vec2d(result.uv(v.idx(), 0), result.uv(v.idx(), 1));

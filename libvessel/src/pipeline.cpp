@@ -8,6 +8,7 @@
 #include "vessel/properties.h"
 #include "vessel/spectral.h"
 #include "detail/disk_flatten.h"
+#include "detail/refine_map.h"
 #include "detail/stage_clock.h"
 
 #include <chrono>
@@ -176,51 +177,15 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
     const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
-    std::string restart;
     // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
     // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
     // ARAP never removed a crossing of the LSCM map (9 of 9 stayed crossed), so this skips
     // only work whose result was thrown away (docs/benchmarks.md).
-    if (may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0)
-        restart = crossing;
-    if (restart.empty() && options.refinement != Refinement::None &&
-        options.arap.max_iterations > 0)
-        result.arap = arap(mesh, result.uv, pins, options.arap);
-    if (options.refinement == Refinement::Injective)
-    {
-        if (restart.empty())
-        {
-            result.untangle = untangle(mesh, result.uv, pins, options.untangle);
-            if (result.untangle.flipped_before > 0)
-                result.notes.push_back(result.untangle.report);
-            if (result.untangle.flipped_after > 0)
-                restart = "untangling left " + std::to_string(result.untangle.flipped_after) +
-                          " flipped triangles";
-            else if (may_restart && boundary_self_intersection(mesh, result.uv).first >= 0)
-                restart = crossing;
-        }
-        InjectiveOptions slim = options.injective;
-        if (!restart.empty())
-        {
-            // Tutte's map of the disk onto a circle is one-to-one; SLIM never flips a triangle
-            // of it, and with a scaffold (from the start, or from the first contact of the
-            // boundary with itself) never lets its boundary cross either. The layout's
-            // arrangement is lost; the loops keep their order around the map.
-            result.notes.push_back(restart + "; restarted from the Tutte embedding");
-            result.uv = tutte_embedding(mesh);
-            pins.clear();  // the Tutte map cannot hold the inlet at the layout
-            at_layout = false;
-            slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
-            slim.max_iterations = std::max(slim.max_iterations, 1);
-        }
-        if (slim.max_iterations > 0)
-        {
-            slim.scaffold_on_contact = options.overlaps == OverlapPolicy::Prevent;
-            result.injective = injective_refine(mesh, result.uv, pins, slim);
-            if (result.injective.scaffold_from >= 0)
-                result.notes.push_back(result.injective.report);
-        }
-    }
+    const bool crosses_at_once =
+        may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
+    if (detail::refine_map(mesh, pins, options, crossing, crosses_at_once ? crossing : "",
+                           result))
+        at_layout = false;
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);
     store<OpenMesh::Vec2d>(

@@ -1,0 +1,21 @@
+#pragma once
+
+#include "vessel/pipeline.h"
+
+#include <string>
+
+namespace vessel::detail {
+
+//! \brief Step 7 as FlattenOptions::refinement asks, shared by the tree pipeline and the
+//! one-loop disk: ARAP holding \p pins, then (Refinement::Injective) untangling and SLIM. When
+//! untangling leaves flips, or the boundary crosses itself (unless OverlapPolicy::Keep), the map
+//! restarts from the Tutte embedding and SLIM runs unpinned (with the scaffold the policy asks).
+//! Fills result.uv (in: the initial map), .arap, .untangle, .injective and .notes.
+//! \param crossing how a crossing boundary is named in the note.
+//! \param restart non-empty: restart at once with this reason, skipping ARAP and untangling
+//! (the caller knows the initial map crosses itself).
+//! \return true if the map restarted from Tutte (the pins were then dropped).
+bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
+                const std::string& crossing, std::string restart, FlattenResult& result);
+
+}  // namespace vessel::detail
