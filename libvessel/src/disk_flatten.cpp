@@ -1,7 +1,7 @@
 // flatten() of a surface with one open end (issue 6: "flatten without cuts, it is a disk
 // already"). The tree pipeline pins the cut-open inlet along a line; a closed loop cannot lie on
 // a segment, so here the map starts from the Tutte embedding (the loop on a circle, one-to-one;
-// or the spectral conformal map with --init spectral), scaled to the surface's area, and is
+// or the spectral conformal map with --init spectral), both scaled to the surface's area, and is
 // refined as the options ask holding one loop vertex (ARAP, untangling, SLIM: each is invariant
 // to rotation, so one pin fixes the map). A free-boundary LSCM start was tried first: on the
 // carotid phantom with both outlets capped it compressed the capped branches so much that the
@@ -16,32 +16,20 @@
 #include "vessel/cut.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
-#include "vessel/metrics.h"
 #include "vessel/properties.h"
 #include "vessel/spectral.h"
 
-#include <cmath>
 
 namespace vessel::detail {
 
 namespace {
 
 // The start of the map: Tutte's (the loop on a circle) unless the options ask for the spectral
-// conformal map; the tree's layout LSCM has no layout to pin here. Scaled to the 3D area.
+// conformal map; the tree's layout LSCM has no layout to pin here. Both come scaled to the 3D area.
 Eigen::MatrixX2d initial_map(const Mesh& mesh, Initialization initialization)
 {
-    Eigen::MatrixX2d uv = initialization == Initialization::SpectralConformal
-                              ? spectral_conformal(mesh)
-                              : tutte_embedding(mesh);
-    double area_3d = 0.0, area_2d = 0.0;
-    for (const auto f : mesh.faces())
-    {
-        area_3d += mesh.calc_face_area(f);
-        area_2d += std::abs(signed_uv_area(mesh, uv, f));
-    }
-    if (area_2d > 0.0)
-        uv *= std::sqrt(area_3d / area_2d);
-    return uv;
+    return initialization == Initialization::SpectralConformal ? spectral_conformal(mesh)
+                                                               : tutte_embedding(mesh);
 }
 
 }  // namespace
