@@ -28,6 +28,7 @@ void FlattenOptions::validate() const
     if (refinement == Refinement::Injective)
     {
         untangle.validate();
+        fan_start.validate();
         if (injective.max_iterations > 0)
             injective.validate();
     }
@@ -184,7 +185,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     if (detail::refine_map(mesh, pins, options, crossing, crosses_at_once ? crossing : "",
-                           result))
+                           result, &input))
         at_layout = false;
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);

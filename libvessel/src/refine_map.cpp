@@ -1,17 +1,24 @@
 #include "detail/refine_map.h"
 
 #include "vessel/embedding.h"
+#include "vessel/fan_start.h"
 
 #include <algorithm>
 
 namespace vessel::detail {
 
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
-                const std::string& crossing, std::string restart, FlattenResult& result)
+                const std::string& crossing, std::string restart, FlattenResult& result,
+                const LayoutInput* layout)
 {
+    Eigen::MatrixX2d before_arap;  // the initial map, kept for Prevent's fallback
     if (restart.empty() && options.refinement != Refinement::None &&
         options.arap.max_iterations > 0)
+    {
+        if (options.overlaps == OverlapPolicy::Prevent && options.keep_layout_look)
+            before_arap = result.uv;
         result.arap = arap(mesh, result.uv, pins, options.arap);
+    }
     if (options.refinement != Refinement::Injective)
         return false;
     if (restart.empty())
@@ -25,17 +32,45 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         else if (options.overlaps != OverlapPolicy::Keep &&
                  boundary_self_intersection(mesh, result.uv).first >= 0)
             restart = crossing;
+        if (!restart.empty() && before_arap.size() > 0)
+        {
+            // ARAP can relax a one-to-one initial map into itself (carotid phantom: the LSCM
+            // map at the layout is one-to-one, ARAP's crosses). Go on from the initial map,
+            // untangled, when it is one-to-one: SLIM then keeps the layout's look.
+            UntangleSummary fixed = untangle(mesh, before_arap, pins, options.untangle);
+            if (fixed.flipped_after == 0 && boundary_self_intersection(mesh, before_arap).first < 0)
+            {
+                result.notes.push_back(restart + "; went on from the map before ARAP");
+                result.uv = std::move(before_arap);
+                result.untangle = fixed;
+                restart.clear();
+            }
+        }
     }
     InjectiveOptions slim = options.injective;
     if (!restart.empty())
     {
-        // Tutte's map of the disk onto a circle is one-to-one; SLIM never flips a triangle of
-        // it, and with a scaffold (from the start, or from the first contact of the boundary
-        // with itself) never lets its boundary cross either. The initial arrangement is lost;
-        // the loops keep their order around the map.
-        result.notes.push_back(restart + "; restarted from the Tutte embedding");
-        result.uv = tutte_embedding(mesh);
-        pins.clear();  // the Tutte map cannot hold the pins where they were
+        // A one-to-one start: the fan start (fan_start.h) keeps the layout's look (inlet at the
+        // bottom, branches fanned out in order); Tutte's map of the disk onto a circle is the
+        // fallback (the loops keep their order around it, the arrangement is lost). SLIM never
+        // flips a triangle of either, and with a scaffold (from the start, or from the first
+        // contact of the boundary with itself) never lets its boundary cross.
+        bool from_fan = false;
+        if (layout && options.overlaps == OverlapPolicy::Prevent && options.keep_layout_look)
+        {
+            FanStart start = fan_start(*layout, options.fan_start);
+            from_fan = start.untangle.flipped_after == 0 &&
+                       boundary_self_intersection(mesh, start.uv).first < 0;
+            if (from_fan)
+                result.uv = std::move(start.uv);
+            else
+                result.notes.push_back("fan start: " + start.untangle.report);
+        }
+        result.notes.push_back(restart + (from_fan ? "; restarted from the fan start"
+                                                   : "; restarted from the Tutte embedding"));
+        if (!from_fan)
+            result.uv = tutte_embedding(mesh);
+        pins.clear();  // neither start can hold the pins where they were
         slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }

@@ -157,6 +157,10 @@ int main(int argc, char** argv)
                                            "throughout)")
         ->check(CLI::IsMember({"keep", "restart", "prevent", "scaffold"}))
         ->capture_default_str();
+    app.add_flag("--keep-look", options.keep_layout_look,
+                 "With --overlaps prevent, when the map at the layout overlaps itself, go on "
+                 "from a one-to-one map with the layout's look (the map before ARAP, else the "
+                 "fan start) instead of a Tutte circle; slower, not less distortion");
     app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
         ->check(CLI::IsMember({"ceres", "local-global"}))
         ->capture_default_str();

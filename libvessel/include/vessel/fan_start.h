@@ -1,0 +1,45 @@
+#pragma once
+
+#include "vessel/layout.h"
+#include "vessel/untangle.h"
+
+namespace vessel {
+
+struct FanStartOptions
+{
+    //! Half-angle of the fan around the vertical, seen from its centre below the inlet's
+    //! midpoint: the inlet's ends are seen at 90 -/+ this, and the rest of the boundary lies
+    //! between those two rays. In [30, 89].
+    double spread_deg = 80.0;
+    //! Angular weight of a cut-side edge relative to a loop edge of the same length and radius,
+    //! in (0, 1]: small values make both sides of a cut nearly radial (strips fanned out).
+    double cut_weight = 0.1;
+    UntangleOptions untangle;  //!< removes the flips of the harmonic map (boundary held)
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+struct FanStart
+{
+    Eigen::MatrixX2d uv;       //!< |V| x 2, row `v.idx()`, scaled to the 3D area
+    UntangleSummary untangle;  //!< the flip removal; the map is one-to-one iff flipped_after == 0
+};
+
+//! \brief A one-to-one start map with the layout's look, for a refinement that must not
+//! overlap (used where the map at the layout crosses itself, instead of a Tutte circle).
+//!
+//! The cut mesh's boundary is laid out as a polygon that is star-shaped around a centre above
+//! the inlet, hence simple: the inlet straight at the bottom (3D length), every other boundary
+//! vertex at radius (inlet-end radius + its geodesic distance from the inlet), at an angle that
+//! decreases monotonically along the boundary walk (edges of outlet loops weighted by length /
+//! radius, cut sides by cut_weight times that). So each branch is a wedge pointing away from the
+//! inlet, branches in their walk (left-to-right) order. The interior is the cotangent-harmonic
+//! map onto that polygon (LSCM with the whole boundary pinned), whose flips, where the polygon
+//! is not convex, are removed with the boundary held (untangle.h). A flip-free map with a simple
+//! boundary is one-to-one.
+//! \param input the layout's input (cut mesh, loops, segments, geodesic distance, origins).
+//! \throw InvalidInputError if the options are invalid.
+//! \throw TopologyError if the cut mesh is not a disk whose boundary holds the inlet segment.
+FanStart fan_start(const LayoutInput& input, const FanStartOptions& options = {});
+
+}  // namespace vessel
