@@ -51,9 +51,9 @@ Walk boundary_walk(const Mesh& mesh, VertexHandle first)
     return walk;
 }
 
-// A triangle whose three corners are consecutive on the polygon (an ear) is inverted where the
-// polygon's corner is reflex, and no interior motion can fix it: move that corner across the
-// ear's chord. Corners below `first_free` (the inlet) stay.
+// A triangle whose three corners are all on the polygon (e.g. an ear) is inverted where the
+// polygon turns the wrong way between them, and no interior motion can fix it: move the
+// boundary between its corners across their chord. Corners below `first_free` (the inlet) stay.
 void open_reflex_ears(const Mesh& mesh, Pins& pins, std::size_t first_free)
 {
     const std::size_t n = pins.size();
@@ -75,21 +75,25 @@ void open_reflex_ears(const Mesh& mesh, Pins& pins, std::size_t first_free)
         };
         if (area() > 0.0)
             continue;
-        for (int m = 0; m < 3; ++m)
+        // The corners' walk positions p0 < p1 < p2 within a short run: lay the run's inner
+        // vertices (p0, p2) on an arc across the chord p0-p2, on the side that turns the
+        // triangle positive; the run's own ears are then convex too.
+        std::array<int, 3> sorted = corner;
+        std::sort(sorted.begin(), sorted.end());
+        const int p0 = sorted[0], p2 = sorted[2];
+        if (p2 - p0 > 8 || p0 + 1 < static_cast<int>(first_free))
+            continue;
+        const Eigen::Vector2d a = pins[p0].uv, c = pins[p2].uv;
+        const Eigen::Vector2d normal(c.y() - a.y(), a.x() - c.x());  // |normal| = |c - a|
+        for (double side : {1.0, -1.0})
         {
-            const std::size_t i = corner[m];
-            const bool middle = (corner[(m + 1) % 3] == static_cast<int>((i + 1) % n) ||
-                                 corner[(m + 1) % 3] == static_cast<int>((i + n - 1) % n)) &&
-                                (corner[(m + 2) % 3] == static_cast<int>((i + 1) % n) ||
-                                 corner[(m + 2) % 3] == static_cast<int>((i + n - 1) % n));
-            if (!middle || i < first_free)
-                continue;
-            const Eigen::Vector2d a = p((m + 1) % 3), c = p((m + 2) % 3);
-            const Eigen::Vector2d normal(c.y() - a.y(), a.x() - c.x());  // |normal| = |c - a|
-            p(m) = 0.5 * (a + c) + 0.25 * normal;
-            if (area() <= 0.0)
-                p(m) = 0.5 * (a + c) - 0.25 * normal;
-            break;
+            for (int j = p0 + 1; j < p2; ++j)
+            {
+                const double t = static_cast<double>(j - p0) / (p2 - p0);
+                pins[j].uv = a + t * (c - a) + side * 0.25 * std::sin(M_PI * t) * normal;
+            }
+            if (area() > 0.0)
+                break;
         }
     }
 }
