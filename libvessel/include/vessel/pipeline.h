@@ -101,8 +101,8 @@ struct FlattenOptions
     //! exists, instead of restarting from Tutte's circle. First the initial map before ARAP, if
     //! untangling leaves it one-to-one (ARAP made the crossing); else the fan start
     //! (fan_start.h), if it is one-to-one; else Tutte. Off by default: measured, it does not
-    //! lower the area distortion (docs/overlaps.md: carotid phantom 0.0598 vs 0.0405 from
-    //! Tutte; artery 0.108 vs 0.104, demo model 0.070 vs 0.071) and costs more time.
+    //! lower the area distortion in general (docs/overlaps.md: carotid phantom 0.0598 vs 0.0405
+    //! from Tutte; 3-outlet tree phantom 0.0778 vs 0.0814) and costs more time.
     bool keep_layout_look = false;
     FanStartOptions fan_start;  //!< the fan start of keep_layout_look
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
