@@ -161,8 +161,8 @@ FanStart fan_start(const LayoutInput& input, const FanStartOptions& options)
     start.untangle = untangle(mesh, start.uv, pins, options.untangle);
     if (start.untangle.flipped_after > 0)
     {
-        // Left over where a triangle has all three corners on the polygon (at its reflex
-        // corners): free the boundary but the inlet; the caller checks that it stays simple.
+        // Left over in the polygon's crotch notches: free the boundary but the inlet; the
+        // caller checks that it stays simple.
         pins.resize(n_inlet);
         const int before = start.untangle.flipped_before;
         start.untangle = untangle(mesh, start.uv, pins, options.untangle);

@@ -29,7 +29,9 @@ struct FanStartOptions
 struct FanStart
 {
     Eigen::MatrixX2d uv;       //!< |V| x 2, row `v.idx()`, scaled to the 3D area
-    UntangleSummary untangle;  //!< the flip removal; the map is one-to-one iff flipped_after == 0
+    //! The flip removal. The map is one-to-one iff flipped_after == 0 and its boundary is
+    //! simple (boundary_self_intersection(), embedding.h): the caller checks both.
+    UntangleSummary untangle;
 };
 
 //! \brief A one-to-one start map with the layout's look, for a refinement that must not
@@ -41,8 +43,11 @@ struct FanStart
 //! decreases monotonically along the boundary walk (edges of outlet loops weighted by length /
 //! radius, cut sides by cut_weight times that). So each branch is a wedge pointing away from the
 //! inlet, branches in their walk (left-to-right) order. The interior is the cotangent-harmonic
-//! map onto that polygon (LSCM with the whole boundary pinned), whose flips, where the polygon
-//! is not convex, are removed with the boundary held (untangle.h). A flip-free map with a simple
+//! map onto that polygon (LSCM with the whole boundary pinned); triangles with all three corners
+//! on the polygon that it inverts are first opened (the boundary run between their corners laid
+//! on an arc across their chord). Its flips, where the polygon is not convex, are removed with
+//! the boundary held (untangle.h); flips left over (crotch notches of the polygon) once more with
+//! only the inlet held, which can make the boundary cross. A flip-free map with a simple
 //! boundary is one-to-one.
 //! \param input the layout's input (cut mesh, loops, segments, geodesic distance, origins).
 //! \throw InvalidInputError if the options are invalid.
