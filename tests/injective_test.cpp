@@ -6,6 +6,8 @@
 #include "vessel/metrics.h"
 #include "vessel/phantom.h"
 
+#include <array>
+
 using namespace vessel;
 
 TEST_CASE("injective: the Tutte embedding of a cut cylinder has no flipped triangle")
@@ -60,10 +62,17 @@ TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
     Eigen::MatrixX2d wrong_size(3, 2);
     CHECK_THROWS_AS(injective_refine(mesh, wrong_size, {}), InvalidInputError);
     CHECK_THROWS_AS(tutte_embedding(open_cylinder(1.0, 2.0, 12, 6)), TopologyError);
-    InjectiveOptions bad;
-    bad.max_iterations = 0;
-    CHECK_THROWS_AS(bad.validate(), InvalidInputError);
-    InjectiveOptions never_rebuilt;
-    never_rebuilt.scaffold_rebuild_every = 0;
-    CHECK_THROWS_AS(never_rebuilt.validate(), InvalidInputError);
+    // Each bad field on its own is refused.
+    const std::array<void (*)(InjectiveOptions&), 4> spoil = {
+        [](InjectiveOptions& o) { o.max_iterations = 0; },
+        [](InjectiveOptions& o) { o.scaffold_rebuild_every = 0; },
+        [](InjectiveOptions& o) { o.scaffold_passes = 0; },
+        [](InjectiveOptions& o) { o.crossing_patience = 0; },
+    };
+    for (const auto& make_bad : spoil)
+    {
+        InjectiveOptions bad;
+        make_bad(bad);
+        CHECK_THROWS_AS(bad.validate(), InvalidInputError);
+    }
 }

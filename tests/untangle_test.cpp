@@ -8,6 +8,8 @@
 #include "vessel/untangle.h"
 #include "vessel/validation.h"
 
+#include <utility>
+
 using namespace vessel;
 
 TEST_CASE("untangle: a fold on a flat grid is removed by moving only the vertices near it")
@@ -70,24 +72,31 @@ TEST_CASE("embedding: a simple map boundary passes, a folded-over one is found")
 TEST_CASE("injective: with a scaffold, SLIM from the Tutte map keeps a cut cylinder one-to-one")
 {
     const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
-    // Triangulated anew every iteration (Jiang et al.), and reused for up to 10 iterations.
-    for (int every : {1, 10})
+    // Triangulated anew every iteration (Jiang et al.), and reused for up to 10 iterations;
+    // with one line search per step, or with blocked steps continued on a new triangulation.
+    for (auto [every, passes] : {std::pair{1, 1}, std::pair{1, 4}, std::pair{10, 4}})
     {
         CAPTURE(every);
+        CAPTURE(passes);
         Eigen::MatrixX2d uv = tutte_embedding(mesh);
         InjectiveOptions options;
         options.scaffold = true;
         options.max_iterations = 30;
         options.scaffold_rebuild_every = every;
+        options.scaffold_passes = passes;
         const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
         CHECK(s.final_energy < s.initial_energy);
         CHECK(test::count_flips(mesh, uv) == 0);
         CHECK(boundary_self_intersection(mesh, uv).first == -1);
-        CHECK(s.scaffold_rebuilds >= (s.iterations + every - 1) / every);
-        if (every == 1)
+        // Every continued step triangulates anew (a tried one that is not accepted too), and
+        // the next iteration triangulates again.
+        CHECK(s.scaffold_passes <= (passes - 1) * s.iterations);
+        CHECK(s.scaffold_rebuilds >= (s.iterations + every - 1) / every + s.scaffold_passes);
+        CHECK(s.scaffold_rebuilds <= passes * s.iterations);
+        if (every == 1 && passes == 1)
             CHECK(s.scaffold_rebuilds == s.iterations);
-        else
-            CHECK(s.scaffold_rebuilds < s.iterations);
+        if (every > 1)
+            CHECK(s.scaffold_rebuilds < s.iterations + s.scaffold_passes);
         MESSAGE(s.report);
     }
 }

@@ -33,6 +33,12 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
     if (!(scaffold_tolerance > 0.0))
         throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be > 0");
+    if (crossing_patience < 1)
+        throw InvalidInputError("InjectiveOptions: crossing_patience must be >= 1, got " +
+                                std::to_string(crossing_patience));
+    if (scaffold_passes < 1)
+        throw InvalidInputError("InjectiveOptions: scaffold_passes must be >= 1, got " +
+                                std::to_string(scaffold_passes));
     if (scaffold_rebuild_every < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
                                 std::to_string(scaffold_rebuild_every));
@@ -444,6 +450,45 @@ public:
         return ops;
     }
 
+    //! Sets the Steiner vertices' entries of the displacement \p d (sized for the current
+    //! triangulation; the map's and the box's entries given) to its harmonic extension over
+    //! the scaffold's edges (uniform weights): the free space follows the boundary's motion.
+    void extend(Eigen::VectorXd& d) const
+    {
+        const int first = n_ + 4;
+        const int m = static_cast<int>(d.size() / 2) - first;
+        if (m <= 0)
+            return;
+        std::vector<Eigen::Triplet<double>> triplets;
+        Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
+        const auto couple = [&](int p, int q) {
+            if (p < first)
+                return;
+            triplets.emplace_back(p - first, p - first, 1.0);
+            if (q >= first)
+                triplets.emplace_back(p - first, q - first, -1.0);
+            else
+                rhs.row(p - first) += d.segment<2>(2 * q).transpose();
+        };
+        for (const auto& t : triangles_)
+            for (int a = 0; a < 3; ++a)
+            {
+                couple(t[a], t[(a + 1) % 3]);
+                couple(t[(a + 1) % 3], t[a]);
+            }
+        Eigen::SparseMatrix<double> L(m, m);
+        L.setFromTriplets(triplets.begin(), triplets.end());
+        const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
+        const Eigen::MatrixX2d steiner = solver.solve(rhs);
+        if (solver.info() != Eigen::Success || !steiner.allFinite())
+        {
+            d.tail(2 * m).setZero();  // no extension: the line search keeps them in place
+            return;
+        }
+        for (int j = 0; j < m; ++j)
+            d.segment<2>(2 * (first + j)) = steiner.row(j).transpose();
+    }
+
 private:
     int n_;
     double weight_;
@@ -518,6 +563,20 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     std::vector<std::vector<double>> partial_values(threads - 1);
     std::vector<Eigen::VectorXd> partial_rhs(threads);
 
+    // Largest step along d that flips no triangle, halved until the energy does not grow:
+    // (step, the flip bound, energy there).
+    const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
+                                 const Eigen::VectorXd& dir, double e0) {
+        const double bound = max_injective_step(faces, y, dir, threads);
+        double step = bound;
+        double e1 = energy(faces, y + step * dir, threads);
+        while (!(e1 <= e0) && step > 1e-12)
+        {
+            step *= 0.5;
+            e1 = energy(faces, y + step * dir, threads);
+        }
+        return std::array<double, 3>{step, bound, e1};
+    };
     double e_surface = summary.initial_energy;
     int slow = 0;  // consecutive iterations below the tolerance
     // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
@@ -614,13 +673,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             for (int v : scaffold->box())
                 d.segment<2>(2 * v).setZero();  // the box stays put
         const double e = energy(ops, x, threads);
-        double t = max_injective_step(ops, x, d, threads);
-        double e_new = energy(ops, x + t * d, threads);
-        while (!(e_new <= e) && t > 1e-12)
-        {
-            t *= 0.5;
-            e_new = energy(ops, x + t * d, threads);
-        }
+        const auto [t, t_bound, e_new] = line_search(ops, x, d, e);
         summary.iterations = done + it + 1;
         if (!(e_new <= e))
         {
@@ -628,11 +681,41 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             break;
         }
         x += t * d;
+        if (scaffold && options.scaffold_passes > 1)
+        {
+            // The step stopped where a scaffold triangle would collapse. A new triangulation
+            // of the free space there usually lets the same direction go further: line search
+            // the rest of it again (no new factorization, only the CGAL mesher), a few times.
+            // The Steiner vertices are new: their motion is the boundary's, extended.
+            bool blocked = t < 1.0 && t == t_bound;
+            double left = 1.0 - t;
+            for (int pass = 1; pass < options.scaffold_passes && blocked && left > 0.05; ++pass)
+            {
+                const std::vector<FaceOperator> extra = scaffold->rebuild(x);
+                ++summary.scaffold_rebuilds;
+                since_rebuild = options.scaffold_rebuild_every;  // the next iteration rebuilds
+                ops = surface;
+                ops.insert(ops.end(), extra.begin(), extra.end());
+                Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
+                rest.head(2 * n) = left * d.head(2 * n);
+                scaffold->extend(rest);
+                const double e_pass = energy(ops, x, threads);
+                const auto [s, s_bound, e_pass_new] = line_search(ops, x, rest, e_pass);
+                if (!(e_pass_new < e_pass))
+                    break;
+                x += s * rest;
+                ++summary.scaffold_passes;
+                blocked = s < 1.0 && s == s_bound;
+                left *= 1.0 - s;
+            }
+        }
         if (watch && !crosses(x))
         {
             last_simple = x;
             last_simple_it = summary.iterations;
         }
+        else if (watch && summary.iterations - last_simple_it >= options.crossing_patience)
+            break;  // crossed for that long: it will not come apart by itself
         const double e_surface_new = scaffold ? energy(surface, x, threads) : e_new;
         const double decrease = (e_surface - e_surface_new) / e_surface;
         e_surface = e_surface_new;
@@ -670,7 +753,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                      std::to_string(summary.final_energy) +
                      (summary.converged ? " (converged)" : " (iteration limit)") +
                      (scaffold ? ", " + std::to_string(summary.scaffold_rebuilds) +
-                                     " scaffold triangulations"
+                                     " scaffold triangulations, " +
+                                     std::to_string(summary.scaffold_passes) + " continued steps"
                                : std::string());
     return summary;
 }

@@ -30,6 +30,10 @@ struct InjectiveOptions
     //! the scaffold's cost is paid only when needed. Needs a start whose boundary is simple;
     //! otherwise it has no effect.
     bool scaffold_on_contact = false;
+    //! With scaffold_on_contact: once the boundary has stayed crossed for this many
+    //! iterations in a row, stop the unconstrained run there and go on with the scaffold (a
+    //! crossing that lasts seldom comes apart; the iterations spent on it are lost).
+    int crossing_patience = 5;
     //! The scaffold's total weight, as a fraction of the surface area, shared equally by its
     //! triangles. Heavier scaffolds resist the map's motion more (pulmonary tree, mean |log
     //! area|: 0.1598 at 0.1, 0.1561 at 0.02; the weight does not stall the steps).
@@ -45,6 +49,11 @@ struct InjectiveOptions
     //! 0.0985; but pulmonary tree 0.179 vs 0.151 (the stale triangles block the steps), so
     //! the default stays 1.
     int scaffold_rebuild_every = 1;
+    //! Line searches per global step in the scaffold phase: when a step stops where a scaffold
+    //! triangle would collapse, the free space is triangulated anew and the rest of the same
+    //! direction is line searched again (CGAL mesher only, no new factorization), up to this
+    //! many times in all. 1 = one line search per step (Jiang et al.).
+    int scaffold_passes = 4;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -59,6 +68,7 @@ struct InjectiveSummary
     //! -1 if the boundary never crossed (no scaffold was needed).
     int scaffold_from = -1;
     int scaffold_rebuilds = 0;  //!< scaffold triangulations made
+    int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
     std::string report;  //!< one line: iterations and energies
 };
 
