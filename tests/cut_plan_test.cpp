@@ -15,6 +15,13 @@ using namespace vessel;
 
 namespace {
 
+DirectionOptions guided(double confident_anisotropy)
+{
+    DirectionOptions options;
+    options.confident_anisotropy = confident_anisotropy;
+    return options;
+}
+
 struct Prepared
 {
     Mesh mesh;
@@ -23,13 +30,14 @@ struct Prepared
     Eigen::MatrixX3d rate;
 };
 
-Prepared prepare(Mesh mesh)
+// z as flatten() makes it; `confident_anisotropy = 0` is the paper's pure curvature field.
+Prepared prepare(Mesh mesh, const DirectionOptions& direction = guided(0.0))
 {
     Prepared p;
     p.loops = boundary_loops(mesh);
     const auto curvature = principal_curvature(mesh);
     const Eigen::VectorXd G = heat_geodesic_distance(mesh, p.loops[0].vertices);
-    p.z = align_to_root(mesh, curvature.min_direction, G);
+    p.z = vessel_direction(mesh, curvature, p.loops, G, direction);
     p.rate = winding_rate(mesh, p.z, curvature.k_max.cwiseAbs());
     p.mesh = std::move(mesh);
     return p;
@@ -54,16 +62,19 @@ double helix_winding_deg(const HelicalTubeOptions& options, const Mesh& mesh,
 
 TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
 {
+    // The paper's pure curvature field (the default) and the guided direction policy.
+    for (const DirectionOptions& direction : {guided(0.0), guided(0.6), guided(1.0)})
     for (int n_around : {24, 32, 48})
     {
         CAPTURE(n_around);
+        CAPTURE(direction.confident_anisotropy);
         HelicalTubeOptions options;
         options.tube_radius = 1.0;
         options.helix_radius = 4.0;
         options.pitch = 12.0;
         options.turns = 1.5;
         options.n_around = n_around;
-        const Prepared p = prepare(helical_tube(options));
+        const Prepared p = prepare(helical_tube(options), direction);
         const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
         const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
         REQUIRE(plan.paths.size() == 1);
@@ -73,7 +84,8 @@ TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
         plain.tie_tolerance = 0.0;
         const CutPlan drifting = plan_cuts(p.mesh, p.loops, w, p.rate, plain);
         const double drift = helix_winding_deg(options, p.mesh, drifting.paths[0]);
-        MESSAGE("helical tube (" << n_around << " around) E_c cut winds " << winding
+        MESSAGE("helical tube (" << n_around << " around, confident_anisotropy "
+                                 << direction.confident_anisotropy << ") E_c cut winds " << winding
                                  << " degrees; plain Dijkstra " << drift << " degrees");
         CHECK(winding < 30.0);
         CHECK(drift > winding);

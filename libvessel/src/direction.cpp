@@ -1,8 +1,10 @@
 #include "vessel/direction.h"
 
+#include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/operators.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -40,6 +42,62 @@ Eigen::MatrixX3d descent_direction(const Mesh& mesh, const Eigen::VectorXd& f)
             z.row(i) = -grad.row(i) / length;
     }
     return z;
+}
+
+void DirectionOptions::validate() const
+{
+    if (!(confident_anisotropy >= 0.0 && confident_anisotropy <= 1.0))
+        throw InvalidInputError("DirectionOptions: confident_anisotropy must be in [0, 1] (0 = "
+                                "pure curvature direction), got " +
+                                std::to_string(confident_anisotropy));
+}
+
+Eigen::VectorXd curvature_anisotropy(const PrincipalCurvature& curvature)
+{
+    const Eigen::ArrayXd big = curvature.k_max.array().abs();
+    const Eigen::ArrayXd small = curvature.k_min.array().abs();
+    const Eigen::ArrayXd sum = big + small;
+    return (sum > 0.0).select((big - small) / sum, 0.0).max(0.0).min(1.0).matrix();
+}
+
+Eigen::MatrixX3d confident_direction(const Eigen::MatrixX3d& z, const Eigen::VectorXd& anisotropy,
+                                     const Eigen::MatrixX3d& guide,
+                                     const DirectionOptions& options)
+{
+    options.validate();
+    if (anisotropy.size() != z.rows() || guide.rows() != z.rows())
+        throw InvalidInputError("confident_direction: got " + std::to_string(z.rows()) +
+                                " directions, " + std::to_string(anisotropy.size()) +
+                                " anisotropy values and " + std::to_string(guide.rows()) +
+                                " guide directions; pass one per vertex, indexed by v.idx()");
+    Eigen::MatrixX3d blended = z;
+    if (options.confident_anisotropy <= 0.0)
+        return blended;
+    for (Eigen::Index i = 0; i < z.rows(); ++i)
+    {
+        const double t = std::clamp(anisotropy[i] / options.confident_anisotropy, 0.0, 1.0);
+        if (t >= 1.0 || !(guide.row(i).squaredNorm() > 0.0))
+            continue;
+        const Eigen::RowVector3d mix = t * z.row(i) + (1.0 - t) * guide.row(i);
+        const double length = mix.norm();
+        if (length > 1e-12)
+            blended.row(i) = mix / length;
+    }
+    return blended;
+}
+
+Eigen::MatrixX3d vessel_direction(const Mesh& mesh, const PrincipalCurvature& curvature,
+                                  const std::vector<BoundaryLoop>& loops,
+                                  const Eigen::VectorXd& geodesic,
+                                  const DirectionOptions& options)
+{
+    options.validate();
+    const Eigen::MatrixX3d z = align_to_root(mesh, curvature.min_direction, geodesic);
+    if (options.confident_anisotropy <= 0.0)
+        return z;
+    return confident_direction(
+        z, curvature_anisotropy(curvature),
+        descent_direction(mesh, harmonic_longitudinal(mesh, loops, geodesic)), options);
 }
 
 }  // namespace vessel

@@ -21,6 +21,7 @@ void FlattenOptions::validate() const
 {
     curvature.validate();
     geodesic.validate();
+    direction.validate();
     cuts.validate();
     relief.validate();
     if (refinement != Refinement::None && arap.max_iterations > 0)
@@ -110,7 +111,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
     const HeatGeodesics heat(mesh, options.geodesic);
     const Eigen::VectorXd G = heat.distance(result.loops[0].vertices);
-    const Eigen::MatrixX3d z = align_to_root(mesh, curvature.min_direction, G);
+    const Eigen::MatrixX3d z =
+        vessel_direction(mesh, curvature, result.loops, G, options.direction);
     store<double>(mesh, prop::geodesic, [&](int i) { return G[i]; });
     store<double>(mesh, prop::kmax, [&](int i) { return std::abs(curvature.k_max[i]); });
     store<OpenMesh::Vec3d>(mesh, prop::direction,

@@ -168,6 +168,13 @@ int main(int argc, char** argv)
                                    "(free-boundary spectral conformal)")
         ->check(CLI::IsMember({"layout-lscm", "spectral", "tutte"}))
         ->capture_default_str();
+    app.add_option("--direction-confidence", options.direction.confident_anisotropy,
+                   "Curvature anisotropy (0-1) from which the cut direction is the pure "
+                   "minimal curvature direction; below it the direction leans to the "
+                   "vessel's harmonic longitudinal descent (0 = the paper's pure field; 0.6 "
+                   "is the setting measured in docs/results.md)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "
                    "least winding one is taken (0 = plain Dijkstra)")

@@ -5,6 +5,7 @@
 #include "vessel/curvature.h"
 #include "vessel/cut_cost.h"
 #include "vessel/cut_plan.h"
+#include "vessel/direction.h"
 #include "vessel/fan_start.h"
 #include "vessel/geodesic.h"
 #include "vessel/injective.h"
@@ -70,6 +71,9 @@ struct FlattenOptions
 {
     CurvatureOptions curvature;    //!< step 3: quadric-fit scale (5 x mean edge) etc.
     HeatGeodesicsOptions geodesic;  //!< step 3: heat-method time step
+    //! step 3: where the curvature direction is trusted; elsewhere z leans to the harmonic
+    //! longitudinal descent (`direction.confident_anisotropy = 0`: the paper's pure field)
+    DirectionOptions direction;
     CostKind cost = CostKind::Curvature;
     double blend = 0.5;  //!< `a` of E_cg, used with CostKind::Blend
     //! A researcher's own travel cost; when set it replaces `cost`. Receives the mesh whose
