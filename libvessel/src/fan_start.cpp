@@ -168,12 +168,7 @@ FanStart fan_start(const LayoutInput& input, const FanStartOptions& options)
         start.untangle = untangle(mesh, start.uv, pins, options.untangle);
         start.untangle.flipped_before = before;
     }
-    double area2 = 0.0;
-    for (auto f : mesh.faces())
-        area2 += signed_uv_area(mesh, start.uv, f);
-    const double area3 = face_areas(mesh).sum();
-    if (area2 > 0.0)
-        start.uv *= std::sqrt(area3 / area2);
+    scale_to_surface_area(mesh, start.uv);
     return start;
 }
 

@@ -108,12 +108,7 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
             uv.row(v) = x.row(slot[v]);
     // A circle of the boundary's perimeter encloses far more than the surface's area; scale to
     // the 3D area so that a distortion energy starts from the right size.
-    double area2 = 0.0;
-    for (auto f : mesh.faces())
-        area2 += signed_uv_area(mesh, uv, f);
-    const double area3 = face_areas(mesh).sum();
-    if (area2 > 0.0)
-        uv *= std::sqrt(area3 / area2);
+    scale_to_surface_area(mesh, uv);
     return uv;
 }
 

@@ -19,6 +19,16 @@ double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f
     return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
+void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv)
+{
+    double area2 = 0.0;
+    for (auto f : mesh.faces())
+        area2 += signed_uv_area(mesh, uv, f);
+    const double area3 = face_areas(mesh).sum();
+    if (area2 > 0.0)
+        uv *= std::sqrt(area3 / area2);
+}
+
 FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
     detail::require_uv_rows(mesh, uv, "flat_quality");

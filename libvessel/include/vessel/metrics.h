@@ -25,4 +25,9 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 //! Signed area of face \p f in the map (positive = counter-clockwise).
 double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f);
 
+//! \brief Scale \p uv about the origin so that its signed area equals the surface's 3D area
+//! (a start map of the right size for a distortion energy). Left as it is if its signed area
+//! is not positive.
+void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv);
+
 }  // namespace vessel

@@ -16,7 +16,7 @@ namespace vessel::detail {
 //! (the caller knows the initial map crosses itself).
 //! \param layout the tree's layout input: with OverlapPolicy::Prevent the restart starts from
 //! fan_start() (the layout's look) when that map is one-to-one, else from Tutte. Null: Tutte.
-//! \return true if the map restarted from Tutte (the pins were then dropped).
+//! \return true if the map restarted (from the fan start or Tutte; the pins were then dropped).
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
                 const std::string& crossing, std::string restart, FlattenResult& result,
                 const LayoutInput* layout = nullptr);
