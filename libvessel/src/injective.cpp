@@ -4,6 +4,7 @@
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
 #include "detail/face_jacobian.h"
+#include "detail/paired_cholmod.h"
 #include "detail/scaffold.h"
 #include "detail/serial_openmp.h"
 #include "vessel/metrics.h"
@@ -240,17 +241,51 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
     const auto dof = [&](std::size_t f, int l) {
         return 2 * ops[f].corner[M.blocks[f].corner[l / 2]] + l % 2;
     };
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(21 * ops.size() + 2 * n);
+    // The pattern, built directly (no triplets to sort): vertex I couples with vertex J >= I
+    // when they share a face; then the u and v of both couple, upper triangle only.
+    std::vector<int> vertex_start(n + 1, 0);
     for (std::size_t f = 0; f < ops.size(); ++f)
-        for (int a = 0; a < 6; ++a)
-            for (int b = 0; b <= a; ++b)
-                triplets.emplace_back(dof(f, b), dof(f, a), 0.0);  // transposed: upper
-    for (int i = 0; i < 2 * n; ++i)
-        triplets.emplace_back(i, i, 0.0);
+        for (int k = 1; k < 3; ++k)
+            vertex_start[ops[f].corner[M.blocks[f].corner[k]] + 1] += k;
+    for (int J = 0; J < n; ++J)
+        vertex_start[J + 1] += vertex_start[J];
+    std::vector<int> vertex_rows(vertex_start[n]);
+    {
+        std::vector<int> fill(vertex_start.begin(), vertex_start.end() - 1);
+        for (std::size_t f = 0; f < ops.size(); ++f)
+            for (int k = 1; k < 3; ++k)
+                for (int l = 0; l < k; ++l)
+                {
+                    const int J = ops[f].corner[M.blocks[f].corner[k]];
+                    vertex_rows[fill[J]++] = ops[f].corner[M.blocks[f].corner[l]];
+                }
+    }
+    std::vector<int> outer(2 * n + 1, 0), inner;
+    inner.reserve(4 * vertex_rows.size() + 3 * n);
+    for (int J = 0; J < n; ++J)
+    {
+        const auto begin = vertex_rows.begin() + vertex_start[J];
+        auto end = vertex_rows.begin() + vertex_start[J + 1];
+        std::sort(begin, end);
+        end = std::unique(begin, end);
+        for (int k = 0; k < 2; ++k)  // columns 2J (u) and 2J + 1 (v)
+        {
+            for (auto I = begin; I != end; ++I)
+            {
+                inner.push_back(2 * *I);
+                inner.push_back(2 * *I + 1);
+            }
+            inner.push_back(2 * J);
+            if (k == 1)
+                inner.push_back(2 * J + 1);
+            outer[2 * J + 1 + k] = static_cast<int>(inner.size());
+        }
+    }
     M.A.resize(2 * n, 2 * n);
-    M.A.setFromTriplets(triplets.begin(), triplets.end());
-    M.A.makeCompressed();
+    M.A.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), M.A.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), M.A.innerIndexPtr());
+    std::fill(M.A.valuePtr(), M.A.valuePtr() + inner.size(), 0.0);
     const auto index_of = [&](int row, int col) {
         const int* begin = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col];
         const int* end = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col + 1];
@@ -547,11 +582,13 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     const double proximal = 1e-8 * total_area / n;
     std::vector<FaceOperator> ops = surface;
     NormalMatrix M;
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver;
+    detail::PairedCholmod solver;
     const auto analyse = [&] {
         M = normal_matrix_pattern(ops, n_all);
         const detail::SerialOpenMp serial;
-        solver.analyzePattern(M.A);
+        solver.analyze_pairs(M.A);
+        if (solver.info() != Eigen::Success)
+            throw SolverError("injective_refine: CHOLMOD could not analyse the global step");
     };
     if (!scaffold)
         analyse();  // the pattern never changes
@@ -578,6 +615,11 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     Eigen::VectorXd last_simple = x;
     int last_simple_it = 0;
     int since_rebuild = 0;  // scaffold iterations since its last triangulation
+    // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
+    // continued step triangulated anew), and whether the last step stopped at a collapsing
+    // scaffold triangle (then a new triangulation is due).
+    bool pattern_stale = false;
+    bool blocked_by_scaffold = true;
     for (int phase = 0; phase < 2; ++phase)
     {
     const int done = summary.iterations;
@@ -588,7 +630,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             // A new triangulation (and symbolic factorization) only every few iterations; in
             // between the same scaffold triangles, reshaped to where the steps took them.
             std::optional<std::vector<FaceOperator>> extra;
-            if (since_rebuild + 1 < options.scaffold_rebuild_every)
+            if (since_rebuild + 1 < options.scaffold_rebuild_every ||
+                (options.scaffold_keep_unblocked && !blocked_by_scaffold))
                 extra = scaffold->reshape(x);
             ops = surface;
             if (extra)
@@ -600,8 +643,9 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 ++summary.scaffold_rebuilds;
             }
             ops.insert(ops.end(), extra->begin(), extra->end());
-            if (since_rebuild == 0)
+            if (since_rebuild == 0 || pattern_stale)
             {
+                pattern_stale = false;
                 n_all = static_cast<int>(x.size() / 2);
                 analyse();
             }
@@ -676,6 +720,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             break;
         }
         x += t * d;
+        blocked_by_scaffold = t < 1.0 && t == t_bound;
         if (scaffold && options.scaffold_passes > 1)
         {
             // The step stopped where a scaffold triangle would collapse. A new triangulation
@@ -688,7 +733,11 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             {
                 const std::vector<FaceOperator> extra = scaffold->rebuild(x);
                 ++summary.scaffold_rebuilds;
-                since_rebuild = options.scaffold_rebuild_every;  // the next iteration rebuilds
+                // The next iteration triangulates anew unless this one stays unblocked
+                // (scaffold_keep_unblocked); its pattern is new either way.
+                since_rebuild = options.scaffold_rebuild_every;
+                pattern_stale = true;
+                blocked_by_scaffold = false;  // a new triangulation at x
                 ops = surface;
                 ops.insert(ops.end(), extra.begin(), extra.end());
                 Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
@@ -701,6 +750,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 x += s * rest;
                 ++summary.scaffold_passes;
                 blocked = s < 1.0 && s == s_bound;
+                blocked_by_scaffold = blocked;
                 left *= 1.0 - s;
             }
         }
