@@ -7,6 +7,8 @@
 #include "vessel/pipeline.h"
 
 #include <algorithm>
+#include <functional>
+#include <vector>
 
 using namespace vessel;
 
@@ -35,19 +37,23 @@ bool polished(const FlattenResult& r)
 
 TEST_CASE("area polish: options are validated")
 {
-    AreaPolishOptions options;
-    CHECK_NOTHROW(options.validate());
-    options.area_weight = 1.0;
-    CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options = {};
-    options.chunk_iterations = 0;
-    CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options = {};
-    options.scaffold_weight = 0.0;
-    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    CHECK_NOTHROW(AreaPolishOptions().validate());
+    const std::vector<std::function<void(AreaPolishOptions&)>> bad = {
+        [](AreaPolishOptions& o) { o.area_weight = 1.0; },
+        [](AreaPolishOptions& o) { o.chunk_iterations = 0; },
+        [](AreaPolishOptions& o) { o.scaffold_weight = 0.0; },
+        [](AreaPolishOptions& o) { o.tolerance = -1.0; },
+    };
+    for (const auto& spoil : bad)
+    {
+        AreaPolishOptions o;
+        spoil(o);
+        CHECK_THROWS_AS(o.validate(), InvalidInputError);
+    }
+    // FlattenOptions checks the polish's options only when the polish is on.
     FlattenOptions flatten_options;
     flatten_options.area_polish.area_weight = -0.1;
-    CHECK_NOTHROW(flatten_options.validate());  // not used unless polish_area
+    CHECK_NOTHROW(flatten_options.validate());
     flatten_options.polish_area = true;
     CHECK_THROWS_AS(flatten_options.validate(), InvalidInputError);
 }
