@@ -10,6 +10,7 @@
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -132,8 +133,18 @@ std::vector<FaceOperator> scaffold_faces(const std::vector<int>& boundary, int n
         Eigen::Matrix2d P;
         P << x.segment<2>(2 * t[1]) - x.segment<2>(2 * t[0]),
             x.segment<2>(2 * t[2]) - x.segment<2>(2 * t[0]);
-        if (!(P.determinant() > 0.0))
+        const double det = P.determinant();
+        if (!(det > 0.0))
             continue;  // a sliver at the scale of rounding: nothing passes through it
+        // A sliver's own shape as rest shape would make its barrier block every step: use the
+        // equilateral triangle of its area (as the SLIM scaffold does).
+        const double longest = std::max({P.col(0).squaredNorm(), P.col(1).squaredNorm(),
+                                         (P.col(1) - P.col(0)).squaredNorm()});
+        if (det < 0.05 * longest)
+        {
+            const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
+            P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+        }
         const Eigen::Matrix2d Q = P.inverse();
         FaceOperator op;
         op.corner = t;
@@ -175,6 +186,11 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     solver.line_search_direction_type = ceres::LBFGS;
     solver.logging_type = ceres::SILENT;
     solver.minimizer_progress_to_stdout = false;
+    // Ceres' relative stopping rules (1e-6) end the run while the area term still falls: the
+    // shape term dominates the energy. Stop on `tolerance` per chunk instead.
+    solver.function_tolerance = 1e-12;
+    solver.gradient_tolerance = 1e-14;
+    solver.parameter_tolerance = 1e-14;
     for (int chunk = 0; summary.iterations < options.max_iterations; ++chunk)
     {
         Eigen::VectorXd x = detail::interleaved(uv);
@@ -201,17 +217,21 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
             throw InvalidInputError("area_polish: the map has a flipped or degenerate face; "
                                     "untangle it first (untangle.h)");
         if (chunk == 0)
-            summary.energy_before = before;
+            summary.energy_before = summary.energy_after = before;
         solver.max_num_iterations =
             std::min(options.chunk_iterations, options.max_iterations - summary.iterations);
         ceres::GradientProblemSolver::Summary run;
         ceres::Solve(solver, problem, p.data(), &run);
         energy->scatter(p.data());
         detail::deinterleave(x, uv);  // every step had no flipped face, scaffold included
-        const int done = static_cast<int>(run.iterations.size()) - 1;
+        const int done = std::max(static_cast<int>(run.iterations.size()) - 1, 0);
+        if (done == 0)  // e.g. no valid step from here: the map is as it was
+            break;
         summary.iterations += done;
         summary.energy_after = run.final_cost;
-        if (done <= 0 || run.final_cost > before * (1.0 - options.tolerance))
+        // The energy is at least 2 x the surface area (isometry); stop when a chunk removes
+        // less than `tolerance` of what is left above that.
+        if (before - run.final_cost < options.tolerance * (before - 2.0 * area))
             break;
     }
     // The scaffold's share, small by construction, is left in the energies.
