@@ -30,6 +30,8 @@ void FlattenOptions::validate() const
     {
         untangle.validate();
         fan_start.validate();
+        if (polish_area)
+            area_polish.validate();
         if (injective.max_iterations > 0)
             injective.validate();
     }

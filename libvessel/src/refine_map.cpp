@@ -1,5 +1,6 @@
 #include "detail/refine_map.h"
 
+#include "vessel/area_polish.h"
 #include "vessel/embedding.h"
 #include "vessel/fan_start.h"
 
@@ -80,6 +81,12 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         result.injective = injective_refine(mesh, result.uv, pins, slim);
         if (result.injective.scaffold_from >= 0)
             result.notes.push_back(result.injective.report);
+        if (options.polish_area)  // SLIM's map has no flipped face
+        {
+            AreaPolishOptions polish = options.area_polish;
+            polish.keep_boundary_simple = options.overlaps != OverlapPolicy::Keep;
+            result.notes.push_back(area_polish(mesh, result.uv, pins, polish).report);
+        }
     }
     return !restart.empty();
 }

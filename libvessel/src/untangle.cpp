@@ -90,14 +90,7 @@ public:
             const Eigen::Matrix2d G =
                 op.area * ((1.0 - lambda_) * (2.0 / c * J - frob * dc / (c * c) * cof) +
                            lambda_ * (2.0 * D / c - (D * D + 1.0) * dc / (c * c)) * cof);
-            for (int k = 0; k < 3; ++k)
-            {
-                const int s = slot_[op.corner[k]];
-                if (s < 0)
-                    continue;
-                gradient[2 * s] += G(0, 0) * op.d0[k] + G(0, 1) * op.d1[k];
-                gradient[2 * s + 1] += G(1, 0) * op.d0[k] + G(1, 1) * op.d1[k];
-            }
+            detail::add_face_gradient(op, G, slot_, gradient);
         }
         *cost = e;
         return std::isfinite(e);

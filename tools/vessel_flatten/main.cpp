@@ -161,6 +161,11 @@ int main(int argc, char** argv)
                  "With --overlaps prevent, when the map at the layout overlaps itself, go on "
                  "from a one-to-one map with the layout's look (the map before ARAP, else the "
                  "fan start) instead of a Tutte circle; slower, not less distortion");
+    app.add_option("--area-polish", options.area_polish.area_weight,
+                   "After SLIM, lower the area distortion at the cost of conformal distortion "
+                   "(area_polish.h); the value is the area term's weight in [0, 1), e.g. 0.9. "
+                   "One-to-one maps stay one-to-one (except with --overlaps keep)")
+        ->each([&](const std::string&) { options.polish_area = true; });
     app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
         ->check(CLI::IsMember({"ceres", "local-global"}))
         ->capture_default_str();

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "vessel/arap.h"
+#include "vessel/area_polish.h"
 #include "vessel/boundary.h"
 #include "vessel/curvature.h"
 #include "vessel/cut_cost.h"
@@ -109,6 +110,12 @@ struct FlattenOptions
     //! from Tutte; 3-outlet tree phantom 0.0778 vs 0.0814) and costs more time.
     bool keep_layout_look = false;
     FanStartOptions fan_start;  //!< the fan start of keep_layout_look
+    //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
+    //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
+    //! unless overlaps is OverlapPolicy::Keep. Off by default (it changes the maps' look:
+    //! docs/overlaps.md, "Area polish", for the figures). CLI `--area-polish LAMBDA`.
+    bool polish_area = false;
+    AreaPolishOptions area_polish;  //!< the polish of polish_area
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
     //! \throw InvalidInputError naming the bad field.

@@ -38,6 +38,21 @@ inline Eigen::Matrix2d jacobian(const FaceOperator& op, const double* x)
     return J;
 }
 
+//! Adds dE/dJ = \p G of one face to \p gradient through the face's corners: corner vertex v
+//! goes to entries 2 slot[v], 2 slot[v] + 1; corners with slot -1 are held fixed.
+inline void add_face_gradient(const FaceOperator& op, const Eigen::Matrix2d& G,
+                              const std::vector<int>& slot, double* gradient)
+{
+    for (int k = 0; k < 3; ++k)
+    {
+        const int s = slot[op.corner[k]];
+        if (s < 0)
+            continue;
+        gradient[2 * s] += G(0, 0) * op.d0[k] + G(0, 1) * op.d1[k];
+        gradient[2 * s + 1] += G(1, 0) * op.d0[k] + G(1, 1) * op.d1[k];
+    }
+}
+
 //! \p uv (|V| x 2, row `v.idx()`) as the interleaved vector [u_0, v_0, u_1, v_1, ...] the face
 //! operators read, with room for \p extra_vertices more (left at 0).
 inline Eigen::VectorXd interleaved(const Eigen::MatrixX2d& uv, int extra_vertices = 0)

@@ -1,0 +1,247 @@
+#include "vessel/area_polish.h"
+
+#include "detail/face_jacobian.h"
+#include "detail/scaffold.h"
+#include "detail/uv_rows.h"
+#include "vessel/boundary.h"
+#include "vessel/embedding.h"
+#include "vessel/errors.h"
+
+#include <ceres/gradient_problem.h>
+#include <ceres/gradient_problem_solver.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace vessel {
+
+void AreaPolishOptions::validate() const
+{
+    if (!(area_weight >= 0.0 && area_weight < 1.0))
+        throw InvalidInputError("AreaPolishOptions: area_weight must be in [0, 1)");
+    if (max_iterations < 0)
+        throw InvalidInputError("AreaPolishOptions: max_iterations must be >= 0");
+    if (chunk_iterations < 1)
+        throw InvalidInputError("AreaPolishOptions: chunk_iterations must be >= 1");
+    if (!(tolerance >= 0.0))
+        throw InvalidInputError("AreaPolishOptions: tolerance must be >= 0");
+    if (!(scaffold_weight > 0.0))
+        throw InvalidInputError("AreaPolishOptions: scaffold_weight must be > 0");
+}
+
+namespace {
+
+using detail::FaceOperator;
+
+// The barrier energy over a set of faces (the surface's and the scaffold's) as a function of
+// the free vertices' uv; x holds every vertex, the fixed ones included.
+class PolishEnergy final : public ceres::FirstOrderFunction
+{
+public:
+    PolishEnergy(std::vector<FaceOperator> ops, const std::vector<int>& free_vertices,
+                 Eigen::VectorXd& x, double lambda)
+        : ops_(std::move(ops)), free_(free_vertices), x_(x), slot_(x.size() / 2, -1),
+          lambda_(lambda)
+    {
+        for (std::size_t i = 0; i < free_.size(); ++i)
+            slot_[free_[i]] = static_cast<int>(i);
+    }
+
+    int NumParameters() const override { return 2 * static_cast<int>(free_.size()); }
+
+    void gather(double* p) const
+    {
+        for (std::size_t i = 0; i < free_.size(); ++i)
+            for (int c = 0; c < 2; ++c)
+                p[2 * i + c] = x_[2 * free_[i] + c];
+    }
+    void scatter(const double* p) const
+    {
+        for (std::size_t i = 0; i < free_.size(); ++i)
+            for (int c = 0; c < 2; ++c)
+                x_[2 * free_[i] + c] = p[2 * i + c];
+    }
+
+    bool Evaluate(const double* p, double* cost, double* gradient) const override
+    {
+        scatter(p);
+        if (gradient)
+            std::fill(gradient, gradient + NumParameters(), 0.0);
+        double e = 0.0;
+        for (const FaceOperator& op : ops_)
+        {
+            const Eigen::Matrix2d J = detail::jacobian(op, x_.data());
+            const double D = J.determinant();
+            if (!(D > 0.0))
+                return false;  // the line search backs off: no face may flip
+            const double frob = J.squaredNorm();
+            e += op.area * ((1.0 - lambda_) * frob / D + lambda_ * (D + 1.0 / D));
+            if (!gradient)
+                continue;
+            Eigen::Matrix2d cof;  // d det / d J
+            cof << J(1, 1), -J(1, 0), -J(0, 1), J(0, 0);
+            const Eigen::Matrix2d G =
+                op.area * ((1.0 - lambda_) * (2.0 / D * J - frob / (D * D) * cof) +
+                           lambda_ * (1.0 - 1.0 / (D * D)) * cof);
+            detail::add_face_gradient(op, G, slot_, gradient);
+        }
+        *cost = e;
+        return std::isfinite(e);
+    }
+
+private:
+    std::vector<FaceOperator> ops_;
+    const std::vector<int>& free_;
+    Eigen::VectorXd& x_;
+    std::vector<int> slot_;
+    double lambda_;
+};
+
+// Appends to x (the map's n vertices) a box around the map and the Steiner vertices of the
+// free space's triangulation (detail::scaffold_triangles); returns that triangulation's face
+// operators, each with its current shape as rest shape and the same share of `weight`, and
+// adds its Steiner vertices to `free_vertices`.
+std::vector<FaceOperator> scaffold_faces(const std::vector<int>& boundary, int n, double weight,
+                                         const Eigen::Vector2d& inside, Eigen::VectorXd& x,
+                                         std::vector<int>& free_vertices)
+{
+    Eigen::Vector2d lo = x.segment<2>(2 * boundary[0]), hi = lo;
+    for (int v : boundary)
+    {
+        lo = lo.cwiseMin(x.segment<2>(2 * v));
+        hi = hi.cwiseMax(x.segment<2>(2 * v));
+    }
+    const Eigen::Vector2d pad = Eigen::Vector2d::Constant(0.5 * (hi - lo).maxCoeff());
+    const Eigen::Vector2d corners[4] = {lo - pad, Eigen::Vector2d(hi.x() + pad.x(), lo.y() - pad.y()),
+                                        hi + pad, Eigen::Vector2d(lo.x() - pad.x(), hi.y() + pad.y())};
+    x.conservativeResize(2 * (n + 4));
+    for (int c = 0; c < 4; ++c)
+        x.segment<2>(2 * (n + c)) = corners[c];
+    const detail::ScaffoldMesh free_space =
+        detail::scaffold_triangles(x, boundary, {n, n + 1, n + 2, n + 3}, inside, n + 4);
+    const int steiner = static_cast<int>(free_space.steiner.size());
+    x.conservativeResize(2 * (n + 4 + steiner));
+    for (int j = 0; j < steiner; ++j)
+    {
+        x.segment<2>(2 * (n + 4 + j)) = free_space.steiner[j];
+        free_vertices.push_back(n + 4 + j);
+    }
+    std::vector<FaceOperator> ops;
+    for (const auto& t : free_space.triangles)
+    {
+        Eigen::Matrix2d P;
+        P << x.segment<2>(2 * t[1]) - x.segment<2>(2 * t[0]),
+            x.segment<2>(2 * t[2]) - x.segment<2>(2 * t[0]);
+        const double det = P.determinant();
+        if (!(det > 0.0))
+            continue;  // a sliver at the scale of rounding: nothing passes through it
+        // A sliver's own shape as rest shape would make its barrier block every step: use the
+        // equilateral triangle of its area (as the SLIM scaffold does).
+        const double longest = std::max({P.col(0).squaredNorm(), P.col(1).squaredNorm(),
+                                         (P.col(1) - P.col(0)).squaredNorm()});
+        if (det < 0.05 * longest)
+        {
+            const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
+            P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+        }
+        const Eigen::Matrix2d Q = P.inverse();
+        FaceOperator op;
+        op.corner = t;
+        op.d0 = {-Q(0, 0) - Q(1, 0), Q(0, 0), Q(1, 0)};
+        op.d1 = {-Q(0, 1) - Q(1, 1), Q(0, 1), Q(1, 1)};
+        ops.push_back(op);
+    }
+    for (auto& op : ops)
+        op.area = weight / static_cast<double>(ops.size());
+    return ops;
+}
+
+}  // namespace
+
+AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                              const AreaPolishOptions& options)
+{
+    options.validate();
+    detail::require_uv_rows(mesh, uv, "area_polish");
+    const int n = static_cast<int>(mesh.n_vertices());
+    const std::vector<int> pinned = pin_index(mesh, pins, "area_polish");
+    const std::vector<FaceOperator> surface = detail::face_operators(mesh);
+    const auto loops = boundary_loops(mesh);
+    if (loops.size() != 1)
+        throw TopologyError("area_polish: the mesh must be a disk (one boundary loop), got " +
+                            std::to_string(loops.size()));
+    std::vector<int> boundary;
+    for (auto v : loops[0].vertices)
+        boundary.push_back(v.idx());
+    double area = 0.0;
+    for (const auto& op : surface)
+        area += op.area;
+    const FaceOperator& first = surface.front();
+
+    AreaPolishSummary summary;
+    summary.scaffold =
+        options.keep_boundary_simple && boundary_self_intersection(mesh, uv).first < 0;
+    ceres::GradientProblemSolver::Options solver;
+    solver.line_search_direction_type = ceres::LBFGS;
+    solver.logging_type = ceres::SILENT;
+    solver.minimizer_progress_to_stdout = false;
+    // Ceres' relative stopping rules (1e-6) end the run while the area term still falls: the
+    // shape term dominates the energy. Stop on `tolerance` per chunk instead.
+    solver.function_tolerance = 1e-12;
+    solver.gradient_tolerance = 1e-14;
+    solver.parameter_tolerance = 1e-14;
+    for (int chunk = 0; summary.iterations < options.max_iterations; ++chunk)
+    {
+        Eigen::VectorXd x = detail::interleaved(uv);
+        std::vector<int> free_vertices;
+        for (int v = 0; v < n; ++v)
+            if (pinned[v] < 0)
+                free_vertices.push_back(v);
+        std::vector<FaceOperator> ops = surface;
+        if (summary.scaffold)  // a new scaffold for each chunk
+        {
+            Eigen::Vector2d inside = Eigen::Vector2d::Zero();
+            for (int v : surface.front().corner)
+                inside += x.segment<2>(2 * v) / 3.0;
+            const std::vector<FaceOperator> free_space = scaffold_faces(
+                boundary, n, options.scaffold_weight * area, inside, x, free_vertices);
+            ops.insert(ops.end(), free_space.begin(), free_space.end());
+        }
+        auto* energy = new PolishEnergy(std::move(ops), free_vertices, x, options.area_weight);
+        const ceres::GradientProblem problem(energy);  // owns the energy
+        std::vector<double> p(energy->NumParameters());
+        energy->gather(p.data());
+        double before = 0.0;
+        if (!energy->Evaluate(p.data(), &before, nullptr))
+            throw InvalidInputError("area_polish: the map has a flipped or degenerate face; "
+                                    "untangle it first (untangle.h)");
+        if (chunk == 0)
+            summary.energy_before = summary.energy_after = before;
+        solver.max_num_iterations =
+            std::min(options.chunk_iterations, options.max_iterations - summary.iterations);
+        ceres::GradientProblemSolver::Summary run;
+        ceres::Solve(solver, problem, p.data(), &run);
+        energy->scatter(p.data());
+        detail::deinterleave(x, uv);  // every step had no flipped face, scaffold included
+        const int done = std::max(static_cast<int>(run.iterations.size()) - 1, 0);
+        if (done == 0)  // e.g. no valid step from here: the map is as it was
+            break;
+        summary.iterations += done;
+        summary.energy_after = run.final_cost;
+        // The energy is at least 2 x the surface area (isometry); stop when a chunk removes
+        // less than `tolerance` of what is left above that.
+        if (before - run.final_cost < options.tolerance * (before - 2.0 * area))
+            break;
+    }
+    // The scaffold's share, small by construction, is left in the energies.
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "area polish (lambda %.2f%s): %d iterations, energy %.6g -> %.6g",
+                  options.area_weight, summary.scaffold ? ", scaffold" : "", summary.iterations,
+                  summary.energy_before, summary.energy_after);
+    summary.report = line;
+    return summary;
+}
+
+}  // namespace vessel

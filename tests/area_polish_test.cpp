@@ -1,0 +1,96 @@
+#include <doctest/doctest.h>
+
+#include "vessel/area_polish.h"
+#include "vessel/embedding.h"
+#include "vessel/errors.h"
+#include "vessel/phantom.h"
+#include "vessel/pipeline.h"
+
+#include <algorithm>
+#include <functional>
+#include <vector>
+
+using namespace vessel;
+
+namespace {
+
+FlattenResult flatten_tree3(bool polish, OverlapPolicy overlaps = FlattenOptions().overlaps)
+{
+    TreePhantomOptions tree;
+    tree.outlets = 3;
+    tree.seed = 3;
+    tree.edge_length = 0.75;  // as in overlap_free_test
+    FlattenOptions options;
+    options.polish_area = polish;
+    options.overlaps = overlaps;
+    return flatten(tree_phantom(tree), options);
+}
+
+bool polished(const FlattenResult& r)
+{
+    return std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+        return note.find("area polish") != std::string::npos;
+    });
+}
+
+}  // namespace
+
+TEST_CASE("area polish: options are validated")
+{
+    CHECK_NOTHROW(AreaPolishOptions().validate());
+    const std::vector<std::function<void(AreaPolishOptions&)>> bad = {
+        [](AreaPolishOptions& o) { o.area_weight = 1.0; },
+        [](AreaPolishOptions& o) { o.chunk_iterations = 0; },
+        [](AreaPolishOptions& o) { o.scaffold_weight = 0.0; },
+        [](AreaPolishOptions& o) { o.tolerance = -1.0; },
+    };
+    for (const auto& spoil : bad)
+    {
+        AreaPolishOptions o;
+        spoil(o);
+        CHECK_THROWS_AS(o.validate(), InvalidInputError);
+    }
+    // FlattenOptions checks the polish's options only when the polish is on.
+    FlattenOptions flatten_options;
+    flatten_options.area_polish.area_weight = -0.1;
+    CHECK_NOTHROW(flatten_options.validate());
+    flatten_options.polish_area = true;
+    CHECK_THROWS_AS(flatten_options.validate(), InvalidInputError);
+}
+
+TEST_CASE("area polish: lowers the 3-outlet tree phantom's area distortion, still one-to-one")
+{
+    const FlattenResult plain = flatten_tree3(false);
+    const FlattenResult r = flatten_tree3(true);
+    CHECK_FALSE(polished(plain));
+    CHECK(polished(r));
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);  // exact pairwise test (overlap.h)
+    CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    CHECK(r.quality.area_ratio >= 0.95);
+    CHECK(r.quality.area_ratio <= 1.05);
+    // The trade: much less area distortion, more conformal distortion.
+    CHECK(r.quality.mean_abs_log_area < 0.5 * plain.quality.mean_abs_log_area);
+    CHECK(r.quality.mean_conformal > plain.quality.mean_conformal);
+    MESSAGE("3-outlet tree: mean |log area| " << plain.quality.mean_abs_log_area << " -> "
+                                              << r.quality.mean_abs_log_area << ", mean conformal "
+                                              << plain.quality.mean_conformal << " -> "
+                                              << r.quality.mean_conformal);
+
+    // Direct call: a flipped map is refused with a message that says what to do.
+    Eigen::MatrixX2d mirrored = r.uv;
+    mirrored.col(0) *= -1.0;
+    CHECK_THROWS_WITH_AS(area_polish(r.mesh, mirrored, {}),
+                         doctest::Contains("untangle it first"), InvalidInputError);
+}
+
+TEST_CASE("area polish: under --overlaps keep the map is polished without a scaffold")
+{
+    const FlattenResult keep = flatten_tree3(true, OverlapPolicy::Keep);
+    CHECK(polished(keep));
+    CHECK(std::any_of(keep.notes.begin(), keep.notes.end(), [](const std::string& note) {
+        return note.find("area polish (lambda 0.90):") != std::string::npos;  // no ", scaffold"
+    }));
+    CHECK(keep.quality.flipped_triangles == 0);
+    CHECK(keep.quality.mean_abs_log_area < flatten_tree3(false, OverlapPolicy::Keep).quality.mean_abs_log_area);
+}
