@@ -288,7 +288,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // Streamline route: join[v] = edge rings from v to the nearest interior cut vertex, within
     // options.join_rings (-1 beyond); a later cut's streamline stops where join >= 0.
     std::vector<int> join(streamline ? nv : 0, -1);
-    std::vector<char> stop_at;
+    std::vector<char> stop_at(streamline ? nv : 0, 0);
     TreeDistance tree;
     if (streamline)
     {

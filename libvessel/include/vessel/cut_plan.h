@@ -35,13 +35,21 @@ enum class StreamField
 
 struct CutPlanOptions
 {
+    //! The paper's cheapest path (default) or the streamline-guided route (opt-in: on the
+    //! Glenn tree it lifts flatcheck's smoothed seam alignment of the cuts from 0.88 to 0.93,
+    //! but after relief cuts the AneuRisk seam drops from 0.91 to 0.85 and the split4 Glenn
+    //! tree from 0.835 to 0.817; docs/results.md).
     CutRoute route = CutRoute::ShortestPath;
+    //! CutRoute::Streamline: the field traced (the harmonic descent measured best).
     StreamField stream_field = StreamField::Harmonic;
     //! CutRoute::Streamline: half-width, in edge rings, of the band around the faces the
-    //! streamline crosses in which the cut is taken (0 = those faces' corners only).
-    int band_rings = 1;
+    //! streamline crosses in which the cut is taken (0 = those faces' corners only, measured
+    //! best; 1 and 2 let the cut wander further from the line).
+    int band_rings = 0;
     //! CutRoute::Streamline: a later cut's streamline stops once it comes within this many
-    //! edge rings of an earlier cut, and the cut joins there (instead of running beside it).
+    //! edge rings of an earlier cut, or else is cut back to where it first comes within this
+    //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
+    //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
