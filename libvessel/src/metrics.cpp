@@ -19,11 +19,17 @@ double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f
     return 0.5 * (e1.x() * e2.y() - e1.y() * e2.x());
 }
 
-void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv)
+double signed_map_area(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
     double area2 = 0.0;
     for (auto f : mesh.faces())
         area2 += signed_uv_area(mesh, uv, f);
+    return area2;
+}
+
+void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv)
+{
+    const double area2 = signed_map_area(mesh, uv);
     const double area3 = face_areas(mesh).sum();
     if (area2 > 0.0)
         uv *= std::sqrt(area3 / area2);

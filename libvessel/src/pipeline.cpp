@@ -94,8 +94,44 @@ Pins concat(const Pins& a, const Pins& b)
 }
 
 
-// One pass of steps 3-7; with \p forced_plan the cuts are taken from it instead of planned.
-FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPlan* forced_plan)
+// Stage Z (step 3) on the uncut mesh: boundary loops, geodesic distance from the inlet and the
+// aligned direction field. Also stored as vertex properties, which the seam split copies to the
+// duplicates. A relief cut re-cuts the same surface, so its passes reuse this.
+struct DirectionStage
+{
+    std::vector<BoundaryLoop> loops;
+    Eigen::VectorXd G;
+    Eigen::MatrixX3d z;
+    Eigen::MatrixX3d winding;  // winding_rate() of z, for the cut planner
+    double seconds = 0.0;
+};
+
+DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
+{
+    StageClock clock(options);
+    DirectionStage stage;
+    stage.loops = boundary_loops(mesh);
+    if (stage.loops.size() < 2)
+        throw InvalidInputError("flatten: the mesh has " + std::to_string(stage.loops.size()) +
+                                " boundary loop(s); a vessel tree needs an inlet and an outlet");
+    const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
+    const HeatGeodesics heat(mesh, options.geodesic);
+    stage.G = heat.distance(stage.loops[0].vertices);
+    stage.z = vessel_direction(mesh, curvature, stage.loops, stage.G, options.direction);
+    const Eigen::VectorXd kmax = curvature.k_max.cwiseAbs();
+    stage.winding = winding_rate(mesh, stage.z, kmax);
+    store<double>(mesh, prop::geodesic, [&](int i) { return stage.G[i]; });
+    store<double>(mesh, prop::kmax, [&](int i) { return kmax[i]; });
+    store<OpenMesh::Vec3d>(mesh, prop::direction,
+                           [&](int i) { return to_openmesh(stage.z.row(i).transpose()); });
+    stage.seconds = clock.lap("Z");
+    return stage;
+}
+
+// One pass of steps 4-7 on \p mesh (uncut, with stage Z's properties); with \p forced_plan the
+// cuts are taken from it instead of planned.
+FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const DirectionStage& zstage,
+                           const CutPlan* forced_plan)
 {
     FlattenResult result;
     // A copied mesh's arrays are exactly full, so the seam split's first new vertex would
@@ -103,25 +139,14 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
     mesh.reserve(mesh.n_vertices() + mesh.n_vertices() / 8 + 64,
                  mesh.n_edges() + mesh.n_edges() / 8 + 64, mesh.n_faces());
     StageClock clock(options);
-
-    // Z: principal directions, geodesic distance from the inlet, alignment toward the root.
-    result.loops = boundary_loops(mesh);
-    if (result.loops.size() < 2)
-        throw InvalidInputError("flatten: the mesh has " + std::to_string(result.loops.size()) +
-                                " boundary loop(s); a vessel tree needs an inlet and an outlet");
-    const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
-    const HeatGeodesics heat(mesh, options.geodesic);
-    const Eigen::VectorXd G = heat.distance(result.loops[0].vertices);
-    const Eigen::MatrixX3d z =
-        vessel_direction(mesh, curvature, result.loops, G, options.direction);
-    store<double>(mesh, prop::geodesic, [&](int i) { return G[i]; });
-    store<double>(mesh, prop::kmax, [&](int i) { return std::abs(curvature.k_max[i]); });
-    store<OpenMesh::Vec3d>(mesh, prop::direction,
-                           [&](int i) { return to_openmesh(z.row(i).transpose()); });
-    result.timings.Z = clock.lap("Z");
+    result.loops = zstage.loops;
+    const Eigen::VectorXd& G = zstage.G;
+    const Eigen::MatrixX3d& z = zstage.z;
+    result.timings.Z = zstage.seconds;
 
     // GC: the directed cut graph (arc weights, arcs per vertex), released after VC.
-    const HalfedgeWeights weights = travel_weights(mesh, z, options);
+    const HalfedgeWeights weights =
+        forced_plan ? HalfedgeWeights() : travel_weights(mesh, z, options);
     auto graph = forced_plan ? nullptr : std::make_unique<CutGraph>(mesh, weights);
     result.timings.GC = clock.lap("GC");
 
@@ -132,9 +157,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
                      ? z
                      : descent_direction(mesh, harmonic_longitudinal(mesh, result.loops, G));
     result.plan = forced_plan ? *forced_plan
-                              : plan_cuts(*graph, result.loops,
-                                          winding_rate(mesh, z, curvature.k_max.cwiseAbs()),
-                                          options.cuts, stream);
+                              : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
+                                          stream);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 
@@ -206,9 +230,9 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const CutPl
     return result;
 }
 
+// Stage Z ran once for all passes; the other stages ran once per pass.
 void add_timings(StageTimings& to, const StageTimings& from)
 {
-    to.Z += from.Z;
     to.GC += from.GC;
     to.VC += from.VC;
     to.AC += from.AC;
@@ -226,10 +250,11 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     const ReliefCutOptions& relief = options.relief;
     // Without refinement the map is the raw initialization, whose distortion says nothing
     // about where the surface needs a slit.
+    const DirectionStage zstage = direction_stage(mesh, options);
     if (relief.max_cuts == 0 || options.refinement == Refinement::None)
-        return flatten_once(std::move(mesh), options, nullptr);
-    const Mesh uncut = mesh;  // each relief cut re-cuts the mesh as it came in
-    FlattenResult result = flatten_once(std::move(mesh), options, nullptr);
+        return flatten_once(std::move(mesh), options, zstage, nullptr);
+    const Mesh uncut = mesh;  // each relief cut re-cuts the mesh as it came in (with stage Z)
+    FlattenResult result = flatten_once(std::move(mesh), options, zstage, nullptr);
     std::vector<std::string> relief_notes;
     while (static_cast<int>(result.plan.relief.size()) < relief.max_cuts &&
            result.quality.mean_abs_log_area > relief.target_mean_abs_log_area)
@@ -241,7 +266,7 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
             break;
         CutPlan plan = result.plan;
         plan.relief.push_back(std::move(*slit));
-        FlattenResult next = flatten_once(uncut, options, &plan);
+        FlattenResult next = flatten_once(uncut, options, zstage, &plan);
         add_timings(next.timings, result.timings);
         const FlatQuality& before = result.quality;
         const FlatQuality& after = next.quality;

@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/lscm.h"
+#include "vessel/metrics.h"
 
 #include <Spectra/SymGEigsShiftSolver.h>
 #include <Eigen/CholmodSupport>
@@ -175,23 +176,14 @@ Eigen::MatrixX2d spectral_conformal(const Mesh& mesh, const SpectralConformalOpt
     uv.col(1) = x.tail(n);
     // Scale to the 3D area and centre. The area of a conformal minimiser is positive; a negative
     // one would be a mirror image, so reflect it.
-    double area_2d = 0.0, area_3d = 0.0;
-    for (auto f : mesh.faces())
-    {
-        const auto h = f.halfedge();
-        const Eigen::RowVector2d a = uv.row(h.from().idx());
-        const Eigen::RowVector2d e1 = uv.row(h.to().idx()) - a;
-        const Eigen::RowVector2d e2 = uv.row(h.next().to().idx()) - a;
-        area_2d += 0.5 * (e1[0] * e2[1] - e1[1] * e2[0]);
-        area_3d += mesh.calc_face_area(f);
-    }
+    const double area_2d = signed_map_area(mesh, uv);
     if (!(std::abs(area_2d) > 0.0) || !std::isfinite(area_2d))
         throw SolverError(
             "spectral_conformal: the eigenvector has zero area; the mesh may be "
             "degenerate");
     if (area_2d < 0.0)
         uv.col(1) *= -1.0;
-    uv *= std::sqrt(area_3d / std::abs(area_2d));
+    scale_to_surface_area(mesh, uv);
     uv.rowwise() -= uv.colwise().mean();
     return uv;
 }

@@ -25,6 +25,9 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 //! Signed area of face \p f in the map (positive = counter-clockwise).
 double signed_uv_area(const Mesh& mesh, const Eigen::MatrixX2d& uv, FaceHandle f);
 
+//! Sum of the signed face areas of \p uv (positive for a counter-clockwise map).
+double signed_map_area(const Mesh& mesh, const Eigen::MatrixX2d& uv);
+
 //! \brief Scale \p uv about the origin so that its signed area equals the surface's 3D area
 //! (a start map of the right size for a distortion energy). Left as it is if its signed area
 //! is not positive.
