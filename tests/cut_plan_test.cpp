@@ -3,6 +3,7 @@
 #include "vessel/boundary.h"
 #include "vessel/curvature.h"
 #include "vessel/cut_cost.h"
+#include "vessel/cut_metrics.h"
 #include "vessel/cut_plan.h"
 #include "vessel/direction.h"
 #include "vessel/errors.h"
@@ -90,6 +91,51 @@ TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
         CHECK(winding < 30.0);
         CHECK(drift > winding);
     }
+}
+
+TEST_CASE("cut_plan: the streamline route keeps the helical tube's cut on one side")
+{
+    for (StreamField field : {StreamField::Harmonic, StreamField::Direction})
+    for (int n_around : {24, 32, 48})
+    {
+        CAPTURE(n_around);
+        CAPTURE(static_cast<int>(field));
+        HelicalTubeOptions options;
+        options.turns = 1.5;
+        options.n_around = n_around;
+        const Prepared p = prepare(helical_tube(options));
+        const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+        // The field flatten() traces: the harmonic longitudinal descent, or z itself.
+        const Eigen::MatrixX3d stream =
+            field == StreamField::Direction
+                ? p.z
+                : descent_direction(p.mesh,
+                                    harmonic_longitudinal(p.mesh, p.loops,
+                                                          heat_geodesic_distance(
+                                                              p.mesh, p.loops[0].vertices)));
+        CutPlanOptions route;
+        route.route = CutRoute::Streamline;
+        route.stream_field = field;
+        const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, route, stream);
+        REQUIRE(plan.paths.size() == 1);
+        CHECK(plan.paths[0].traced);
+        const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
+        MESSAGE("helical tube (" << n_around << " around) streamline-route cut winds " << winding
+                                 << " degrees");
+        CHECK(winding < 30.0);
+        // Still a cut from rim to rim.
+        CHECK(plan.paths[0].parent == -1);
+        CHECK(plan.paths[0].end != plan.paths[0].start);
+    }
+    // The route needs its field.
+    const Prepared p = prepare(helical_tube());
+    CutPlanOptions route;
+    route.route = CutRoute::Streamline;
+    CHECK_THROWS_AS(plan_cuts(p.mesh, p.loops, evaluate_cost(p.mesh, CurvatureCost{&p.z}), p.rate,
+                              route),
+                    InvalidInputError);
+    route.band_rings = -1;
+    CHECK_THROWS_AS(route.validate(), InvalidInputError);
 }
 
 TEST_CASE("cut_plan: the cut of a helical tube runs from the outlet rim to the inlet rim")

@@ -211,19 +211,43 @@ TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
     // Seam alignment measured 0.865 (flatcheck smoothed 0.88; docs/results.md).
     check_against_keep(mesh, check_real_mesh(mesh, 21, 0.15, "", 0.85));
 }
+namespace {
+
+// The report of vessel-flatten's cuts only (`--refine none`) on the Glenn tree with \p flags.
+nlohmann::json glenn_cuts_report(const std::string& name, const std::string& flags)
+{
+    const std::string dir = temp_dir(name);
+    REQUIRE(run(kFlatten + " " + kData + "/svfsi-tests/pulmonary-glenn-wall.ply -o " + dir +
+                "/flat.obj --report " + dir + "/report.json --quiet --refine none " + flags) == 0);
+    return nlohmann::json::parse(std::ifstream(dir + "/report.json"));
+}
+
+}  // namespace
+
 TEST_CASE("cli: pulmonary Glenn tree, guided cut direction (--direction-confidence 0.6)")
 {
     // The cuts only: `--refine none` (the cuts do not depend on the map). Measured 0.900
     // (flatcheck smoothed 0.905) against 0.865 with the paper's pure curvature field.
-    const std::string dir = temp_dir("glenn_guided");
-    REQUIRE(run(kFlatten + " " + kData + "/svfsi-tests/pulmonary-glenn-wall.ply -o " + dir +
-                "/flat.obj --report " + dir +
-                "/report.json --quiet --refine none --direction-confidence 0.6") == 0);
-    const auto report = nlohmann::json::parse(std::ifstream(dir + "/report.json"));
+    const auto report = glenn_cuts_report("glenn_guided", "--direction-confidence 0.6");
     const double seam = report["quality"]["seam_alignment"];
     MESSAGE("Glenn tree, --direction-confidence 0.6: seam alignment " << seam);
     CHECK(seam >= 0.89);
     CHECK(report["cuts"].size() == 20u);
+}
+TEST_CASE("cli: pulmonary Glenn tree, streamline cut route (--cut-route streamline)")
+{
+    // The cuts only (`--refine none`). Measured 0.906 (flatcheck smoothed 0.933) against 0.865
+    // (0.881) with the paper's cheapest paths; every cut ends on the inlet or an earlier cut.
+    const auto report = glenn_cuts_report("glenn_streamline", "--cut-route streamline");
+    const double seam = report["quality"]["seam_alignment"];
+    int traced = 0;
+    for (const auto& cut : report["cuts"])
+        traced += cut["traced"].get<bool>() ? 1 : 0;
+    MESSAGE("Glenn tree, --cut-route streamline: seam alignment " << seam << ", " << traced
+                                                                  << " of 20 cuts traced");
+    CHECK(seam >= 0.89);
+    CHECK(report["cuts"].size() == 20u);
+    CHECK(traced >= 15);
 }
 TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
 {

@@ -1,7 +1,11 @@
 #include "vessel/cut_plan.h"
 
 #include "vessel/errors.h"
+#include "vessel/streamline.h"
 
+#include <functional>
+#include <optional>
+#include <queue>
 #include <cmath>
 #include <limits>
 
@@ -11,6 +15,10 @@ void CutPlanOptions::validate() const
 {
     if (!(tie_tolerance >= 0.0) || !std::isfinite(tie_tolerance))
         throw InvalidInputError("CutPlanOptions: tie_tolerance must be finite and >= 0");
+    if (band_rings < 0)
+        throw InvalidInputError("CutPlanOptions: band_rings must be >= 0");
+    if (join_rings < 0)
+        throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -85,22 +93,162 @@ VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidat
     return best;
 }
 
+// Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
+// farther), keeping smaller values already there; vertices flagged in \p skip are not entered.
+void grow_rings(const Mesh& mesh, const std::vector<VertexHandle>& seeds, int max_rings,
+                const std::vector<int>& skip, std::vector<int>& ring)
+{
+    std::vector<VertexHandle> front;
+    for (auto v : seeds)
+        if (skip[v.idx()] < 0)
+        {
+            ring[v.idx()] = 0;
+            front.push_back(v);
+        }
+    for (int r = 1; r <= max_rings && !front.empty(); ++r)
+    {
+        std::vector<VertexHandle> next;
+        for (auto v : front)
+            for (auto w : mesh.vv_range(v))
+                if (skip[w.idx()] < 0 && (ring[w.idx()] < 0 || ring[w.idx()] > r))
+                {
+                    ring[w.idx()] = r;
+                    next.push_back(w);
+                }
+        front.swap(next);
+    }
+}
+
+// Distance along edges to the cut tree (0 on it) and the next vertex toward it, grown
+// (Dijkstra) from \p seeds, keeping shorter distances already there; loop vertices (loop_of
+// >= 0) are neither seeds nor passed through.
+struct TreeDistance
+{
+    std::vector<double> dist;
+    std::vector<int> via;  // neighbour one step closer to the tree, -1 on it or unreached
+
+    void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
+              const std::vector<int>& loop_of)
+    {
+        using Item = std::pair<double, int>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+        for (auto v : seeds)
+            if (loop_of[v.idx()] < 0)
+            {
+                dist[v.idx()] = 0.0;
+                via[v.idx()] = -1;
+                heap.push({0.0, v.idx()});
+            }
+        while (!heap.empty())
+        {
+            const auto [d, v] = heap.top();
+            heap.pop();
+            if (d > dist[v])
+                continue;
+            for (auto h : mesh.voh_range(VertexHandle(v)))
+            {
+                const int w = h.to().idx();
+                const double nd = d + mesh.calc_edge_length(h);
+                if (loop_of[w] < 0 && nd < dist[w])
+                {
+                    dist[w] = nd;
+                    via[w] = v;
+                    heap.push({nd, w});
+                }
+            }
+        }
+    }
+};
+
+// CutRoute::Streamline for one cut: trace \p field from \p start until a face touches
+// \p stop_at, then take the cheapest path of \p query from \p start inside the band of
+// \p band_rings rings around the crossed faces. For a cut that ends on the cut tree (\p tree
+// given) the trace is cut back to where it first comes within \p slack of its nearest
+// approach to the tree, and the band also covers the shortest bridge from there to the tree.
+// Empty when the trace does not arrive or the band holds no route.
+std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
+                                   const Eigen::MatrixX3d& field, VertexHandle start,
+                                   const std::vector<char>& stop_at, int band_rings,
+                                   const TreeDistance* tree, double slack)
+{
+    const Mesh& mesh = graph.mesh();
+    const Streamline line = trace_streamline(mesh, field, start, stop_at);
+    std::size_t n_faces = line.faces.size();
+    if (n_faces == 0 || (!tree && line.stop != StreamlineStop::Target))
+        return std::nullopt;
+    std::vector<VertexHandle> seeds;
+    if (tree)
+    {
+        std::vector<double> near(n_faces);
+        std::vector<int> corner(n_faces, -1);
+        double nearest = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < n_faces; ++i)
+        {
+            near[i] = std::numeric_limits<double>::infinity();
+            for (auto v : mesh.fv_range(line.faces[i]))
+                if (tree->dist[v.idx()] < near[i])
+                {
+                    near[i] = tree->dist[v.idx()];
+                    corner[i] = v.idx();
+                }
+            nearest = std::min(nearest, near[i]);
+        }
+        if (!std::isfinite(nearest))
+            return std::nullopt;
+        n_faces = 0;
+        while (near[n_faces] > nearest + slack)
+            ++n_faces;
+        for (int v = corner[n_faces]; v >= 0; v = tree->via[v])
+            seeds.push_back(VertexHandle(v));
+        ++n_faces;
+    }
+    for (auto v : line.vertices)
+        seeds.push_back(v);
+    for (std::size_t i = 0; i < n_faces; ++i)
+        for (auto v : mesh.fv_range(line.faces[i]))
+            seeds.push_back(v);
+    const std::vector<int> no_skip(mesh.n_vertices(), -1);
+    std::vector<int> ring(mesh.n_vertices(), -1);
+    grow_rings(mesh, seeds, band_rings, no_skip, ring);
+
+    PathQuery band = query;
+    band.sources = {start};
+    band.is_blocked.resize(mesh.n_vertices(), 0);
+    for (std::size_t v = 0; v < ring.size(); ++v)
+        if (ring[v] < 0)
+            band.is_blocked[v] = 1;
+    try
+    {
+        return graph.shortest_path(band);
+    }
+    catch (const InvalidInputError&)
+    {
+        return std::nullopt;  // no target inside the band
+    }
+}
+
 }  // namespace
 
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
-                  const CutPlanOptions& options)
+                  const CutPlanOptions& options, const Eigen::MatrixX3d& stream_field)
 {
     options.validate();
     CutGraph graph(mesh, weights);
-    return plan_cuts(graph, loops, winding_rate, options);
+    return plan_cuts(graph, loops, winding_rate, options, stream_field);
 }
 
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
-                  const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options)
+                  const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
+                  const Eigen::MatrixX3d& stream_field)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
+    const bool streamline = options.route == CutRoute::Streamline;
+    if (streamline && static_cast<std::size_t>(stream_field.rows()) != mesh.n_vertices())
+        throw InvalidInputError("plan_cuts: the streamline route needs a stream field with one "
+                                "row per vertex (" + std::to_string(mesh.n_vertices()) +
+                                "), got " + std::to_string(stream_field.rows()));
     if (loops.size() < 2)
         throw InvalidInputError("plan_cuts: " + std::to_string(loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
@@ -137,6 +285,18 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         query.is_blocked[v.idx()] = 0;
     }
 
+    // Streamline route: join[v] = edge rings from v to the nearest interior cut vertex, within
+    // options.join_rings (-1 beyond); a later cut's streamline stops where join >= 0.
+    std::vector<int> join(streamline ? nv : 0, -1);
+    std::vector<char> stop_at(streamline ? nv : 0, 0);
+    TreeDistance tree;
+    if (streamline)
+    {
+        tree.dist.assign(nv, std::numeric_limits<double>::infinity());
+        tree.via.assign(nv, -1);
+    }
+    const double slack = streamline ? options.join_rings * mean_edge_length(mesh) : 0.0;
+
     CutPlan plan;
     for (std::size_t l = 1; l < loops.size(); ++l)
     {
@@ -159,7 +319,26 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                             : loops[l].vertices;
 
         GraphPath found = graph.shortest_path(query);
+        bool traced = false;
+        if (streamline)
+        {
+            if (l == 1)
+                stop_at = query.is_target;
+            else
+                for (std::size_t v = 0; v < nv; ++v)
+                    stop_at[v] = join[v] >= 0;
+            std::optional<GraphPath> along =
+                band_path(graph, query, stream_field,
+                          mesh.from_vertex_handle(found.halfedges.front()), stop_at,
+                          options.band_rings, l == 1 ? nullptr : &tree, slack);
+            if (along)
+            {
+                found = std::move(*along);
+                traced = true;
+            }
+        }
         CutPath cut;
+        cut.traced = traced;
         cut.outlet = static_cast<int>(l);
         cut.halfedges = std::move(found.halfedges);
         cut.cost = found.cost;
@@ -179,6 +358,14 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         if (l >= 2 && loop_of[cut.start.idx()] < 0)
             query.is_target[cut.start.idx()] = 1;
+        if (streamline)
+        {
+            std::vector<VertexHandle> on_cut;
+            for (auto h : cut.halfedges)
+                on_cut.push_back(mesh.to_vertex_handle(h));
+            grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
+            tree.grow(mesh, on_cut, loop_of);
+        }
         plan.paths.push_back(std::move(cut));
     }
     return plan;

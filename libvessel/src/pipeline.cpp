@@ -1,6 +1,7 @@
 #include "vessel/pipeline.h"
 
 #include "vessel/cut.h"
+#include "vessel/cut_metrics.h"
 #include "vessel/direction.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
@@ -151,9 +152,15 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     auto graph = forced_plan ? nullptr : std::make_unique<CutGraph>(mesh, weights);
     result.timings.GC = clock.lap("GC");
 
-    // VC: cut paths.
+    // VC: cut paths (the streamline route also traces a field toward the root).
+    Eigen::MatrixX3d stream;
+    if (!forced_plan && options.cuts.route == CutRoute::Streamline)
+        stream = options.cuts.stream_field == StreamField::Direction
+                     ? z
+                     : descent_direction(mesh, harmonic_longitudinal(mesh, result.loops, G));
     result.plan = forced_plan ? *forced_plan
-                              : plan_cuts(*graph, result.loops, zstage.winding, options.cuts);
+                              : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
+                                          stream);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 

@@ -180,6 +180,29 @@ int main(int argc, char** argv)
                    "is the setting measured in docs/results.md)")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
+    std::string cut_route = "shortest";
+    app.add_option("--cut-route", cut_route,
+                   "How a cut runs to its end: shortest (the paper's cheapest path) or "
+                   "streamline (the cheapest path in a band around a traced streamline of "
+                   "--stream-field; cuts whose streamline does not arrive keep the cheapest "
+                   "path)")
+        ->check(CLI::IsMember({"shortest", "streamline"}))
+        ->capture_default_str();
+    std::string stream_field = "harmonic";
+    app.add_option("--stream-field", stream_field,
+                   "Field the streamline route traces: harmonic (descent of the harmonic "
+                   "longitudinal coordinate) or direction (the cut cost's vessel direction z)")
+        ->check(CLI::IsMember({"harmonic", "direction"}))
+        ->capture_default_str();
+    app.add_option("--band-rings", options.cuts.band_rings,
+                   "Streamline route: edge rings around the streamline the cut may use")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--join-rings", options.cuts.join_rings,
+                   "Streamline route: a later cut joins an earlier one once its streamline "
+                   "comes within this many edge rings of it")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "
                    "least winding one is taken (0 = plain Dijkstra)")
@@ -230,6 +253,10 @@ int main(int argc, char** argv)
                                           : vessel::CostKind::Curvature;
         options.arap.solver =
             solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
+        options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
+                                                       : vessel::CutRoute::ShortestPath;
+        options.cuts.stream_field = stream_field == "direction" ? vessel::StreamField::Direction
+                                                                : vessel::StreamField::Harmonic;
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
                                  : init == "tutte"  ? vessel::Initialization::Tutte
                                                     : vessel::Initialization::LayoutLscm;

@@ -78,6 +78,7 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"edges", c.halfedges.size()},
                         {"cost", c.cost},
                         {"winding_deg", c.winding_deg},
+                        {"traced", c.traced},
                         {"length", aligned[i].length},
                         {"alignment", aligned[i].mean}});
     }

@@ -15,8 +15,42 @@ enum class EndpointPolicy
     NearestToPoint,  //!< the loop vertex nearest a given 3D point (e.g. the viewpoint)
 };
 
+//! How a cut runs from its outlet to its end.
+enum class CutRoute
+{
+    ShortestPath,  //!< the paper's rule: the cheapest path in the cut graph
+    //! Trace a streamline of a vessel direction field from the start of the cheapest path
+    //! toward the root, then take the cheapest path inside a narrow band around it; the cut
+    //! then cannot drift from an exactly aligned curve by more than the band. Cuts whose
+    //! streamline does not arrive (a sink, a cycle, another loop) keep the cheapest path.
+    Streamline,
+};
+
+//! The field CutRoute::Streamline traces (flatten() computes it).
+enum class StreamField
+{
+    Direction,  //!< the vessel direction z of the travel cost (DirectionOptions)
+    Harmonic,   //!< descent of harmonic_longitudinal() (cut_metrics.h): smooth across junctions
+};
+
 struct CutPlanOptions
 {
+    //! The paper's cheapest path (default) or the streamline-guided route (opt-in: on the
+    //! Glenn tree it lifts flatcheck's smoothed seam alignment of the cuts from 0.88 to 0.93,
+    //! but after relief cuts the AneuRisk seam drops from 0.91 to 0.85 and the split4 Glenn
+    //! tree from 0.835 to 0.817; docs/results.md).
+    CutRoute route = CutRoute::ShortestPath;
+    //! CutRoute::Streamline: the field traced (the harmonic descent measured best).
+    StreamField stream_field = StreamField::Harmonic;
+    //! CutRoute::Streamline: half-width, in edge rings, of the band around the faces the
+    //! streamline crosses in which the cut is taken (0 = those faces' corners only, measured
+    //! best; 1 and 2 let the cut wander further from the line).
+    int band_rings = 0;
+    //! CutRoute::Streamline: a later cut's streamline stops once it comes within this many
+    //! edge rings of an earlier cut, or else is cut back to where it first comes within this
+    //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
+    //! over the shortest bridge, instead of running beside the earlier cut.
+    int join_rings = 3;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
@@ -39,6 +73,7 @@ struct CutPath
     VertexHandle end;                       //!< vertex on the inlet or on the parent cut
     double cost = 0.0;
     double winding_deg = 0.0;  //!< signed angle gained around the vessel along the cut
+    bool traced = false;  //!< taken in the band of a streamline (CutRoute::Streamline)
 };
 
 struct CutPlan
@@ -65,14 +100,18 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! \param loops boundary_loops(mesh): loops[0] is the inlet.
 //! \param weights evaluate_cost() of the chosen travel cost.
 //! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
+//! \param stream_field |V| x 3 field toward the root traced by CutRoute::Streamline (see
+//! StreamField); unused (may be empty) with CutRoute::ShortestPath.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
-//! reach the cut tree.
+//! reach the cut tree; if the route is Streamline and \p stream_field has not |V| rows.
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
-                  const CutPlanOptions& options = {});
+                  const CutPlanOptions& options = {},
+                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d());
 
 //! plan_cuts() on a cut graph already built (flatten() builds it in stage GC); the same plan.
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
-                  const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options = {});
+                  const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options = {},
+                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d());
 
 }  // namespace vessel
