@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/meshes.h"
 #include "vessel/area_polish.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
@@ -16,14 +17,10 @@ namespace {
 
 FlattenResult flatten_tree3(bool polish, OverlapPolicy overlaps = FlattenOptions().overlaps)
 {
-    TreePhantomOptions tree;
-    tree.outlets = 3;
-    tree.seed = 3;
-    tree.edge_length = 0.75;  // as in overlap_free_test
     FlattenOptions options;
     options.polish_area = polish;
     options.overlaps = overlaps;
-    return flatten(tree_phantom(tree), options);
+    return flatten(test::test_tree_phantom(3), options);
 }
 
 bool polished(const FlattenResult& r)

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/meshes.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
 #include "vessel/fan_start.h"
@@ -68,13 +69,9 @@ TEST_CASE("keep look: the carotid phantom goes on from its map before ARAP, one-
 
 TEST_CASE("keep look: a 3-outlet tree phantom restarts from the fan start, one-to-one")
 {
-    TreePhantomOptions tree;
-    tree.outlets = 3;
-    tree.seed = 3;
-    tree.edge_length = 0.75;  // as in overlap_free_test
     FlattenOptions options;
     options.keep_layout_look = true;
-    const Mesh phantom = tree_phantom(tree);
+    const Mesh phantom = test::test_tree_phantom(3);
     const FlattenResult r = flatten(phantom, options);
     CHECK(has_note(r, "restarted from the fan start"));
     check_one_to_one_fan(r);

@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "support/meshes.h"
 #include "vessel/embedding.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
@@ -13,13 +14,9 @@ namespace {
 // layout's map, overlaps and all) for comparison.
 FlattenResult flatten_tree(int outlets, OverlapPolicy overlaps)
 {
-    TreePhantomOptions tree;
-    tree.outlets = outlets;
-    tree.seed = static_cast<std::uint32_t>(outlets);
-    tree.edge_length = 0.75;  // coarser than the default 0.5, to keep the test short
     FlattenOptions options;
     options.overlaps = overlaps;
-    return flatten(tree_phantom(tree), options);
+    return flatten(test::test_tree_phantom(outlets), options);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include "vessel/phantom.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 
 namespace vessel::test {
@@ -24,6 +25,15 @@ void add_grid_faces(Mesh& mesh, const std::vector<VertexHandle>& v, int cols, in
 }
 
 }  // namespace
+
+Mesh test_tree_phantom(int outlets)
+{
+    TreePhantomOptions tree;
+    tree.outlets = outlets;
+    tree.seed = static_cast<std::uint32_t>(outlets);
+    tree.edge_length = 0.75;
+    return tree_phantom(tree);
+}
 
 Mesh cut_cylinder(double radius, double length, int n_around, int n_along)
 {

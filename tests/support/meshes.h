@@ -16,6 +16,10 @@ namespace vessel::test {
 //! vertices, so the mesh has a single boundary loop. Faces are counter-clockwise seen from outside.
 Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
 
+//! The seeded tree phantom the overlap tests share: \p outlets outlets, seed = outlets, edge
+//! length 0.75 (coarser than the default 0.5, to keep the tests short).
+Mesh test_tree_phantom(int outlets);
+
 //! \brief Flat n x n quad grid of side \p size split into triangles, mapped into 3D by \p pose
 //! (a rigid motion). Vertex (i, j) has index j * (n + 1) + i and planar position
 //! (size * i / n, size * j / n) before the motion.
