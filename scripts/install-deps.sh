@@ -2,11 +2,15 @@
 # Installs the Debian packages libvessel needs to build, test and render (idempotent).
 # chromium: the viewer's end-to-end test (headless). node and npm (for the viewer bundle) are
 # expected on the machine (CI has node 20); without them the viewer is left out of the build.
+# libopenblas0-pthread: becomes the libblas.so.3 alternative, so CHOLMOD's supernodal factorizations
+# run on OpenBLAS instead of ATLAS or the reference BLAS (1.3-1.5x less CPU for a whole run,
+# docs/design.md); libvessel holds it at one thread (detail/serial_openmp.h).
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
   doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev libboost-dev
+  libopenblas0-pthread
   libcairo2-dev
   libvtk9-dev
   python3 python3-numpy python3-matplotlib python3-vtk9
