@@ -12,10 +12,8 @@ struct AreaPolishOptions
     //! term. 0.5 weighs them like the untangling (untangle.h) and barely changes a SLIM map;
     //! larger values trade conformal distortion for area (10-outlet tree phantom, default map:
     //! mean |log area| 0.096 -> 0.022 at 0.9, mean conformal 1.14 -> 1.27; at 0.7, with an
-    //! earlier stopping rule, 0.063 and 1.19). The default 0.99 keeps tree phantoms' one-to-one
-    //! maps within 1.5x of the unconstrained maps' area distortion (0.9: up to 1.89x on 30
-    //! outlets; docs/overlaps.md).
-    double area_weight = 0.99;
+    //! earlier stopping rule, 0.063 and 1.19).
+    double area_weight = 0.9;
     int max_iterations = 1000;  //!< L-BFGS iterations in all
     //! Iterations per chunk: each chunk gets a new scaffold (when the boundary is kept simple).
     int chunk_iterations = 50;
