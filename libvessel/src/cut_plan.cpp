@@ -1,5 +1,6 @@
 #include "vessel/cut_plan.h"
 
+#include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
 
@@ -244,7 +245,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
-    const bool streamline = options.route == CutRoute::Streamline;
+    const bool streamline =
+        options.route == CutRoute::Streamline || options.route == CutRoute::Aligned;
+    const bool compare = options.route == CutRoute::Aligned;
     if (streamline && static_cast<std::size_t>(stream_field.rows()) != mesh.n_vertices())
         throw InvalidInputError("plan_cuts: the streamline route needs a stream field with one "
                                 "row per vertex (" + std::to_string(mesh.n_vertices()) +
@@ -331,6 +334,18 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 band_path(graph, query, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, slack);
+            if (along && compare)
+            {
+                // Keep the traced path only if it follows the field better than the cheapest.
+                const auto alignment = [&](const GraphPath& p) {
+                    CutPath c;
+                    c.halfedges = p.halfedges;
+                    c.start = mesh.from_vertex_handle(p.halfedges.front());
+                    return path_alignment(mesh, c, stream_field).mean;
+                };
+                if (!(alignment(*along) > alignment(found)))
+                    along.reset();
+            }
             if (along)
             {
                 found = std::move(*along);
