@@ -215,6 +215,10 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     PathQuery band = query;
     band.sources = {start};
     band.is_blocked.resize(mesh.n_vertices(), 0);
+    // The cut opens its loop at `start` only: no step along the rim (boundary edges).
+    for (auto v : query.sources)
+        if (v != start)
+            band.is_blocked[v.idx()] = 1;
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
