@@ -20,6 +20,8 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: band_rings must be >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
+    if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
+        throw InvalidInputError("CutPlanOptions: aligned_min_gain must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -347,7 +349,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                     c.start = mesh.from_vertex_handle(p.halfedges.front());
                     return path_alignment(mesh, c, stream_field).mean;
                 };
-                if (!(alignment(*along) > alignment(found)))
+                if (!(alignment(*along) > alignment(found) + options.aligned_min_gain))
                     along.reset();
             }
             if (along)

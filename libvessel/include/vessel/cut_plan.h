@@ -57,6 +57,12 @@ struct CutPlanOptions
     //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
+    //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
+    //! higher by more than this (|cos| units). Fitted, not derived: 0.015 lies between the
+    //! first-cut gain of the 3-outlet test phantom (0.011; taking it broke issue 7's 1.5x area
+    //! bound there) and of AneuRisk (0.016; without it AneuRisk's flatcheck seam is 0.884).
+    //! Drifting cuts gain 0.04-0.28 (docs/results.md).
+    double aligned_min_gain = 0.015;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
