@@ -41,7 +41,7 @@ enum class StreamField
 struct CutPlanOptions
 {
     //! Per-cut choice of the better aligned route (default): flatcheck's smoothed seam
-    //! alignment >= 0.91 on every valid real mesh (Glenn 0.881 -> 0.925, AneuRisk 0.912 ->
+    //! alignment >= 0.915 on every valid real mesh (Glenn 0.881 -> 0.922, AneuRisk 0.912 ->
     //! 0.916), no mesh lower than with the paper's cheapest path (ShortestPath, still
     //! selectable) or the streamline route alone (Glenn 0.934 but AneuRisk 0.853);
     //! docs/design.md.
