@@ -1,5 +1,6 @@
 #include "vessel/cut_plan.h"
 
+#include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
 
@@ -19,6 +20,8 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: band_rings must be >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
+    if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
+        throw InvalidInputError("CutPlanOptions: aligned_min_gain must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -214,6 +217,10 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     PathQuery band = query;
     band.sources = {start};
     band.is_blocked.resize(mesh.n_vertices(), 0);
+    // The cut opens its loop at `start` only: no step along the rim (boundary edges).
+    for (auto v : query.sources)
+        if (v != start)
+            band.is_blocked[v.idx()] = 1;
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
@@ -244,7 +251,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
-    const bool streamline = options.route == CutRoute::Streamline;
+    const bool streamline =
+        options.route == CutRoute::Streamline || options.route == CutRoute::Aligned;
+    const bool compare = options.route == CutRoute::Aligned;
     if (streamline && static_cast<std::size_t>(stream_field.rows()) != mesh.n_vertices())
         throw InvalidInputError("plan_cuts: the streamline route needs a stream field with one "
                                 "row per vertex (" + std::to_string(mesh.n_vertices()) +
@@ -331,6 +340,18 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 band_path(graph, query, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, slack);
+            if (along && compare)
+            {
+                // Keep the traced path only if it follows the field better than the cheapest.
+                const auto alignment = [&](const GraphPath& p) {
+                    CutPath c;
+                    c.halfedges = p.halfedges;
+                    c.start = mesh.from_vertex_handle(p.halfedges.front());
+                    return path_alignment(mesh, c, stream_field).mean;
+                };
+                if (!(alignment(*along) > alignment(found) + options.aligned_min_gain))
+                    along.reset();
+            }
             if (along)
             {
                 found = std::move(*along);
