@@ -33,6 +33,19 @@ enum class StreamField
     Harmonic,   //!< descent of harmonic_longitudinal() (cut_metrics.h): smooth across junctions
 };
 
+//! Where a later cut (every outlet but the largest) ends on the cuts made before it.
+enum class CutJoin
+{
+    //! The paper's rule: on the cut vertex closest to the outlet (shortest edge path from the
+    //! loop, within CutPlanOptions::join_slack); the cut is the cheapest path there.
+    Closest,
+    //! On whichever cut vertex the cheapest path reaches first. With the vessel direction's
+    //! cost, running down the parent vessel beside the earlier cut is almost free, so a cut can
+    //! join far from its branch (carotid phantom: the ECA cut ran 25 mm down the CCA beside
+    //! the first cut, winding 137 degrees and leaving a strip one triangle wide).
+    Cheapest,
+};
+
 struct CutPlanOptions
 {
     //! The paper's cheapest path (default) or the streamline-guided route (opt-in: on the
@@ -51,6 +64,12 @@ struct CutPlanOptions
     //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
+    //! Where later cuts end (CutRoute::ShortestPath): the closest cut vertex (default).
+    CutJoin join = CutJoin::Closest;
+    //! CutJoin::Closest: the later cut may end on any cut vertex whose edge-path distance from
+    //! the outlet is within (1 + join_slack) x the closest one's; the cheapest path among them
+    //! is taken (0 = exactly the closest vertex).
+    double join_slack = 0.25;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
