@@ -55,11 +55,15 @@ std::unique_ptr<vessel::CutGraph> ours_gc(Ours& o)
     return std::make_unique<vessel::CutGraph>(o.mesh, o.weights);
 }
 
-// VC as flatten() runs it: the winding field, then one path per outlet.
+// VC with the paper's cheapest-path route (flatten()'s default, CutRoute::Aligned, also
+// traces a stream field): the winding field, then one path per outlet.
 vessel::CutPlan ours_vc(Ours& o)
 {
+    vessel::CutPlanOptions shortest;
+    shortest.route = vessel::CutRoute::ShortestPath;
     return vessel::plan_cuts(*o.graph, o.loops,
-                             vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs()));
+                             vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs()),
+                             shortest);
 }
 
 // FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal

@@ -23,6 +23,14 @@ DirectionOptions guided(double confident_anisotropy)
     return options;
 }
 
+// The paper's cheapest-path route: the cases below that pass no stream field test it.
+CutPlanOptions paper_route()
+{
+    CutPlanOptions options;
+    options.route = CutRoute::ShortestPath;
+    return options;
+}
+
 struct Prepared
 {
     Mesh mesh;
@@ -77,11 +85,11 @@ TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
         options.n_around = n_around;
         const Prepared p = prepare(helical_tube(options), direction);
         const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
-        const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+        const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, paper_route());
         REQUIRE(plan.paths.size() == 1);
         const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
         // The trap: the plain shortest path drifts around the tube at (almost) no extra cost.
-        CutPlanOptions plain;
+        CutPlanOptions plain = paper_route();
         plain.tie_tolerance = 0.0;
         const CutPlan drifting = plan_cuts(p.mesh, p.loops, w, p.rate, plain);
         const double drift = helix_winding_deg(options, p.mesh, drifting.paths[0]);
@@ -93,7 +101,7 @@ TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
     }
 }
 
-TEST_CASE("cut_plan: the streamline route keeps the helical tube's cut on one side")
+TEST_CASE("cut_plan: the streamline and aligned routes keep the helical tube's cut on one side")
 {
     for (StreamField field : {StreamField::Harmonic, StreamField::Direction})
     for (int n_around : {24, 32, 48})
@@ -113,19 +121,25 @@ TEST_CASE("cut_plan: the streamline route keeps the helical tube's cut on one si
                                     harmonic_longitudinal(p.mesh, p.loops,
                                                           heat_geodesic_distance(
                                                               p.mesh, p.loops[0].vertices)));
-        CutPlanOptions route;
-        route.route = CutRoute::Streamline;
-        route.stream_field = field;
-        const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, route, stream);
-        REQUIRE(plan.paths.size() == 1);
-        CHECK(plan.paths[0].traced);
-        const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
-        MESSAGE("helical tube (" << n_around << " around) streamline-route cut winds " << winding
-                                 << " degrees");
-        CHECK(winding < 30.0);
-        // Still a cut from rim to rim.
-        CHECK(plan.paths[0].parent == -1);
-        CHECK(plan.paths[0].end != plan.paths[0].start);
+        for (CutRoute kind : {CutRoute::Streamline, CutRoute::Aligned})
+        {
+            CAPTURE(static_cast<int>(kind));
+            CutPlanOptions route;
+            route.route = kind;
+            route.stream_field = field;
+            const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, route, stream);
+            REQUIRE(plan.paths.size() == 1);
+            if (kind == CutRoute::Streamline)
+                CHECK(plan.paths[0].traced);
+            const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
+            MESSAGE("helical tube (" << n_around << " around) "
+                                     << (kind == CutRoute::Aligned ? "aligned" : "streamline")
+                                     << "-route cut winds " << winding << " degrees");
+            CHECK(winding < 30.0);
+            // Still a cut from rim to rim.
+            CHECK(plan.paths[0].parent == -1);
+            CHECK(plan.paths[0].end != plan.paths[0].start);
+        }
     }
     // The route needs its field.
     const Prepared p = prepare(helical_tube());
@@ -143,7 +157,7 @@ TEST_CASE("cut_plan: the cut of a helical tube runs from the outlet rim to the i
     HelicalTubeOptions options;
     const Prepared p = prepare(helical_tube(options));
     const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
-    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, paper_route());
     REQUIRE(plan.paths.size() == 1);
     const CutPath& cut = plan.paths[0];
     CHECK(cut.parent == -1);
@@ -161,7 +175,7 @@ TEST_CASE("cut_plan: viewpoint endpoints start and end at the loop vertices near
 {
     const Prepared p = prepare(open_cylinder(1.0, 6.0, 24, 24));
     const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
-    CutPlanOptions options;
+    CutPlanOptions options = paper_route();
     options.endpoints = EndpointPolicy::NearestToPoint;
     options.viewpoint = {0.0, 10.0, 3.0};  // looking at the +y side
     const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, options);
@@ -181,7 +195,7 @@ TEST_CASE("cut_plan: branches end on interior cut vertices, largest outlet first
     const Prepared p = prepare(Mesh(tree));
     REQUIRE(p.loops.size() == 5);
     const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
-    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate);
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, paper_route());
     REQUIRE(plan.paths.size() == 4);
     std::vector<int> loop_of(p.mesh.n_vertices(), -1);
     for (std::size_t l = 0; l < p.loops.size(); ++l)

@@ -18,8 +18,10 @@ TEST_CASE("layout: a cut cylinder unrolls its rims as straight lines of their ow
     Mesh mesh = open_cylinder(radius, length, 32, 20);
     const auto loops = boundary_loops(mesh);
     const Eigen::VectorXd G = heat_geodesic_distance(mesh, loops[0].vertices);
+    CutPlanOptions shortest;
+    shortest.route = CutRoute::ShortestPath;  // no stream field here
     const CutPlan plan = plan_cuts(mesh, loops, evaluate_cost(mesh, LengthCost{1.0}),
-                                   Eigen::MatrixX3d());
+                                   Eigen::MatrixX3d(), shortest);
     const std::size_t n_before = mesh.n_vertices();
     cut_along_edges(mesh, plan.seam_edges(mesh));
 

@@ -4,6 +4,8 @@
 #include "vessel/metrics.h"
 #include "vessel/phantom.h"
 
+#include <cmath>
+
 using namespace vessel;
 
 TEST_CASE("metrics: the identity map of a flat grid has no distortion")
@@ -28,6 +30,8 @@ TEST_CASE("metrics: scaling, stretching and mirroring are measured")
     FlatQuality q = flat_quality(grid, uv);
     CHECK(q.area_ratio == doctest::Approx(2.0));
     CHECK(q.mean_abs_log_area == doctest::Approx(std::log(2.0)));
+    // A uniform stretch of the areas is a scale: the normalized measure ignores it.
+    CHECK(std::abs(q.mean_abs_log_area_normalized) < 1e-12);
     CHECK(q.mean_conformal == doctest::Approx(2.0));
     uv.col(0) *= -1.0;  // mirror: every triangle flips
     q = flat_quality(grid, uv);

@@ -1,5 +1,6 @@
 #include "vessel/cut_plan.h"
 
+#include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
 
@@ -21,6 +22,8 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: join_slack must be finite and >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
+    if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
+        throw InvalidInputError("CutPlanOptions: aligned_min_gain must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -216,6 +219,10 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     PathQuery band = query;
     band.sources = {start};
     band.is_blocked.resize(mesh.n_vertices(), 0);
+    // The cut opens its loop at `start` only: no step along the rim (boundary edges).
+    for (auto v : query.sources)
+        if (v != start)
+            band.is_blocked[v.idx()] = 1;
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
@@ -234,7 +241,7 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
 std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector<char>& on_tree,
                                              const std::vector<int>& loop_of, int loop,
                                              const std::vector<VertexHandle>& sources,
-                                             double slack)
+                                             double slack, double extra)
 {
     using Item = std::pair<double, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
@@ -257,7 +264,7 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
         if (on_tree[v])
         {
             if (near.empty())
-                limit = d * (1.0 + slack);
+                limit = d * (1.0 + slack) + extra;
             near.push_back(VertexHandle(v));
             continue;
         }
@@ -295,7 +302,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
-    const bool streamline = options.route == CutRoute::Streamline;
+    const bool streamline =
+        options.route == CutRoute::Streamline || options.route == CutRoute::Aligned;
+    const bool compare = options.route == CutRoute::Aligned;
     if (streamline && static_cast<std::size_t>(stream_field.rows()) != mesh.n_vertices())
         throw InvalidInputError("plan_cuts: the streamline route needs a stream field with one "
                                 "row per vertex (" + std::to_string(mesh.n_vertices()) +
@@ -340,7 +349,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // options.join_rings (-1 beyond); a later cut's streamline stops where join >= 0.
     std::vector<int> join(streamline ? nv : 0, -1);
     std::vector<char> stop_at(streamline ? nv : 0, 0);
-    const bool closest = options.join == CutJoin::Closest && !streamline;
+    const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     TreeDistance tree;
     if (streamline)
     {
@@ -371,7 +380,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             // makes every step almost free, and join it far away.)
             const std::vector<VertexHandle> near = near_tree_vertices(
                 mesh, query.is_target, loop_of, static_cast<int>(l), loops[l].vertices,
-                options.join_slack);
+                options.join_slack, loops[l].arc_length);
             for (std::size_t v = 0; v < nv; ++v)
                 if (query.is_target[v])
                     cheapest_targets.push_back(VertexHandle(static_cast<int>(v)));
@@ -389,6 +398,12 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                             : loops[l].vertices;
 
         GraphPath found = graph.shortest_path(query);
+        if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
+        {
+            query.is_target.assign(nv, 0);
+            for (auto v : cheapest_targets)
+                query.is_target[v.idx()] = 1;
+        }
         bool traced = false;
         if (streamline)
         {
@@ -401,17 +416,23 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 band_path(graph, query, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, slack);
+            if (along && compare)
+            {
+                // Keep the traced path only if it follows the field better than the cheapest.
+                const auto alignment = [&](const GraphPath& p) {
+                    CutPath c;
+                    c.halfedges = p.halfedges;
+                    c.start = mesh.from_vertex_handle(p.halfedges.front());
+                    return path_alignment(mesh, c, stream_field).mean;
+                };
+                if (!(alignment(*along) > alignment(found) + options.aligned_min_gain))
+                    along.reset();
+            }
             if (along)
             {
                 found = std::move(*along);
                 traced = true;
             }
-        }
-        if (!cheapest_targets.empty())  // restore: the targets of the next outlet
-        {
-            query.is_target.assign(nv, 0);
-            for (auto v : cheapest_targets)
-                query.is_target[v.idx()] = 1;
         }
         CutPath cut;
         cut.traced = traced;

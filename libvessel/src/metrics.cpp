@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 namespace vessel {
 
@@ -40,6 +42,9 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     detail::require_uv_rows(mesh, uv, "flat_quality");
     FlatQuality q;
     double area3 = 0.0, area2 = 0.0, log_sum = 0.0, conformal_sum = 0.0, weight = 0.0;
+    std::vector<std::pair<double, double>> good;  // (A_2D, A_3D) of the non-flipped faces
+    good.reserve(mesh.n_faces());
+    double good2 = 0.0;
     for (auto f : mesh.faces())
     {
         auto h = f.halfedge();
@@ -70,6 +75,8 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
         const Eigen::Vector2d s = Eigen::JacobiSVD<Eigen::Matrix2d>(J).singularValues();
         const double conformal = s[1] > 0 ? s[0] / s[1] : INFINITY;
         log_sum += a3 * std::abs(std::log(a2 / a3));
+        good.emplace_back(a2, a3);
+        good2 += a2;
         conformal_sum += a3 * conformal;
         weight += a3;
         q.max_conformal = std::max(q.max_conformal, conformal);
@@ -77,6 +84,14 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     q.area_ratio = area3 > 0 ? area2 / area3 : 0.0;
     q.mean_abs_log_area = weight > 0 ? log_sum / weight : 0.0;
     q.mean_conformal = weight > 0 ? conformal_sum / weight : 0.0;
+    if (weight > 0 && good2 > 0)
+    {
+        const double shift = std::log(good2 / weight);  // weight = sum of the good A_3D
+        double normalized = 0.0;
+        for (const auto& [a2, a3] : good)
+            normalized += a3 * std::abs(std::log(a2 / a3) - shift);
+        q.mean_abs_log_area_normalized = normalized / weight;
+    }
     const OverlapReport overlaps = find_overlaps(mesh, uv);
     q.overlapping_triangles = overlaps.overlapping_triangles();
     q.overlap_area = overlaps.overlap_area;

@@ -154,7 +154,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
 
     // VC: cut paths (the streamline route also traces a field toward the root).
     Eigen::MatrixX3d stream;
-    if (!forced_plan && options.cuts.route == CutRoute::Streamline)
+    if (!forced_plan && options.cuts.route != CutRoute::ShortestPath)
         stream = options.cuts.stream_field == StreamField::Direction
                      ? z
                      : descent_direction(mesh, harmonic_longitudinal(mesh, result.loops, G));
@@ -259,7 +259,7 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     FlattenResult result = flatten_once(std::move(mesh), options, zstage, nullptr);
     std::vector<std::string> relief_notes;
     while (static_cast<int>(result.plan.relief.size()) < relief.max_cuts &&
-           result.quality.mean_abs_log_area > relief.target_mean_abs_log_area)
+           result.quality.mean_abs_log_area_normalized > relief.target_mean_abs_log_area)
     {
         const Eigen::VectorXd log_area =
             vertex_log_area_ratio(uncut, result.mesh, result.uv, relief.smoothing_passes);
@@ -277,9 +277,10 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
                       "relief cut %zu (%zu edges): mean |log area| %.3f -> %.3f, %d -> %d "
                       "overlapping triangles",
                       plan.relief.size(), plan.relief.back().halfedges.size(),
-                      before.mean_abs_log_area, after.mean_abs_log_area,
+                      before.mean_abs_log_area_normalized, after.mean_abs_log_area_normalized,
                       before.overlapping_triangles, after.overlapping_triangles);
-        const bool better = after.mean_abs_log_area < before.mean_abs_log_area &&
+        const bool better = after.mean_abs_log_area_normalized <
+                                before.mean_abs_log_area_normalized &&
                             after.flipped_triangles <= before.flipped_triangles &&
                             after.overlapping_triangles <= before.overlapping_triangles;
         if (!better)

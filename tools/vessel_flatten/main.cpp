@@ -180,13 +180,14 @@ int main(int argc, char** argv)
                    "is the setting measured in docs/results.md)")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
-    std::string cut_route = "shortest";
+    std::string cut_route = "aligned";
     app.add_option("--cut-route", cut_route,
-                   "How a cut runs to its end: shortest (the paper's cheapest path) or "
+                   "How a cut runs to its end: shortest (the paper's cheapest path), "
                    "streamline (the cheapest path in a band around a traced streamline of "
                    "--stream-field; cuts whose streamline does not arrive keep the cheapest "
-                   "path)")
-        ->check(CLI::IsMember({"shortest", "streamline"}))
+                   "path) or aligned (per cut, whichever of the two follows --stream-field "
+                   "better)")
+        ->check(CLI::IsMember({"shortest", "streamline", "aligned"}))
         ->capture_default_str();
     std::string stream_field = "harmonic";
     app.add_option("--stream-field", stream_field,
@@ -266,6 +267,7 @@ int main(int argc, char** argv)
         options.arap.solver =
             solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
         options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
+                              : cut_route == "aligned" ? vessel::CutRoute::Aligned
                                                        : vessel::CutRoute::ShortestPath;
         options.cuts.join =
             join == "cheapest" ? vessel::CutJoin::Cheapest : vessel::CutJoin::Closest;

@@ -13,8 +13,9 @@ namespace vessel::cli {
 
 namespace {
 
-// Alignment of each cut with the harmonic longitudinal direction (cut_metrics.h), measured on
-// the uncut surface: the plan's handles and the first |V| vertices of the cut mesh are its own.
+// Alignment of each cut (then of each relief cut) with the harmonic longitudinal direction
+// (cut_metrics.h), measured on the uncut surface: the plan's handles and the first |V|
+// vertices of the cut mesh are its own.
 std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult& r)
 {
     if (r.plan.paths.empty())  // one open end: a disk flattened without cuts
@@ -28,8 +29,9 @@ std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult
     const Eigen::MatrixX3d reference =
         descent_direction(uncut, harmonic_longitudinal(uncut, r.loops, G));
     std::vector<PathAlignment> result;
-    for (const auto& path : r.plan.paths)
-        result.push_back(path_alignment(uncut, path, reference));
+    for (const auto* list : {&r.plan.paths, &r.plan.relief})
+        for (const auto& path : *list)
+            result.push_back(path_alignment(uncut, path, reference));
     return result;
 }
 
@@ -67,7 +69,12 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                    {"seam_edges", r.seam_edges},
                    {"duplicated_vertices", r.duplicated_vertices}};
     const std::vector<PathAlignment> aligned = cut_alignments(surface.mesh, r);
-    const PathAlignment seam = seam_alignment(aligned);
+    const std::size_t n_paths = r.plan.paths.size();
+    // The vessel cuts' figure, and the whole seam's (relief cuts too, as flatcheck sees it).
+    const PathAlignment seam = seam_alignment(
+        std::vector<PathAlignment>(aligned.begin(),
+                                   aligned.begin() + static_cast<std::ptrdiff_t>(n_paths)));
+    const PathAlignment whole = seam_alignment(aligned);
     nlohmann::json cuts = nlohmann::json::array();
     for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
     {
@@ -84,23 +91,29 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     }
     j["cuts"] = cuts;
     nlohmann::json relief = nlohmann::json::array();
-    for (const auto& c : r.plan.relief)
+    for (std::size_t i = 0; i < r.plan.relief.size(); ++i)
+    {
+        const CutPath& c = r.plan.relief[i];
         relief.push_back({{"ends_on", c.parent < 0 ? std::string("loop or relief cut")
                                                    : "cut " + std::to_string(c.parent)},
                           {"edges", c.halfedges.size()},
+                          {"alignment", aligned[n_paths + i].mean},
                           {"length", c.cost}});
+    }
     j["relief_cuts"] = relief;
     const auto& q = r.quality;
     j["quality"] = {{"flipped_triangles", q.flipped_triangles},
                     {"area_ratio", q.area_ratio},
                     {"mean_abs_log_area_ratio", q.mean_abs_log_area},
+                    {"mean_abs_log_area_normalized", q.mean_abs_log_area_normalized},
                     {"mean_conformal_distortion", q.mean_conformal},
                     {"max_conformal_distortion", q.max_conformal},
                     {"overlapping_triangles", q.overlapping_triangles},
                     {"overlap_area", q.overlap_area},
                     {"overlap_fraction", q.overlap_fraction},
                     {"seam_alignment", seam.mean},
-                    {"seam_low_alignment_fraction", seam.low_fraction}};
+                    {"seam_low_alignment_fraction", seam.low_fraction},
+                    {"seam_alignment_with_relief", whole.mean}};
     // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces).
     j["overlaps"] = {{"triangles", find_overlaps(r.mesh, r.uv).triangles},
                      {"area_kind", "sum of pairwise intersection areas"}};

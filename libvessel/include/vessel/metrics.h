@@ -10,6 +10,10 @@ struct FlatQuality
     int flipped_triangles = 0;     //!< faces with non-positive signed area in the map
     double area_ratio = 0.0;       //!< total 2D area / total 3D area
     double mean_abs_log_area = 0.0;  //!< area-weighted mean |log(A_2D / A_3D)| over faces
+    //! The same with each area divided by its total over the non-flipped faces,
+    //! |log((A_2D / sum A_2D) / (A_3D / sum A_3D))|: blind to a uniform scale of the map
+    //! (../shared/tools/flatcheck.py's area.mean_abs_log_ratio). The relief-cut target acts on it.
+    double mean_abs_log_area_normalized = 0.0;
     double mean_conformal = 0.0;   //!< area-weighted mean sigma_max / sigma_min (1 = conformal)
     double max_conformal = 0.0;    //!< worst sigma_max / sigma_min over non-flipped faces
     //! Faces whose interior overlaps another face's in the map (find_overlaps(), exact).

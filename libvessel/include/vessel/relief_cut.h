@@ -21,7 +21,9 @@ namespace vessel {
 //! When and how relief cuts are added (FlattenOptions::relief).
 struct ReliefCutOptions
 {
-    //! Relief cuts are added while the map's area-weighted mean |log area ratio| is above this.
+    //! Relief cuts are added while the map's area-weighted mean |log area ratio| is above this
+    //! (FlatQuality::mean_abs_log_area_normalized: blind to the map's overall scale, as the
+    //! issue's check is).
     //! The default is the core issue's acceptance bound; every map below it is left as the
     //! paper's cuts make it.
     double target_mean_abs_log_area = 0.15;
