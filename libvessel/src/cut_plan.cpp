@@ -18,6 +18,8 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: tie_tolerance must be finite and >= 0");
     if (band_rings < 0)
         throw InvalidInputError("CutPlanOptions: band_rings must be >= 0");
+    if (!(join_slack >= 0.0) || !std::isfinite(join_slack))
+        throw InvalidInputError("CutPlanOptions: join_slack must be finite and >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
     if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
@@ -234,6 +236,55 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     }
 }
 
+// The cut-tree vertices within (1 + slack) x the edge-path distance from \p loop to the nearest
+// one, found by a Dijkstra from the loop that neither enters other loops nor passes the tree.
+std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector<char>& on_tree,
+                                             const std::vector<int>& loop_of, int loop,
+                                             const std::vector<VertexHandle>& sources,
+                                             double slack, double extra)
+{
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    std::vector<double> dist(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+    for (auto v : sources)
+    {
+        dist[v.idx()] = 0.0;
+        heap.push({0.0, v.idx()});
+    }
+    std::vector<VertexHandle> near;
+    double limit = std::numeric_limits<double>::infinity();
+    while (!heap.empty())
+    {
+        const auto [d, v] = heap.top();
+        heap.pop();
+        if (d > dist[v])
+            continue;
+        if (d > limit)
+            break;
+        if (on_tree[v])
+        {
+            if (near.empty())
+                limit = d * (1.0 + slack) + extra;
+            near.push_back(VertexHandle(v));
+            continue;
+        }
+        for (auto h : mesh.voh_range(VertexHandle(v)))
+        {
+            const int w = h.to().idx();
+            const double nd = d + mesh.calc_edge_length(h);
+            if ((loop_of[w] < 0 || loop_of[w] == loop) && nd < dist[w])
+            {
+                dist[w] = nd;
+                heap.push({nd, w});
+            }
+        }
+    }
+    if (near.empty())
+        throw InvalidInputError("plan_cuts: outlet " + std::to_string(loop) +
+                                " cannot reach the cut tree; is the mesh one connected surface?");
+    return near;
+}
+
 }  // namespace
 
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
@@ -298,6 +349,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // options.join_rings (-1 beyond); a later cut's streamline stops where join >= 0.
     std::vector<int> join(streamline ? nv : 0, -1);
     std::vector<char> stop_at(streamline ? nv : 0, 0);
+    const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     TreeDistance tree;
     if (streamline)
     {
@@ -319,6 +371,24 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 for (auto v : {mesh.from_vertex_handle(h), mesh.to_vertex_handle(h)})
                     query.is_target[v.idx()] = loop_of[v.idx()] < 0;
         }
+        std::vector<VertexHandle> cheapest_targets;
+        if (l >= 2 && closest)
+        {
+            // The paper's rule: end on the cut vertex closest to the outlet (within join_slack);
+            // the path there is the cheapest. (Ending on the cheapest cut vertex anywhere lets a
+            // later cut run down the parent vessel beside the tree, where the vessel direction
+            // makes every step almost free, and join it far away.)
+            const std::vector<VertexHandle> near = near_tree_vertices(
+                mesh, query.is_target, loop_of, static_cast<int>(l), loops[l].vertices,
+                options.join_slack, loops[l].arc_length);
+            for (std::size_t v = 0; v < nv; ++v)
+                if (query.is_target[v])
+                    cheapest_targets.push_back(VertexHandle(static_cast<int>(v)));
+            for (auto v : cheapest_targets)
+                query.is_target[v.idx()] = 0;
+            for (auto v : near)
+                query.is_target[v.idx()] = 1;
+        }
         if (l >= 2)
             set_blocked(l - 1, 1);
         set_blocked(l, 0);
@@ -328,6 +398,12 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                             : loops[l].vertices;
 
         GraphPath found = graph.shortest_path(query);
+        if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
+        {
+            query.is_target.assign(nv, 0);
+            for (auto v : cheapest_targets)
+                query.is_target[v.idx()] = 1;
+        }
         bool traced = false;
         if (streamline)
         {

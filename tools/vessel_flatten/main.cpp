@@ -204,6 +204,18 @@ int main(int argc, char** argv)
                    "comes within this many edge rings of it")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    std::string join = "closest";
+    app.add_option("--join", join,
+                   "Where later cuts end on the cut tree: closest (the paper's rule: the cut "
+                   "vertex nearest the outlet, within --join-slack) or cheapest (wherever the "
+                   "cheapest path meets the tree; can run down the parent beside a cut)")
+        ->check(CLI::IsMember({"closest", "cheapest"}))
+        ->capture_default_str();
+    app.add_option("--join-slack", options.cuts.join_slack,
+                   "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
+                   "closest one's distance from the outlet")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "
                    "least winding one is taken (0 = plain Dijkstra)")
@@ -255,8 +267,10 @@ int main(int argc, char** argv)
         options.arap.solver =
             solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
         options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
-                             : cut_route == "aligned" ? vessel::CutRoute::Aligned
-                                                      : vessel::CutRoute::ShortestPath;
+                              : cut_route == "aligned" ? vessel::CutRoute::Aligned
+                                                       : vessel::CutRoute::ShortestPath;
+        options.cuts.join =
+            join == "cheapest" ? vessel::CutJoin::Cheapest : vessel::CutJoin::Closest;
         options.cuts.stream_field = stream_field == "direction" ? vessel::StreamField::Direction
                                                                 : vessel::StreamField::Harmonic;
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal

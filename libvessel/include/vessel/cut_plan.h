@@ -38,6 +38,19 @@ enum class StreamField
     Harmonic,   //!< descent of harmonic_longitudinal() (cut_metrics.h): smooth across junctions
 };
 
+//! Where a later cut (every outlet but the largest) ends on the cuts made before it.
+enum class CutJoin
+{
+    //! The paper's rule: on the cut vertex closest to the outlet (shortest edge path from the
+    //! loop, within CutPlanOptions::join_slack); the cut is the cheapest path there.
+    Closest,
+    //! On whichever cut vertex the cheapest path reaches first. With the vessel direction's
+    //! cost, running down the parent vessel beside the earlier cut is almost free, so a cut can
+    //! join far from its branch (carotid phantom: the ECA cut ran 25 mm down the CCA beside
+    //! the first cut, winding 137 degrees and leaving a strip one triangle wide).
+    Cheapest,
+};
+
 struct CutPlanOptions
 {
     //! Per-cut choice of the better aligned route (default): flatcheck's smoothed seam
@@ -57,6 +70,13 @@ struct CutPlanOptions
     //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
+    //! Where the cheapest path of a later cut ends (CutRoute::ShortestPath, and the cheapest
+    //! candidate of CutRoute::Aligned): the closest cut vertex (default).
+    CutJoin join = CutJoin::Closest;
+    //! CutJoin::Closest: the later cut may end on any cut vertex whose edge-path distance from
+    //! the outlet is within (1 + join_slack) x the closest one's; the cheapest path among them
+    //! is taken (0 = exactly the closest vertex).
+    double join_slack = 0.25;
     //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
     //! higher by more than this (|cos| units). Fitted, not derived: 0.015 lies between the
     //! first-cut gain of the 3-outlet test phantom (0.011; taking it broke issue 7's 1.5x area
