@@ -248,3 +248,34 @@ TEST_CASE("cut_plan: invalid options and too few loops are refused")
                               Eigen::MatrixX3d()),
                     InvalidInputError);
 }
+
+TEST_CASE("cut_plan: CutJoin::Closest ends a branch's cut at its bifurcation, not beside the parent")
+{
+    // Demo carotid phantom: with the cheapest join the ECA cut runs down the CCA beside the
+    // first cut and joins it near the inlet; the closest join ends it near the bifurcation.
+    const Prepared p = prepare(carotid_phantom());
+    REQUIRE(p.loops.size() == 3);
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlanOptions cheapest = paper_route();
+    cheapest.join = CutJoin::Cheapest;
+    CutPlanOptions closest = paper_route();
+    closest.join = CutJoin::Closest;
+    const CutPlan a = plan_cuts(p.mesh, p.loops, w, p.rate, cheapest);
+    const CutPlan b = plan_cuts(p.mesh, p.loops, w, p.rate, closest);
+    REQUIRE(a.paths.size() == 2);
+    REQUIRE(b.paths.size() == 2);
+    CHECK(a.paths[0].halfedges == b.paths[0].halfedges);  // the first cut does not change
+    const auto length = [&](const CutPath& cut) {
+        double total = 0.0;
+        for (auto h : cut.halfedges)
+            total += p.mesh.calc_edge_length(h);
+        return total;
+    };
+    // Geodesic distance from the inlet of the two ends: the closest join ends far up the CCA.
+    const Eigen::VectorXd G = heat_geodesic_distance(p.mesh, p.loops[0].vertices);
+    const double cca = CarotidPhantomOptions{}.cca_length;
+    CHECK(G[b.paths[1].end.idx()] > 0.6 * cca);
+    CHECK(G[a.paths[1].end.idx()] < 0.4 * cca);
+    CHECK(length(b.paths[1]) < 0.75 * length(a.paths[1]));
+    CHECK(b.paths[1].parent == 0);
+}

@@ -237,7 +237,8 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
 }
 
 // The cut-tree vertices within (1 + slack) x the edge-path distance from \p loop to the nearest
-// one, found by a Dijkstra from the loop that neither enters other loops nor passes the tree.
+// one, plus \p extra, found by a Dijkstra from the loop that neither enters other loops nor
+// passes the tree.
 std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector<char>& on_tree,
                                              const std::vector<int>& loop_of, int loop,
                                              const std::vector<VertexHandle>& sources,
@@ -374,10 +375,8 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         std::vector<VertexHandle> cheapest_targets;
         if (l >= 2 && closest)
         {
-            // The paper's rule: end on the cut vertex closest to the outlet (within join_slack);
-            // the path there is the cheapest. (Ending on the cheapest cut vertex anywhere lets a
-            // later cut run down the parent vessel beside the tree, where the vessel direction
-            // makes every step almost free, and join it far away.)
+            // End on a cut vertex close to the outlet (CutJoin::Closest); the path there is the
+            // cheapest.
             const std::vector<VertexHandle> near = near_tree_vertices(
                 mesh, query.is_target, loop_of, static_cast<int>(l), loops[l].vertices,
                 options.join_slack, loops[l].arc_length);

@@ -204,16 +204,16 @@ int main(int argc, char** argv)
                    "comes within this many edge rings of it")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    std::string join = "closest";
+    std::string join = "cheapest";
     app.add_option("--join", join,
-                   "Where later cuts end on the cut tree: closest (the paper's rule: the cut "
-                   "vertex nearest the outlet, within --join-slack) or cheapest (wherever the "
-                   "cheapest path meets the tree; can run down the parent beside a cut)")
+                   "Where later cuts end on the cut tree: cheapest (wherever the cheapest path "
+                   "meets the tree; can run down the parent beside a cut) or closest (a cut "
+                   "vertex nearest the outlet, within --join-slack plus the outlet's perimeter)")
         ->check(CLI::IsMember({"closest", "cheapest"}))
         ->capture_default_str();
     app.add_option("--join-slack", options.cuts.join_slack,
                    "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
-                   "closest one's distance from the outlet")
+                   "closest one's distance from the outlet, plus the outlet's perimeter")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
