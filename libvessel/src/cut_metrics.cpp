@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/operators.h"
+#include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
 
@@ -116,7 +117,11 @@ Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<Bounda
         }
     Eigen::SparseMatrix<double> A(n_free, n_free);
     A.setFromTriplets(entries.begin(), entries.end());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver(A);
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+    {
+        const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
+        solver.compute(A);
+    }
     if (solver.info() != Eigen::Success)
         throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
                           "factorized; every connected part of the mesh needs a boundary loop");

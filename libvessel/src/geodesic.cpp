@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/operators.h"
+#include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -61,6 +62,7 @@ void factorize(const SparseMatrix& A, cholmod_factor* L, const char* what)
 {
     Common common;
     cholmod_sparse view = lower_view(A);
+    const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run (see there)
     if (!cholmod_factorize(&view, L, &common.c) || common.c.status != CHOLMOD_OK ||
         L->minor != L->n)
         throw_cholmod(std::string("factorization of the ") + what, common.c);
@@ -275,7 +277,7 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
     }
 
     // The numeric factorizations are independent; two threads share them (the target machines
-    // have two cores and ATLAS BLAS is single-threaded).
+    // have two cores; factorize() keeps the BLAS serial).
     struct Task
     {
         const SparseMatrix* A;
