@@ -415,10 +415,18 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             for (std::size_t v = 0; v < nv; ++v)
                 if (query.is_target[v])
                     cheapest_targets.push_back(VertexHandle(static_cast<int>(v)));
+            // The tree vertices not allowed as ends are blocked, or the path could cross the
+            // tree there (then the cut mesh is no disk).
             for (auto v : cheapest_targets)
+            {
                 query.is_target[v.idx()] = 0;
+                query.is_blocked[v.idx()] = 1;
+            }
             for (auto v : near)
+            {
                 query.is_target[v.idx()] = 1;
+                query.is_blocked[v.idx()] = 0;
+            }
         }
         if (l >= 2)
             set_blocked(l - 1, 1);
@@ -439,7 +447,10 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         {
             query.is_target.assign(nv, 0);
             for (auto v : cheapest_targets)
+            {
                 query.is_target[v.idx()] = 1;
+                query.is_blocked[v.idx()] = 0;
+            }
         }
         bool traced = false;
         if (streamline)
