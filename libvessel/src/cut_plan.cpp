@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <queue>
+#include <unordered_map>
 #include <cmath>
 #include <limits>
 
@@ -310,8 +311,23 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDista
             continue;
         std::vector<HalfedgeHandle> halfedges(path.halfedges.begin(),
                                               path.halfedges.begin() + static_cast<long>(i) + 1);
+        std::unordered_map<int, std::size_t> kept;  // prefix vertex -> halfedges up to it
+        for (std::size_t k = 0; k < halfedges.size(); ++k)
+            kept[mesh.to_vertex_handle(halfedges[k]).idx()] = k + 1;
+        std::size_t prefix = halfedges.size();
         for (int u = v.idx(), w = tree.via[u]; w >= 0; u = w, w = tree.via[u])
-            halfedges.push_back(mesh.find_halfedge(VertexHandle(u), VertexHandle(w)));
+        {
+            // A bridge through an earlier vertex of the path: cut back there instead, so the
+            // cut stays simple.
+            const auto it = kept.find(w);
+            if (it != kept.end() && it->second <= prefix)
+            {
+                prefix = it->second;
+                halfedges.resize(prefix);
+            }
+            else
+                halfedges.push_back(mesh.find_halfedge(VertexHandle(u), VertexHandle(w)));
+        }
         return graph.path_of(std::move(halfedges), winding_rate);
     }
     return path;
