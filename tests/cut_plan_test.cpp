@@ -67,6 +67,20 @@ double helix_winding_deg(const HelicalTubeOptions& options, const Mesh& mesh,
     return std::abs(total) * 180.0 / M_PI;
 }
 
+// The demo carotid phantom with the E_c weights, planned with the paper's route and \p join.
+struct CarotidJoin
+{
+    Prepared p = prepare(carotid_phantom());
+    HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlan plan(CutJoin join, double join_excess = CutPlanOptions{}.join_excess) const
+    {
+        CutPlanOptions options = paper_route();
+        options.join = join;
+        options.join_excess = join_excess;
+        return plan_cuts(p.mesh, p.loops, w, p.rate, options);
+    }
+};
+
 }  // namespace
 
 TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
@@ -253,15 +267,11 @@ TEST_CASE("cut_plan: CutJoin::Closest ends a branch's cut at its bifurcation, no
 {
     // Demo carotid phantom: with the cheapest join the ECA cut runs down the CCA beside the
     // first cut and joins it near the inlet; the closest join ends it near the bifurcation.
-    const Prepared p = prepare(carotid_phantom());
+    const CarotidJoin c;
+    const Prepared& p = c.p;
     REQUIRE(p.loops.size() == 3);
-    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
-    CutPlanOptions cheapest = paper_route();
-    cheapest.join = CutJoin::Cheapest;
-    CutPlanOptions closest = paper_route();
-    closest.join = CutJoin::Closest;
-    const CutPlan a = plan_cuts(p.mesh, p.loops, w, p.rate, cheapest);
-    const CutPlan b = plan_cuts(p.mesh, p.loops, w, p.rate, closest);
+    const CutPlan a = c.plan(CutJoin::Cheapest);
+    const CutPlan b = c.plan(CutJoin::Closest);
     REQUIRE(a.paths.size() == 2);
     REQUIRE(b.paths.size() == 2);
     CHECK(a.paths[0].halfedges == b.paths[0].halfedges);  // the first cut does not change
@@ -278,4 +288,46 @@ TEST_CASE("cut_plan: CutJoin::Closest ends a branch's cut at its bifurcation, no
     CHECK(G[a.paths[1].end.idx()] < 0.4 * cca);
     CHECK(length(b.paths[1]) < 0.75 * length(a.paths[1]));
     CHECK(b.paths[1].parent == 0);
+}
+
+TEST_CASE("cut_plan: CutJoin::Approach stops a branch's cut where it would run beside the parent")
+{
+    // Demo carotid phantom: the cheapest path of the ECA cut runs down the CCA beside the first
+    // cut; the default join cuts it back near the bifurcation and bridges to the first cut.
+    const CarotidJoin c;
+    const Prepared& p = c.p;
+    REQUIRE(p.loops.size() == 3);
+    REQUIRE(CutPlanOptions{}.join == CutJoin::Approach);  // the default
+    const CutPlan a = c.plan(CutJoin::Cheapest);
+    const CutPlan b = c.plan(CutJoin::Approach);
+    REQUIRE(a.paths.size() == 2);
+    REQUIRE(b.paths.size() == 2);
+    CHECK(a.paths[0].halfedges == b.paths[0].halfedges);  // the first cut does not change
+    const CutPath& before = a.paths[1];
+    const CutPath& after = b.paths[1];
+    CHECK(after.parent == 0);
+    CHECK(after.start == before.start);
+    // The branch part is the cheapest path's; only its tail is replaced.
+    std::size_t shared = 0;
+    while (shared < after.halfedges.size() && shared < before.halfedges.size() &&
+           after.halfedges[shared] == before.halfedges[shared])
+        ++shared;
+    CHECK(shared > after.halfedges.size() / 2);
+    CHECK(shared < before.halfedges.size());
+    // The end moves up the CCA to the bifurcation; the cut no longer runs beside cut 0.
+    const Eigen::VectorXd G = heat_geodesic_distance(p.mesh, p.loops[0].vertices);
+    const double cca = CarotidPhantomOptions{}.cca_length;
+    CHECK(G[before.end.idx()] < 0.4 * cca);
+    CHECK(G[after.end.idx()] > 0.6 * cca);
+    const double radius = p.loops[2].arc_length / (2.0 * M_PI);
+    const double beside_before = beside_length(p.mesh, a, 1, radius);
+    const double beside_after = beside_length(p.mesh, b, 1, radius);
+    CHECK(beside_before > 0.25 * cca);
+    CHECK(beside_after < 0.25 * beside_before);
+    CHECK(beside_length(p.mesh, b, 0, radius) == 0.0);  // nothing before the first cut
+    // With an excess no run reaches, the cheapest path is kept.
+    CHECK(c.plan(CutJoin::Approach, 1e6).paths[1].halfedges == before.halfedges);
+    CutPlanOptions bad;
+    bad.join_excess = -1.0;
+    CHECK_THROWS_AS(bad.validate(), InvalidInputError);
 }

@@ -133,3 +133,32 @@ TEST_CASE("lscm: invalid input is rejected")
     CHECK_THROWS_AS(lscm(Mesh(), {{a, {0, 0}}, {b, {1, 0}}}), InvalidInputError);
     CHECK_THROWS_AS(conformal_energy(mesh, Eigen::MatrixX2d::Zero(3, 2)), InvalidInputError);
 }
+
+TEST_CASE("lscm: a singular system falls back to a regularised solve instead of failing")
+{
+    // Two separate flat grids, pins on the first only: the second's block of the conformal
+    // system is singular (its similarities cost nothing), so CHOLMOD's LLT cannot factor it.
+    const double size = 2.0;
+    const int n = 6;
+    const Mesh a = test::posed_grid(size, n, Eigen::Isometry3d::Identity());
+    Mesh mesh = a;
+    const int na = static_cast<int>(a.n_vertices());
+    for (auto v : a.vertices())
+        mesh.add_vertex(a.point(v) + Mesh::Point(5.0, 0.0, 0.0));
+    for (auto f : a.faces())
+    {
+        std::vector<VertexHandle> corners;
+        for (auto v : a.fv_range(f))
+            corners.push_back(VertexHandle(v.idx() + na));
+        mesh.add_face(corners);
+    }
+    const int last = na - 1;
+    const Pins pins = {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(last), {size, size}}};
+    Eigen::MatrixX2d uv;
+    REQUIRE_NOTHROW(uv = lscm(mesh, pins));
+    CHECK(uv.allFinite());
+    double worst = 0.0;  // the pinned grid is still reproduced exactly
+    for (int i = 0; i < na; ++i)
+        worst = std::max(worst, std::abs(at(uv, i) - grid_position(size, n, i)));
+    CHECK(worst < 1e-8);
+}

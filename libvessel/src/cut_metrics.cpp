@@ -8,6 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <queue>
+#include <unordered_map>
 #include <string>
 
 namespace vessel {
@@ -130,6 +133,54 @@ Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<Bounda
         if (unknown[i] >= 0)
             value[i] = x[unknown[i]];
     return value;
+}
+
+double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance)
+{
+    if (index >= plan.paths.size())
+        throw InvalidInputError("beside_length: cut " + std::to_string(index) + " of " +
+                                std::to_string(plan.paths.size()));
+    if (!(distance >= 0.0) || !std::isfinite(distance))
+        throw InvalidInputError("beside_length: distance must be finite and >= 0");
+    // Dijkstra from the earlier cuts' vertices, bounded by `distance`.
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    std::unordered_map<int, double> near;
+    for (std::size_t i = 0; i < index; ++i)
+    {
+        const CutPath& path = plan.paths[i];
+        near[path.start.idx()] = 0.0;
+        for (auto h : path.halfedges)
+            near[mesh.to_vertex_handle(h).idx()] = 0.0;
+    }
+    for (const auto& [v, d] : near)
+        heap.push({d, v});
+    while (!heap.empty())
+    {
+        const auto [d, v] = heap.top();
+        heap.pop();
+        if (d > near[v])
+            continue;
+        for (auto h : mesh.voh_range(VertexHandle(v)))
+        {
+            const double nd = d + mesh.calc_edge_length(h);
+            const int w = h.to().idx();
+            if (nd > distance)
+                continue;
+            const auto it = near.find(w);
+            if (it == near.end() || nd < it->second)
+            {
+                near[w] = nd;
+                heap.push({nd, w});
+            }
+        }
+    }
+    double length = 0.0;
+    for (auto h : plan.paths[index].halfedges)
+        if (near.count(mesh.from_vertex_handle(h).idx()) &&
+            near.count(mesh.to_vertex_handle(h).idx()))
+            length += mesh.calc_edge_length(h);
+    return length;
 }
 
 PathAlignment seam_alignment(const std::vector<PathAlignment>& paths)

@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <queue>
+#include <unordered_map>
 #include <cmath>
 #include <limits>
 
@@ -20,6 +21,10 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: band_rings must be >= 0");
     if (!(join_slack >= 0.0) || !std::isfinite(join_slack))
         throw InvalidInputError("CutPlanOptions: join_slack must be finite and >= 0");
+    if (!(join_reach >= 0.0) || !std::isfinite(join_reach))
+        throw InvalidInputError("CutPlanOptions: join_reach must be finite and >= 0");
+    if (!(join_excess >= 0.0) || !std::isfinite(join_excess))
+        throw InvalidInputError("CutPlanOptions: join_excess must be finite and >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
     if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
@@ -286,6 +291,48 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
     return near;
 }
 
+// CutJoin::Approach: \p path cut back at its first vertex v within \p reach of the cut tree
+// whose remaining length along the path exceeds its distance to the tree by more than
+// \p excess (the path would run on beside the tree), and joined to the tree from v over the
+// shortest bridge (tree.via); unchanged if there is no such vertex.
+GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDistance& tree,
+                   double reach, double excess, const Eigen::MatrixX3d& winding_rate)
+{
+    const Mesh& mesh = graph.mesh();
+    const std::size_t n = path.halfedges.size();
+    std::vector<double> left(n, 0.0);  // path length after the head of halfedge i
+    for (std::size_t i = n - 1; i-- > 0;)
+        left[i] = left[i + 1] + mesh.calc_edge_length(path.halfedges[i + 1]);
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+        const VertexHandle v = mesh.to_vertex_handle(path.halfedges[i]);
+        const double d = tree.dist[v.idx()];
+        if (!(d <= reach) || !(left[i] > d + excess))
+            continue;
+        std::vector<HalfedgeHandle> halfedges(path.halfedges.begin(),
+                                              path.halfedges.begin() + static_cast<long>(i) + 1);
+        std::unordered_map<int, std::size_t> kept;  // prefix vertex -> halfedges up to it
+        for (std::size_t k = 0; k < halfedges.size(); ++k)
+            kept[mesh.to_vertex_handle(halfedges[k]).idx()] = k + 1;
+        std::size_t prefix = halfedges.size();
+        for (int u = v.idx(), w = tree.via[u]; w >= 0; u = w, w = tree.via[u])
+        {
+            // A bridge through an earlier vertex of the path: cut back there instead, so the
+            // cut stays simple.
+            const auto it = kept.find(w);
+            if (it != kept.end() && it->second <= prefix)
+            {
+                prefix = it->second;
+                halfedges.resize(prefix);
+            }
+            else
+                halfedges.push_back(mesh.find_halfedge(VertexHandle(u), VertexHandle(w)));
+        }
+        return graph.path_of(std::move(halfedges), winding_rate);
+    }
+    return path;
+}
+
 }  // namespace
 
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
@@ -351,8 +398,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     std::vector<int> join(streamline ? nv : 0, -1);
     std::vector<char> stop_at(streamline ? nv : 0, 0);
     const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
+    const bool approach = options.join == CutJoin::Approach;
     TreeDistance tree;
-    if (streamline)
+    if (streamline || approach)
     {
         tree.dist.assign(nv, std::numeric_limits<double>::infinity());
         tree.via.assign(nv, -1);
@@ -383,10 +431,18 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             for (std::size_t v = 0; v < nv; ++v)
                 if (query.is_target[v])
                     cheapest_targets.push_back(VertexHandle(static_cast<int>(v)));
+            // The tree vertices not allowed as ends are blocked, or the path could cross the
+            // tree there (then the cut mesh is no disk).
             for (auto v : cheapest_targets)
+            {
                 query.is_target[v.idx()] = 0;
+                query.is_blocked[v.idx()] = 1;
+            }
             for (auto v : near)
+            {
                 query.is_target[v.idx()] = 1;
+                query.is_blocked[v.idx()] = 0;
+            }
         }
         if (l >= 2)
             set_blocked(l - 1, 1);
@@ -397,11 +453,20 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                             : loops[l].vertices;
 
         GraphPath found = graph.shortest_path(query);
+        if (l >= 2 && approach)
+        {
+            const double radius = loops[l].arc_length / (2.0 * M_PI);
+            found = cut_back(graph, found, tree, options.join_reach * radius,
+                             options.join_excess * radius, winding_rate);
+        }
         if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
         {
             query.is_target.assign(nv, 0);
             for (auto v : cheapest_targets)
+            {
                 query.is_target[v.idx()] = 1;
+                query.is_blocked[v.idx()] = 0;
+            }
         }
         bool traced = false;
         if (streamline)
@@ -454,12 +519,13 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         if (l >= 2 && loop_of[cut.start.idx()] < 0)
             query.is_target[cut.start.idx()] = 1;
-        if (streamline)
+        if (streamline || approach)
         {
             std::vector<VertexHandle> on_cut;
             for (auto h : cut.halfedges)
                 on_cut.push_back(mesh.to_vertex_handle(h));
-            grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
+            if (streamline)
+                grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
             tree.grow(mesh, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));

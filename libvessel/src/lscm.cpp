@@ -57,6 +57,35 @@ void check_pins(const Mesh& mesh, const Pins& pins, std::vector<int>& pinned)
                                 " pins have the same target; give at least two distinct targets");
 }
 
+// Fallback when the supernodal LLT fails (CHOLMOD: "matrix not positive definite"; seen on the
+// Glenn mesh with an experimental cut plan, where a near-degenerate region along the seam left
+// a pivot at round-off): factor A + s I, s = 1e-10 x the largest diagonal entry, and refine the
+// solution against A itself. The refinement converges to A's solution wherever A is definite;
+// directions A does not constrain stay at the shift's minimum-norm answer instead of blowing up.
+Eigen::VectorXd solve_regularised(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b)
+{
+    const double shift = 1e-10 * std::max(1e-300, A.diagonal().cwiseAbs().maxCoeff());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    solver.setShift(shift);
+    {
+        const detail::SerialOpenMp serial;
+        solver.compute(A);
+    }
+    if (solver.info() != Eigen::Success)
+        throw SolverError("lscm: CHOLMOD could not factor the conformal system (" +
+                          std::to_string(A.rows()) + " unknowns), not even regularised; every " +
+                          "connected component needs two pins and the mesh must have no " +
+                          "degenerate triangles");
+    const auto full = A.selfadjointView<Eigen::Lower>();
+    Eigen::VectorXd x = solver.solve(b);
+    for (int round = 0; round < 5 && x.allFinite(); ++round)
+        x += solver.solve(b - full * x);
+    if (!x.allFinite())
+        throw SolverError("lscm: the regularised conformal solve failed; check the mesh for "
+                          "degenerate triangles");
+    return x;
+}
+
 }  // namespace
 
 Eigen::SparseMatrix<double> lscm_energy_matrix(const Mesh& mesh)
@@ -158,13 +187,11 @@ Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
         const detail::SerialOpenMp serial;
         solver.compute(A);
     }
-    if (solver.info() != Eigen::Success)
-        throw SolverError("lscm: CHOLMOD could not factor the conformal system (" +
-                          std::to_string(m) + " unknowns); every connected component needs " +
-                          "two pins and the mesh must have no degenerate triangles");
-    const Eigen::VectorXd x = solver.solve(rhs);
+    Eigen::VectorXd x;
+    if (solver.info() == Eigen::Success)
+        x = solver.solve(rhs);
     if (solver.info() != Eigen::Success || !x.allFinite())
-        throw SolverError("lscm: CHOLMOD solve failed; check the mesh for degenerate triangles");
+        x = solve_regularised(A, rhs);  // numerically singular: never fail the run here
     for (int i = 0; i < n; ++i)
         for (int c = 0; c < 2; ++c)
             if (dof[c * n + i] >= 0)

@@ -204,16 +204,28 @@ int main(int argc, char** argv)
                    "comes within this many edge rings of it")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
-    std::string join = "cheapest";
+    std::string join = "approach";
     app.add_option("--join", join,
-                   "Where later cuts end on the cut tree: cheapest (wherever the cheapest path "
-                   "meets the tree; can run down the parent beside a cut) or closest (a cut "
-                   "vertex nearest the outlet, within --join-slack plus the outlet's perimeter)")
-        ->check(CLI::IsMember({"closest", "cheapest"}))
+                   "Where later cuts end on the cut tree: approach (the cheapest path, cut back "
+                   "where it starts to run beside the tree, see --join-reach/--join-excess), "
+                   "cheapest (wherever the cheapest path meets the tree; can run down the parent "
+                   "beside a cut) or closest (a cut vertex nearest the outlet, within "
+                   "--join-slack plus the outlet's perimeter)")
+        ->check(CLI::IsMember({"closest", "cheapest", "approach"}))
         ->capture_default_str();
     app.add_option("--join-slack", options.cuts.join_slack,
                    "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
                    "closest one's distance from the outlet, plus the outlet's perimeter")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--join-reach", options.cuts.join_reach,
+                   "--join approach: a cut is cut back only at vertices within this many outlet "
+                   "radii of the cut tree")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--join-excess", options.cuts.join_excess,
+                   "--join approach: cut back only where the rest of the cut is longer than its "
+                   "distance to the tree by more than this many outlet radii")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
@@ -270,7 +282,9 @@ int main(int argc, char** argv)
                               : cut_route == "aligned" ? vessel::CutRoute::Aligned
                                                        : vessel::CutRoute::ShortestPath;
         options.cuts.join =
-            join == "cheapest" ? vessel::CutJoin::Cheapest : vessel::CutJoin::Closest;
+            join == "cheapest" ? vessel::CutJoin::Cheapest
+            : join == "approach" ? vessel::CutJoin::Approach
+                                 : vessel::CutJoin::Closest;
         options.cuts.stream_field = stream_field == "direction" ? vessel::StreamField::Direction
                                                                 : vessel::StreamField::Harmonic;
         options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal

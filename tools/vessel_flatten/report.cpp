@@ -5,6 +5,7 @@
 #include "vessel/overlap.h"
 #include "vessel/properties.h"
 
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -87,7 +88,11 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"winding_deg", c.winding_deg},
                         {"traced", c.traced},
                         {"length", aligned[i].length},
-                        {"alignment", aligned[i].mean}});
+                        {"alignment", aligned[i].mean},
+                        {"beside_length",
+                         beside_length(surface.mesh, r.plan, i,
+                                       r.loops[static_cast<std::size_t>(c.outlet)].arc_length /
+                                           (2.0 * M_PI))}});
     }
     j["cuts"] = cuts;
     nlohmann::json relief = nlohmann::json::array();

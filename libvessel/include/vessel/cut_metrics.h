@@ -49,6 +49,14 @@ PathAlignment path_alignment(const Mesh& mesh, const CutPath& path,
 Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                                       const Eigen::VectorXd& geodesic);
 
+//! \brief How far cut \p index of \p plan runs beside the cuts made before it: the 3D length
+//! of its edges whose two ends both lie within \p distance (edge-path distance over the
+//! surface) of a vertex of an earlier cut (plan.paths[0 .. index-1]). A cut that meets the tree
+//! head-on scores about \p distance; one that runs down the parent vessel next to an earlier
+//! cut scores the length of that run (a sliver in the map). 0 for the first cut.
+//! \throw InvalidInputError if \p index is out of range or \p distance is negative.
+double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance);
+
 //! Length-weighted mean of per-cut path_alignment() results (all zero when there are none).
 PathAlignment seam_alignment(const std::vector<PathAlignment>& paths);
 

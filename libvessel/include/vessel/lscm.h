@@ -12,7 +12,11 @@ namespace vessel {
 //! \return |V| x 2 matrix of (u, v), row `v.idx()`; pinned rows equal their targets. Vertices
 //! without incident faces get (0, 0).
 //! \throw InvalidInputError if fewer than two pins or a pin handle is invalid.
-//! \throw SolverError if the sparse factorization fails.
+//! If CHOLMOD's factorization fails (the system is numerically singular, e.g. a region the pins
+//! do not hold), the system is solved regularised instead (shift 1e-10 x its largest diagonal
+//! entry, refined against the unshifted system), so a run does not end here: the solution is
+//! unchanged wherever the pins determine it, and an unpinned part collapses toward the origin.
+//! \throw SolverError if even the regularised factorization or solve fails.
 Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins);
 
 //! \brief The LSCM conformal energy as a quadratic form \cite mullen_2008_spectral:
