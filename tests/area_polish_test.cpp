@@ -38,6 +38,8 @@ TEST_CASE("area polish: options are validated")
     const std::vector<std::function<void(AreaPolishOptions&)>> bad = {
         [](AreaPolishOptions& o) { o.area_weight = 1.0; },
         [](AreaPolishOptions& o) { o.chunk_iterations = 0; },
+        [](AreaPolishOptions& o) { o.newton_max_iterations = -1; },
+        [](AreaPolishOptions& o) { o.newton_chunk_iterations = 0; },
         [](AreaPolishOptions& o) { o.scaffold_weight = 0.0; },
         [](AreaPolishOptions& o) { o.tolerance = -1.0; },
     };
@@ -47,8 +49,10 @@ TEST_CASE("area polish: options are validated")
         spoil(o);
         CHECK_THROWS_AS(o.validate(), InvalidInputError);
     }
-    // FlattenOptions checks the polish's options only when the polish is on.
+    // FlattenOptions checks the polish's options only when the polish is on (the default).
     FlattenOptions flatten_options;
+    CHECK(flatten_options.polish_area);
+    flatten_options.polish_area = false;
     flatten_options.area_polish.area_weight = -0.1;
     CHECK_NOTHROW(flatten_options.validate());
     flatten_options.polish_area = true;
@@ -86,8 +90,34 @@ TEST_CASE("area polish: under --overlaps keep the map is polished without a scaf
     const FlattenResult keep = flatten_tree3(true, OverlapPolicy::Keep);
     CHECK(polished(keep));
     CHECK(std::any_of(keep.notes.begin(), keep.notes.end(), [](const std::string& note) {
-        return note.find("area polish (lambda 0.90):") != std::string::npos;  // no ", scaffold"
+        return note.find("area polish (lambda 0.99):") != std::string::npos;  // no ", scaffold"
     }));
     CHECK(keep.quality.flipped_triangles == 0);
     CHECK(keep.quality.mean_abs_log_area < flatten_tree3(false, OverlapPolicy::Keep).quality.mean_abs_log_area);
+}
+
+TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one; Newton ends lower")
+{
+    const FlattenResult plain = flatten_tree3(false);
+    AreaPolishOptions lbfgs;
+    lbfgs.newton = false;
+    Eigen::MatrixX2d by_newton = plain.uv, by_lbfgs = plain.uv;
+    const AreaPolishSummary newton_run = area_polish(plain.mesh, by_newton, {});
+    const AreaPolishSummary lbfgs_run = area_polish(plain.mesh, by_lbfgs, {}, lbfgs);
+    for (const auto* run : {&newton_run, &lbfgs_run})
+    {
+        CHECK(run->scaffold);
+        CHECK(run->iterations > 0);
+        CHECK(run->energy_after < run->energy_before);
+    }
+    CHECK(newton_run.report.find("Newton steps") != std::string::npos);
+    CHECK(lbfgs_run.report.find("L-BFGS iterations") != std::string::npos);
+    CHECK(newton_run.energy_after <= lbfgs_run.energy_after);
+    CHECK(newton_run.iterations <= AreaPolishOptions().newton_max_iterations);
+    for (const Eigen::MatrixX2d* uv : {&by_newton, &by_lbfgs})
+        CHECK(boundary_self_intersection(plain.mesh, *uv).first == -1);
+    MESSAGE("3-outlet tree, energy " << newton_run.energy_before << ": Newton "
+                                     << newton_run.energy_after << " in " << newton_run.iterations
+                                     << " steps, L-BFGS " << lbfgs_run.energy_after << " in "
+                                     << lbfgs_run.iterations << " iterations");
 }

@@ -2,6 +2,7 @@
 
 #include "detail/face_jacobian.h"
 #include "detail/scaffold.h"
+#include "detail/serial_openmp.h"
 #include "detail/uv_rows.h"
 #include "vessel/boundary.h"
 #include "vessel/embedding.h"
@@ -9,6 +10,10 @@
 
 #include <ceres/gradient_problem.h>
 #include <ceres/gradient_problem_solver.h>
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Sparse>
 
 #include <algorithm>
 #include <cmath>
@@ -24,6 +29,10 @@ void AreaPolishOptions::validate() const
         throw InvalidInputError("AreaPolishOptions: max_iterations must be >= 0");
     if (chunk_iterations < 1)
         throw InvalidInputError("AreaPolishOptions: chunk_iterations must be >= 1");
+    if (newton_max_iterations < 0)
+        throw InvalidInputError("AreaPolishOptions: newton_max_iterations must be >= 0");
+    if (newton_chunk_iterations < 1)
+        throw InvalidInputError("AreaPolishOptions: newton_chunk_iterations must be >= 1");
     if (!(tolerance >= 0.0))
         throw InvalidInputError("AreaPolishOptions: tolerance must be >= 0");
     if (!(scaffold_weight > 0.0))
@@ -47,6 +56,11 @@ public:
         for (std::size_t i = 0; i < free_.size(); ++i)
             slot_[free_[i]] = static_cast<int>(i);
     }
+
+    const std::vector<FaceOperator>& faces() const { return ops_; }
+    // Per vertex: its index among the free vertices (its u, v are parameters 2i, 2i + 1); -1 if fixed.
+    const std::vector<int>& slot() const { return slot_; }
+    Eigen::Matrix2d jacobian(const FaceOperator& op) const { return detail::jacobian(op, x_.data()); }
 
     int NumParameters() const override { return 2 * static_cast<int>(free_.size()); }
 
@@ -97,6 +111,112 @@ private:
     std::vector<int> slot_;
     double lambda_;
 };
+
+// The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
+// its negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005). With D = det J,
+// g = dD/dJ = (d, -c, -b, a) and H_D = d2D/dJ2 (1 at (a, d), -1 at (b, c)):
+// ||J||^2 / D has Hessian 2 I / D - 2 (j g^T + g j^T) / D^2 + 2 ||J||^2 g g^T / D^3 - ||J||^2 H_D / D^2,
+// D + 1 / D has Hessian 2 g g^T / D^3 + (1 - 1 / D^2) H_D.
+Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
+{
+    const Eigen::Vector4d j(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
+    const Eigen::Vector4d g(J(1, 1), -J(1, 0), -J(0, 1), J(0, 0));
+    Eigen::Matrix4d HD = Eigen::Matrix4d::Zero();
+    HD(0, 3) = HD(3, 0) = 1.0;
+    HD(1, 2) = HD(2, 1) = -1.0;
+    const double D = J.determinant(), F = j.squaredNorm();
+    const Eigen::Matrix4d shape = 2.0 / D * Eigen::Matrix4d::Identity() -
+                                  2.0 / (D * D) * (j * g.transpose() + g * j.transpose()) +
+                                  2.0 * F / (D * D * D) * g * g.transpose() - F / (D * D) * HD;
+    const Eigen::Matrix4d area = 2.0 / (D * D * D) * g * g.transpose() + (1.0 - 1.0 / (D * D)) * HD;
+    const Eigen::Matrix4d H = (1.0 - lambda) * shape + lambda * area;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
+    return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+           eig.eigenvectors().transpose();
+}
+
+// Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
+// line searched from the full step back to one that flips no face and lowers the energy
+// (Armijo). Returns the steps taken; `cost` is the energy at the end.
+int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& cost)
+{
+    const std::vector<int>& slot = energy.slot();
+    const int m = energy.NumParameters();
+    Eigen::VectorXd p(m), gradient(m), trial(m);
+    energy.gather(p.data());
+    if (!energy.Evaluate(p.data(), &cost, gradient.data()))
+        return 0;
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    Eigen::SparseMatrix<double> H(m, m);
+    std::vector<Eigen::Triplet<double>> triplets;
+    int done = 0;
+    for (; done < iterations; ++done)
+    {
+        triplets.clear();
+        for (const FaceOperator& op : energy.faces())
+        {
+            const Eigen::Matrix2d J = energy.jacobian(op);
+            const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
+            // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k).
+            Eigen::Matrix<double, 4, 6> B = Eigen::Matrix<double, 4, 6>::Zero();
+            for (int k = 0; k < 3; ++k)
+            {
+                B(0, 2 * k) = op.d0[k];
+                B(1, 2 * k) = op.d1[k];
+                B(2, 2 * k + 1) = op.d0[k];
+                B(3, 2 * k + 1) = op.d1[k];
+            }
+            const Eigen::Matrix<double, 6, 6> Hv = B.transpose() * HJ * B;
+            for (int a = 0; a < 6; ++a)
+            {
+                const int sa = slot[op.corner[a / 2]];
+                if (sa < 0)
+                    continue;
+                for (int b = 0; b < 6; ++b)
+                {
+                    const int sb = slot[op.corner[b / 2]];
+                    if (sb < 0)
+                        continue;
+                    const int ra = 2 * sa + a % 2, rb = 2 * sb + b % 2;
+                    if (rb <= ra)
+                        triplets.emplace_back(ra, rb, Hv(a, b));
+                }
+            }
+        }
+        H.setFromTriplets(triplets.begin(), triplets.end());
+        // Translations (and, without pins, rotations) leave the energy unchanged: a small
+        // multiple of the identity keeps the system definite.
+        const double shift = 1e-8 * H.diagonal().mean();
+        for (int i = 0; i < m; ++i)
+            H.coeffRef(i, i) += shift;
+        {
+            const detail::SerialOpenMp serial;
+            if (done == 0)
+                solver.analyzePattern(H);
+            solver.factorize(H);
+        }
+        if (solver.info() != Eigen::Success)
+            break;
+        const Eigen::VectorXd step = solver.solve(-gradient);
+        const double slope = gradient.dot(step);
+        if (!step.allFinite() || !(slope < 0.0))
+            break;
+        double t = 1.0, e = 0.0;
+        bool accepted = false;
+        for (int halving = 0; halving < 40 && !accepted; ++halving, t *= 0.5)
+        {
+            trial = p + t * step;
+            accepted = energy.Evaluate(trial.data(), &e, nullptr) && e <= cost + 1e-4 * t * slope;
+        }
+        if (!accepted)
+            break;
+        p = trial;
+        if (!energy.Evaluate(p.data(), &cost, gradient.data()))
+            break;  // cannot happen: the trial was valid
+    }
+    energy.scatter(p.data());
+    return done;
+}
 
 // Appends to x (the map's n vertices) a box around the map and the Steiner vertices of the
 // free space's triangulation (detail::scaffold_triangles); returns that triangulation's face
@@ -191,7 +311,8 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     solver.function_tolerance = 1e-12;
     solver.gradient_tolerance = 1e-14;
     solver.parameter_tolerance = 1e-14;
-    for (int chunk = 0; summary.iterations < options.max_iterations; ++chunk)
+    const int limit = options.newton ? options.newton_max_iterations : options.max_iterations;
+    for (int chunk = 0; summary.iterations < limit; ++chunk)
     {
         Eigen::VectorXd x = detail::interleaved(uv);
         std::vector<int> free_vertices;
@@ -218,27 +339,41 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
                                     "untangle it first (untangle.h)");
         if (chunk == 0)
             summary.energy_before = summary.energy_after = before;
-        solver.max_num_iterations =
-            std::min(options.chunk_iterations, options.max_iterations - summary.iterations);
-        ceres::GradientProblemSolver::Summary run;
-        ceres::Solve(solver, problem, p.data(), &run);
-        energy->scatter(p.data());
+        int done = 0;
+        double after = before;
+        if (options.newton)
+        {
+            done = newton_steps(*energy, options.area_weight,
+                                std::min(options.newton_chunk_iterations,
+                                         options.newton_max_iterations - summary.iterations),
+                                after);
+        }
+        else
+        {
+            solver.max_num_iterations =
+                std::min(options.chunk_iterations, options.max_iterations - summary.iterations);
+            ceres::GradientProblemSolver::Summary run;
+            ceres::Solve(solver, problem, p.data(), &run);
+            energy->scatter(p.data());
+            done = std::max(static_cast<int>(run.iterations.size()) - 1, 0);
+            after = run.final_cost;
+        }
         detail::deinterleave(x, uv);  // every step had no flipped face, scaffold included
-        const int done = std::max(static_cast<int>(run.iterations.size()) - 1, 0);
         if (done == 0)  // e.g. no valid step from here: the map is as it was
             break;
         summary.iterations += done;
-        summary.energy_after = run.final_cost;
+        summary.energy_after = after;
         // The energy is at least 2 x the surface area (isometry); stop when a chunk removes
         // less than `tolerance` of what is left above that.
-        if (before - run.final_cost < options.tolerance * (before - 2.0 * area))
+        if (before - after < options.tolerance * (before - 2.0 * area))
             break;
     }
     // The scaffold's share, small by construction, is left in the energies.
     char line[200];
     std::snprintf(line, sizeof line,
-                  "area polish (lambda %.2f%s): %d iterations, energy %.6g -> %.6g",
+                  "area polish (lambda %.2f%s): %d %s, energy %.6g -> %.6g",
                   options.area_weight, summary.scaffold ? ", scaffold" : "", summary.iterations,
+                  options.newton ? "Newton steps" : "L-BFGS iterations",
                   summary.energy_before, summary.energy_after);
     summary.report = line;
     return summary;

@@ -163,9 +163,13 @@ int main(int argc, char** argv)
                  "fan start) instead of a Tutte circle; slower, not less distortion");
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "
-                   "(area_polish.h); the value is the area term's weight in [0, 1), e.g. 0.9. "
-                   "One-to-one maps stay one-to-one (except with --overlaps keep)")
-        ->each([&](const std::string&) { options.polish_area = true; });
+                   "(area_polish.h; on by default); the value is the area term's weight in "
+                   "[0, 1). One-to-one maps stay one-to-one (except with --overlaps keep)")
+        ->each([&](const std::string&) { options.polish_area = true; })
+        ->capture_default_str();
+    app.add_flag_callback("--no-area-polish", [&] { options.polish_area = false; },
+                          "Skip the area polish (SLIM's map: less conformal distortion, more "
+                          "area distortion)");
     app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
         ->check(CLI::IsMember({"ceres", "local-global"}))
         ->capture_default_str();

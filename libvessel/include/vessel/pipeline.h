@@ -112,9 +112,11 @@ struct FlattenOptions
     FanStartOptions fan_start;  //!< the fan start of keep_layout_look
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
-    //! unless overlaps is OverlapPolicy::Keep. Off by default (it changes the maps' look:
-    //! docs/overlaps.md, "Area polish", for the figures). CLI `--area-polish LAMBDA`.
-    bool polish_area = false;
+    //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
+    //! the one-to-one map within 1.5x of the unconstrained map's with the same options; the
+    //! maps keep their outline, mean conformal distortion goes up, docs/overlaps.md "Area polish
+    //! by default"). CLI `--area-polish LAMBDA`, `--no-area-polish`.
+    bool polish_area = true;
     AreaPolishOptions area_polish;  //!< the polish of polish_area
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
