@@ -297,7 +297,6 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     double area = 0.0;
     for (const auto& op : surface)
         area += op.area;
-    const FaceOperator& first = surface.front();
 
     AreaPolishSummary summary;
     summary.scaffold =
