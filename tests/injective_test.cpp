@@ -37,6 +37,37 @@ TEST_CASE("injective: SLIM from the Tutte embedding unrolls a cut cylinder isome
     CHECK(q.area_ratio == doctest::Approx(1.0).epsilon(1e-3));
 }
 
+TEST_CASE("injective: momentum reaches the isometry of a cut cylinder in fewer iterations")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const double isometry = 4.0 * face_areas(mesh).sum();
+    // Iterations until the energy is within 1e-4 of the isometry's (the tolerance stops there).
+    const auto iterations = [&](double momentum) {
+        Eigen::MatrixX2d uv = tutte_embedding(mesh);
+        InjectiveOptions options;
+        options.max_iterations = 500;
+        options.tolerance = 1e-12;
+        options.momentum = momentum;
+        int reached = -1;
+        for (int its = 1; its <= 200 && reached < 0; ++its)
+        {
+            Eigen::MatrixX2d step = uv;
+            options.max_iterations = its;
+            const InjectiveSummary s = injective_refine(mesh, step, {}, options);
+            CHECK(test::count_flips(mesh, step) == 0);
+            if (s.final_energy < isometry * (1.0 + 1e-4))
+                reached = its;
+        }
+        return reached;
+    };
+    const int plain = iterations(0.0);
+    const int heavy = iterations(0.5);
+    MESSAGE("iterations to the isometry: plain ", plain, ", momentum 0.5 ", heavy);
+    REQUIRE(plain > 0);
+    REQUIRE(heavy > 0);
+    CHECK(heavy < plain);
+}
+
 TEST_CASE("injective: pins hold and every iterate stays flip-free on a bumped disk")
 {
     const Mesh mesh = test::bumped_grid(4.0, 24, 1.5);
@@ -63,11 +94,13 @@ TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
     CHECK_THROWS_AS(injective_refine(mesh, wrong_size, {}), InvalidInputError);
     CHECK_THROWS_AS(tutte_embedding(open_cylinder(1.0, 2.0, 12, 6)), TopologyError);
     // Each bad field on its own is refused.
-    const std::array<void (*)(InjectiveOptions&), 4> spoil = {
+    const std::array<void (*)(InjectiveOptions&), 6> spoil = {
         [](InjectiveOptions& o) { o.max_iterations = 0; },
         [](InjectiveOptions& o) { o.scaffold_rebuild_every = 0; },
         [](InjectiveOptions& o) { o.scaffold_passes = 0; },
         [](InjectiveOptions& o) { o.crossing_patience = 0; },
+        [](InjectiveOptions& o) { o.momentum = 1.0; },
+        [](InjectiveOptions& o) { o.momentum = -0.1; },
     };
     for (const auto& make_bad : spoil)
     {

@@ -37,6 +37,9 @@ void InjectiveOptions::validate() const
     if (crossing_patience < 1)
         throw InvalidInputError("InjectiveOptions: crossing_patience must be >= 1, got " +
                                 std::to_string(crossing_patience));
+    if (!(momentum >= 0.0 && momentum < 1.0))
+        throw InvalidInputError("InjectiveOptions: momentum must be in [0, 1), got " +
+                                std::to_string(momentum));
     if (scaffold_passes < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_passes must be >= 1, got " +
                                 std::to_string(scaffold_passes));
@@ -620,6 +623,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     // scaffold triangle (then a new triangulation is due).
     bool pattern_stale = false;
     bool blocked_by_scaffold = true;
+    Eigen::VectorXd momentum;  // the last iteration's motion of the surface's vertices
     for (int phase = 0; phase < 2; ++phase)
     {
     const int done = summary.iterations;
@@ -712,7 +716,29 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             for (int v : scaffold->box())
                 d.segment<2>(2 * v).setZero();  // the box stays put
         const double e = energy(ops, x, threads);
-        const auto [t, t_bound, e_new] = line_search(ops, x, d, e);
+        auto [t, t_bound, e_new] = line_search(ops, x, d, e);
+        if (options.momentum > 0.0 && momentum.size() == 2 * n)
+        {
+            // Heavy ball: the proxy's direction plus a share of the last iteration's motion
+            // (the scaffold's Steiner vertices follow it, extended), kept when its line
+            // search ends lower. SLIM's slow tail is a smooth drift of area along the
+            // branches that every step repeats; the momentum carries it on.
+            Eigen::VectorXd m = Eigen::VectorXd::Zero(x.size());
+            m.head(2 * n) = options.momentum * momentum;
+            if (scaffold)
+                scaffold->extend(m);
+            Eigen::VectorXd dm = d + m;
+            const auto [tm, tm_bound, em] = line_search(ops, x, dm, e);
+            if (em < e_new)
+            {
+                d = dm;
+                t = tm;
+                t_bound = tm_bound;
+                e_new = em;
+                ++summary.accelerated;
+            }
+        }
+        const Eigen::VectorXd x_before = x.head(2 * n);
         summary.iterations = done + it + 1;
         if (!(e_new <= e))
         {
@@ -754,6 +780,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 left *= 1.0 - s;
             }
         }
+        momentum = x.head(2 * n) - x_before;
         if (watch && !crosses(x))
         {
             last_simple = x;
@@ -785,6 +812,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     e_surface = energy(surface, x, threads);
     slow = 0;
     start_scaffold();
+    momentum.resize(0);
     }
     detail::deinterleave(x, uv);
     summary.final_energy = e_surface;
@@ -800,7 +828,10 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                      (scaffold ? ", " + std::to_string(summary.scaffold_rebuilds) +
                                      " scaffold triangulations, " +
                                      std::to_string(summary.scaffold_passes) + " continued steps"
-                               : std::string());
+                               : std::string()) +
+                     (summary.accelerated > 0
+                          ? ", " + std::to_string(summary.accelerated) + " steps with momentum"
+                          : std::string());
     return summary;
 }
 

@@ -143,6 +143,16 @@ int main(int argc, char** argv)
                    "untangling (0 = none)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    app.add_option("--slim-momentum", options.injective.momentum,
+                   "With --refine injective: heavy-ball momentum of the SLIM steps, in [0, 1) "
+                   "(0 = plain SLIM)")
+        ->check(CLI::Range(0.0, 0.999))
+        ->capture_default_str();
+    app.add_option("--scaffold-tolerance", options.injective.scaffold_tolerance,
+                   "With --overlaps prevent/scaffold: SLIM stops once 3 scaffold iterations in a "
+                   "row lower the energy by less than this fraction")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--refine", refine, "Refinement: injective (ARAP, then flipped triangles "
                                        "untangled, then SLIM; never flips), arap (the paper's "
                                        "plain ARAP) or none (the initial map)")

@@ -40,7 +40,10 @@ struct InjectiveOptions
     double scaffold_weight = 0.002;
     //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
     //! progress continues below 1e-4 (pulmonary tree: 0.1527 at 1e-4, 0.1456 at 1e-5).
-    double scaffold_tolerance = 1e-5;
+    //! 2e-5 with `momentum` 0.5 (branch fmap, docs/benchmarks.md "SLIM momentum"): SLIM
+    //! iterations carotid-44k 112 -> 85, 100k 128 -> 79, 300k 99 -> 54, mean |log area| within
+    //! +3% of 1e-5 without momentum (3e-5: 300k +12%); the 8 real trees within -3% / +2%.
+    double scaffold_tolerance = 2e-5;
     //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
     //! many iterations; in between its triangles (box and Steiner vertices included) keep their
     //! connectivity and only their rest shapes follow the map (a triangle that became
@@ -62,6 +65,13 @@ struct InjectiveOptions
     //! 4.7 -> 2.1 s; mean |log area| carotid 0.0390 -> 0.0400, pulmonary tree 0.1487 ->
     //! 0.1489, AneuRisk 0.1360 -> 0.1361.
     bool scaffold_keep_unblocked = true;
+    //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
+    //! of the last iteration's motion and keeps whichever line search ends at the lower energy
+    //! (flips and, with a scaffold, crossings stay excluded: the same line search). 0 = plain
+    //! SLIM. 0.5 measured on the carotid phantoms and the 8 real trees (docs/benchmarks.md,
+    //! "SLIM momentum"); 0.6 and more let carotid-13k's SLIM reach its crossing, and its scaffold
+    //! phase then costs 4x the time.
+    double momentum = 0.5;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -77,6 +87,7 @@ struct InjectiveSummary
     int scaffold_from = -1;
     int scaffold_rebuilds = 0;  //!< scaffold triangulations made
     int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
+    int accelerated = 0;        //!< steps that took the momentum direction (momentum)
     std::string report;  //!< one line: iterations and energies
 };
 
