@@ -2,15 +2,15 @@
 
 #include "vessel/errors.h"
 #include "vessel/operators.h"
+#include "detail/edge_distance.h"
 #include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <queue>
-#include <unordered_map>
+#include <limits>
+#include <vector>
 #include <string>
 
 namespace vessel {
@@ -142,43 +142,22 @@ double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, d
                                 std::to_string(plan.paths.size()));
     if (!(distance >= 0.0) || !std::isfinite(distance))
         throw InvalidInputError("beside_length: distance must be finite and >= 0");
-    // Dijkstra from the earlier cuts' vertices, bounded by `distance`.
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-    std::unordered_map<int, double> near;
+    // Edge-path distance from the earlier cuts' vertices, up to `distance`.
+    std::vector<VertexHandle> seeds;
     for (std::size_t i = 0; i < index; ++i)
     {
         const CutPath& path = plan.paths[i];
-        near[path.start.idx()] = 0.0;
+        seeds.push_back(path.start);
         for (auto h : path.halfedges)
-            near[mesh.to_vertex_handle(h).idx()] = 0.0;
+            seeds.push_back(mesh.to_vertex_handle(h));
     }
-    for (const auto& [v, d] : near)
-        heap.push({d, v});
-    while (!heap.empty())
-    {
-        const auto [d, v] = heap.top();
-        heap.pop();
-        if (d > near[v])
-            continue;
-        for (auto h : mesh.voh_range(VertexHandle(v)))
-        {
-            const double nd = d + mesh.calc_edge_length(h);
-            const int w = h.to().idx();
-            if (nd > distance)
-                continue;
-            const auto it = near.find(w);
-            if (it == near.end() || nd < it->second)
-            {
-                near[w] = nd;
-                heap.push({nd, w});
-            }
-        }
-    }
+    std::vector<double> dist(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+    std::vector<int> via(mesh.n_vertices(), -1);
+    detail::grow_edge_distance(mesh, seeds, dist, via, [](int) { return true; }, distance);
+    const auto near = [&](VertexHandle v) { return dist[v.idx()] <= distance; };
     double length = 0.0;
     for (auto h : plan.paths[index].halfedges)
-        if (near.count(mesh.from_vertex_handle(h).idx()) &&
-            near.count(mesh.to_vertex_handle(h).idx()))
+        if (near(mesh.from_vertex_handle(h)) && near(mesh.to_vertex_handle(h)))
             length += mesh.calc_edge_length(h);
     return length;
 }

@@ -3,6 +3,7 @@
 #include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
+#include "detail/edge_distance.h"
 
 #include <functional>
 #include <optional>
@@ -140,33 +141,8 @@ struct TreeDistance
     void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
               const std::vector<int>& loop_of)
     {
-        using Item = std::pair<double, int>;
-        std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-        for (auto v : seeds)
-            if (loop_of[v.idx()] < 0)
-            {
-                dist[v.idx()] = 0.0;
-                via[v.idx()] = -1;
-                heap.push({0.0, v.idx()});
-            }
-        while (!heap.empty())
-        {
-            const auto [d, v] = heap.top();
-            heap.pop();
-            if (d > dist[v])
-                continue;
-            for (auto h : mesh.voh_range(VertexHandle(v)))
-            {
-                const int w = h.to().idx();
-                const double nd = d + mesh.calc_edge_length(h);
-                if (loop_of[w] < 0 && nd < dist[w])
-                {
-                    dist[w] = nd;
-                    via[w] = v;
-                    heap.push({nd, w});
-                }
-            }
-        }
+        detail::grow_edge_distance(mesh, seeds, dist, via,
+                                   [&](int v) { return loop_of[v] < 0; });
     }
 };
 
