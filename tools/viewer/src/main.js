@@ -143,6 +143,20 @@ async function start() {
     return field.lo + (qa + (qb - qa) * f) * (field.hi - field.lo);
   }
 
+  // Field `index` at barycentric point `bary` of face f and time t, from the stored steps
+  // (linear in time, as the GPU blends them).
+  function valueInFace(index, f, bary, t) {
+    const field = fields[index];
+    const [a, b, w] = stepsAt(field.times, t, true);
+    let value = 0;
+    for (let k = 0; k < 3; k++) {
+      const vtx = data.indices[3 * f + k];
+      const qa = field.values[a * nv + vtx] / QMAX, qb = field.values[b * nv + vtx] / QMAX;
+      value += bary[k] * (field.lo + (qa + (qb - qa) * w) * (field.hi - field.lo));
+    }
+    return value;
+  }
+
   function updateReadout() {
     const hit = state.hover;
     if (!hit) {
@@ -336,16 +350,15 @@ async function start() {
     fieldRange(index) { return [fields[index].lo, fields[index].hi]; },
     fieldTimes(index) { return fields[index].times; },
     // Field `index` at face f's centroid and time t, from the stored steps (linear in time).
-    valueAtCentroid(index, f, t) {
-      const field = fields[index];
-      const [a, b, w] = stepsAt(field.times, t, true);
-      let value = 0;
-      for (let k = 0; k < 3; k++) {
-        const vtx = data.indices[3 * f + k];
-        const qa = field.values[a * nv + vtx] / QMAX, qb = field.values[b * nv + vtx] / QMAX;
-        value += (field.lo + (qa + (qb - qa) * w) * (field.hi - field.lo)) / 3;
-      }
-      return value;
+    valueAtCentroid(index, f, t) { return valueInFace(index, f, [1 / 3, 1 / 3, 1 / 3], t); },
+    // Field `index` at time t where the map view draws canvas pixel (x, y) (CSS pixels, as
+    // mapPixel reads it): interpolated at that device pixel's centre in the triangle under it, as
+    // the GPU shades it. null when the pixel centre is off the map.
+    valueAtPixel(index, x, y, t) {
+      const r = view2d.canvas.width / view2d.canvas.clientWidth;
+      const [u, v] = view2d.toMap((Math.floor(x * r) + 0.5) / r, (Math.floor(y * r) + 0.5) / r);
+      const hit = locator.locate(u, v);
+      return hit ? valueInFace(index, hit.face, hit.bary, t) : null;
     },
     // Centroid of face f in 3D (centre-relative).
     faceCentroid3d(f) {
