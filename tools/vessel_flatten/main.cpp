@@ -153,6 +153,11 @@ int main(int argc, char** argv)
                    "scaffold iterations in a row lower the energy by less than this fraction")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    app.add_option("--crossing-patience", options.injective.crossing_patience,
+                   "With --overlaps prevent: SLIM iterations the map's boundary may stay crossed "
+                   "before SLIM goes back to its last simple iterate and on with a scaffold")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
     app.add_option("--polished-scaffold-tolerance", options.polished_scaffold_tolerance,
                    "As --scaffold-tolerance when the area polish follows SLIM (the default): "
                    "the polish's Newton steps do the rest faster")
