@@ -121,3 +121,35 @@ TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one; Ne
                                      << " steps, L-BFGS " << lbfgs_run.energy_after << " in "
                                      << lbfgs_run.iterations << " iterations");
 }
+
+TEST_CASE("area polish: SLIM hands over to it sooner, with the same area distortion")
+{
+    FlattenOptions options;
+    options.polished_scaffold_tolerance = 0.0;
+    CHECK_THROWS_WITH_AS(options.validate(), doctest::Contains("polished_scaffold_tolerance"),
+                         InvalidInputError);
+    options.polish_area = false;
+    CHECK_NOTHROW(options.validate());  // only read when the polish runs
+
+    // The old rule (SLIM's own scaffold tolerance before the polish) against the default.
+    FlattenOptions old_rule;
+    old_rule.polished_scaffold_tolerance = old_rule.injective.scaffold_tolerance;
+    const Mesh carotid = carotid_phantom();  // its SLIM needs the scaffold (boundary crosses)
+    const FlattenResult before = flatten(carotid, old_rule);
+    const FlattenResult r = flatten(carotid, FlattenOptions());
+    CHECK(polished(r));
+    REQUIRE(before.injective.scaffold_from >= 0);  // the scaffold phase runs in both
+    CHECK(r.injective.scaffold_from == before.injective.scaffold_from);
+    CHECK(r.injective.iterations < before.injective.iterations);
+    for (const FlattenResult* run : {&before, &r})
+    {
+        CHECK(run->quality.flipped_triangles == 0);
+        CHECK(run->quality.overlapping_triangles == 0);
+        CHECK(boundary_self_intersection(run->mesh, run->uv).first == -1);
+    }
+    CHECK(r.quality.mean_abs_log_area <= 1.1 * before.quality.mean_abs_log_area);
+    MESSAGE("carotid phantom: SLIM iterations " << before.injective.iterations << " -> "
+                                              << r.injective.iterations << ", mean |log area| "
+                                              << before.quality.mean_abs_log_area << " -> "
+                                              << r.quality.mean_abs_log_area);
+}

@@ -92,10 +92,11 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
             normalized += a3 * std::abs(std::log(a2 / a3) - shift);
         q.mean_abs_log_area_normalized = normalized / weight;
     }
-    const OverlapReport overlaps = find_overlaps(mesh, uv);
+    OverlapReport overlaps = find_overlaps(mesh, uv);
     q.overlapping_triangles = overlaps.overlapping_triangles();
     q.overlap_area = overlaps.overlap_area;
     q.overlap_fraction = overlaps.overlap_fraction;
+    q.overlapping_faces = std::move(overlaps.triangles);
     return q;
 }
 

@@ -149,8 +149,18 @@ int main(int argc, char** argv)
         ->check(CLI::Range(0.0, 0.999))
         ->capture_default_str();
     app.add_option("--scaffold-tolerance", options.injective.scaffold_tolerance,
-                   "With --overlaps prevent/scaffold: SLIM stops once 3 scaffold iterations in a "
-                   "row lower the energy by less than this fraction")
+                   "With --overlaps prevent/scaffold and --no-area-polish: SLIM stops once 3 "
+                   "scaffold iterations in a row lower the energy by less than this fraction")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--crossing-patience", options.injective.crossing_patience,
+                   "With --overlaps prevent: SLIM iterations the map's boundary may stay crossed "
+                   "before SLIM goes back to its last simple iterate and on with a scaffold")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--polished-scaffold-tolerance", options.polished_scaffold_tolerance,
+                   "As --scaffold-tolerance when the area polish follows SLIM (the default): "
+                   "the polish's Newton steps do the rest faster")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--refine", refine, "Refinement: injective (ARAP, then flipped triangles "

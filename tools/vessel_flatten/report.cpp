@@ -2,7 +2,6 @@
 
 #include "vessel/cut_metrics.h"
 #include "vessel/direction.h"
-#include "vessel/overlap.h"
 #include "vessel/properties.h"
 
 #include <cmath>
@@ -119,8 +118,9 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                     {"seam_alignment", seam.mean},
                     {"seam_low_alignment_fraction", seam.low_fraction},
                     {"seam_alignment_with_relief", whole.mean}};
-    // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces).
-    j["overlaps"] = {{"triangles", find_overlaps(r.mesh, r.uv).triangles},
+    // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces); the
+    // pipeline's quality measure found them already (flat_quality).
+    j["overlaps"] = {{"triangles", q.overlapping_faces},
                      {"area_kind", "sum of pairwise intersection areas"}};
     j["arap"] = {{"iterations", r.arap.iterations},
                  {"initial_energy", r.arap.initial_energy},

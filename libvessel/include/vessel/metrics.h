@@ -2,6 +2,8 @@
 
 #include "vessel/mesh.h"
 
+#include <vector>
+
 namespace vessel {
 
 //! Distortion of a map (u, v) of a triangle mesh, measured against its 3D triangles.
@@ -20,6 +22,9 @@ struct FlatQuality
     int overlapping_triangles = 0;
     double overlap_area = 0.0;      //!< sum of pairwise intersection areas (find_overlaps())
     double overlap_fraction = 0.0;  //!< overlap_area / total |2D area|
+    //! The overlapping faces themselves, sorted (find_overlaps().triangles), so that a report
+    //! can list them without a second search.
+    std::vector<int> overlapping_faces;
 };
 
 //! \brief Measure the distortion and the overlaps (find_overlaps()) of \p uv (|V| x 2, row `v.idx()`) on \p mesh.
