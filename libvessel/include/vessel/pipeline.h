@@ -11,6 +11,8 @@
 #include "vessel/geodesic.h"
 #include "vessel/injective.h"
 #include "vessel/layout.h"
+#include "vessel/layout_circle.h"
+#include "vessel/map_look.h"
 #include "vessel/metrics.h"
 #include "vessel/relief_cut.h"
 #include "vessel/untangle.h"
@@ -110,6 +112,12 @@ struct FlattenOptions
     //! from Tutte; 3-outlet tree phantom 0.0778 vs 0.0814) and costs more time.
     bool keep_layout_look = false;
     FanStartOptions fan_start;  //!< the fan start of keep_layout_look
+    //! With Refinement::Injective, when the map restarts (and keep_layout_look found no start):
+    //! start from the layout circle (layout_circle.h: Tutte's circle walked so that the inlet is
+    //! at the bottom and each outlet near its layout bearing) instead of Tutte's constant-speed
+    //! circle. CLI `--restart-circle layout|tutte`.
+    bool restart_on_layout_circle = true;
+    LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
@@ -151,6 +159,9 @@ struct FlattenResult
     InjectiveSummary injective;       //!< the SLIM run (Refinement::Injective)
     UntangleSummary untangle;         //!< the flip removal (Refinement::Injective)
     FlatQuality quality;
+    //! How the map keeps the layout's look (map_look.h): inlet at the bottom, outlets in the
+    //! layout's fan order and directions. Empty (no outlets) for a surface flattened without cuts.
+    MapLook look;
     StageTimings timings;
     std::vector<std::string> notes;  //!< fallbacks taken, one line each
 };
