@@ -184,3 +184,56 @@ TEST_CASE("layout circle start: one-to-one, inlet at the bottom, outlets in walk
                         << ", mean bearing error " << seen.look.mean_bearing_error_deg);
     }
 }
+
+namespace {
+
+FlattenResult flatten_phantom(int outlets, bool layout_circle)
+{
+    FlattenOptions options;
+    options.restart_on_layout_circle = layout_circle;
+    return flatten(test::test_tree_phantom(outlets), options);
+}
+
+}  // namespace
+
+TEST_CASE("map_look: by default the 10-outlet phantom keeps the inlet at the bottom and the fan "
+          "order")
+{
+    // Measured (docs/overlaps.md, "The look"): default 0 outlets and 0.000 of the area below
+    // the inlet, 0 walk inversions; from Tutte's circle (the default before) 0.025 of the area
+    // below and 1 walk inversion.
+    const FlattenResult r = flatten_phantom(10, true);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);
+    const MapLook& look = r.look;
+    CHECK(look.outlets == 10);
+    CHECK(look.outlets_below_inlet == 0);
+    CHECK(look.area_below_inlet <= 0.01);
+    CHECK(look.walk_inversions == 0);
+    CHECK(look.fan_kendall_tau >= 0.8);
+    const FlattenResult tutte = flatten_phantom(10, false);
+    CHECK(look.area_below_inlet <= tutte.look.area_below_inlet);
+    MESSAGE("10 outlets: area below the inlet " << look.area_below_inlet << " (Tutte's circle "
+            << tutte.look.area_below_inlet << "), walk inversions " << look.walk_inversions
+            << " (" << tutte.look.walk_inversions << "), fan tau " << look.fan_kendall_tau << " ("
+            << tutte.look.fan_kendall_tau << "), mean bearing error "
+            << look.mean_bearing_error_deg << " (" << tutte.look.mean_bearing_error_deg
+            << "), mean |log area| " << r.quality.mean_abs_log_area << " ("
+            << tutte.quality.mean_abs_log_area << ")");
+}
+
+TEST_SUITE("slow")
+{
+    TEST_CASE("map_look: by default the 30-outlet phantom has no outlet below the inlet")
+    {
+        // Measured: 0 outlets and 0.000 of the area below (Tutte's circle: 7 and 0.090).
+        const FlattenResult r = flatten_phantom(30, true);
+        CHECK(r.quality.overlapping_triangles == 0);
+        CHECK(r.look.outlets_below_inlet == 0);
+        CHECK(r.look.area_below_inlet <= 0.01);
+        MESSAGE("30 outlets: area below the inlet " << r.look.area_below_inlet
+                << ", walk inversions " << r.look.walk_inversions << ", mean bearing error "
+                << r.look.mean_bearing_error_deg << ", mean |log area| "
+                << r.quality.mean_abs_log_area);
+    }
+}
