@@ -93,8 +93,9 @@ struct FlattenOptions
     std::shared_ptr<const Layout> layout;
     Initialization initialization = Initialization::LayoutLscm;
     //! Step 7 refinement. With Injective, when untangling fails or the map at the layout
-    //! overlaps itself (see `overlaps`), the map restarts from the Tutte embedding: the
-    //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
+    //! overlaps itself (see `overlaps`), the map restarts from a Tutte embedding (by default
+    //! the layout circle, restart_on_layout_circle: inlet at the bottom, outlets near their
+    //! layout bearings; the pins are dropped, so SLIM may still move them). Noted in
     //! FlattenResult::notes. When the LSCM map at the layout already crosses itself, the restart
     //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
     //! ::untangle stay empty).
