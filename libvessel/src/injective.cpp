@@ -55,22 +55,40 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
         throw TopologyError("tutte_embedding: the mesh has " + std::to_string(loops.size()) +
                             " boundary loops; a disk (one loop) is required — cut it first");
     const auto& loop = loops[0];
-    const int n = static_cast<int>(mesh.n_vertices());
-    Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(n, 2);
-    std::vector<int> slot(n, -1);  // index among the free vertices, -1 on the boundary
     // Boundary halfedges run clockwise around the disk; walking them backwards is
     // counter-clockwise, which makes the faces counter-clockwise.
     const double radius = loop.arc_length / (2.0 * M_PI);
     double s = 0.0;
-    std::vector<char> on_boundary(n, 0);
+    Pins boundary;
     for (std::size_t i = 0; i < loop.halfedges.size(); ++i)
     {
-        const int v = loop.vertices[i].idx();
-        on_boundary[v] = 1;
         const double angle = -2.0 * M_PI * s / loop.arc_length;
-        uv.row(v) << radius * std::cos(angle), radius * std::sin(angle);
+        boundary.push_back({loop.vertices[i], {radius * std::cos(angle), radius * std::sin(angle)}});
         s += mesh.calc_edge_length(loop.halfedges[i]);
     }
+    return tutte_embedding(mesh, boundary);
+}
+
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh, const Pins& boundary)
+{
+    const int n = static_cast<int>(mesh.n_vertices());
+    Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(n, 2);
+    std::vector<int> slot(n, -1);  // index among the free vertices, -1 on the boundary
+    std::vector<char> on_boundary(n, 0);
+    const std::vector<int> pinned = pin_index(mesh, boundary, "tutte_embedding");
+    for (const Pin& pin : boundary)
+    {
+        if (!mesh.is_boundary(pin.vertex))
+            throw InvalidInputError("tutte_embedding: pinned vertex " +
+                                    std::to_string(pin.vertex.idx()) +
+                                    " is not on the boundary; pin the boundary vertices only");
+        on_boundary[pin.vertex.idx()] = 1;
+        uv.row(pin.vertex.idx()) = pin.uv.transpose();
+    }
+    for (auto v : mesh.vertices())
+        if (mesh.is_boundary(v) && pinned[v.idx()] < 0)
+            throw InvalidInputError("tutte_embedding: boundary vertex " + std::to_string(v.idx()) +
+                                    " has no position; pin every boundary vertex");
     int n_free = 0;
     for (int v = 0; v < n; ++v)
         if (!on_boundary[v])

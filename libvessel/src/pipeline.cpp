@@ -31,6 +31,7 @@ void FlattenOptions::validate() const
     {
         untangle.validate();
         fan_start.validate();
+        layout_circle.validate();
         if (polish_area)
             area_polish.validate();
         if (polish_area && !(polished_scaffold_tolerance > 0.0))
@@ -222,7 +223,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     if (detail::refine_map(mesh, pins, options, crossing, crosses_at_once ? crossing : "",
-                           result, &input))
+                           result, &input, &placed))
         at_layout = false;
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);
@@ -231,6 +232,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     result.timings.F = clock.lap("F");
 
     result.quality = flat_quality(mesh, result.uv);
+    result.look = map_look(mesh, result.uv, input.segments, placed);
     result.mesh = std::move(mesh);
     return result;
 }

@@ -3,6 +3,7 @@
 #include "vessel/area_polish.h"
 #include "vessel/embedding.h"
 #include "vessel/fan_start.h"
+#include "vessel/layout_circle.h"
 
 #include <algorithm>
 
@@ -10,7 +11,7 @@ namespace vessel::detail {
 
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
                 const std::string& crossing, std::string restart, FlattenResult& result,
-                const LayoutInput* layout)
+                const LayoutInput* layout, const LayoutResult* placed)
 {
     Eigen::MatrixX2d before_arap;  // the initial map, kept for Prevent's fallback
     if (restart.empty() && options.refinement != Refinement::None &&
@@ -69,9 +70,14 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             else
                 result.notes.push_back("fan start: " + start.untangle.report);
         }
-        result.notes.push_back(restart + (from_fan ? "; restarted from the fan start"
-                                                   : "; restarted from the Tutte embedding"));
-        if (!from_fan)
+        const bool from_circle =
+            !from_fan && layout && placed && options.restart_on_layout_circle;
+        result.notes.push_back(restart + (from_fan      ? "; restarted from the fan start"
+                                          : from_circle ? "; restarted from the layout circle"
+                                                        : "; restarted from the Tutte embedding"));
+        if (from_circle)
+            result.uv = layout_circle_start(*layout, *placed, options.layout_circle);
+        else if (!from_fan)
             result.uv = tutte_embedding(mesh);
         pins.clear();  // neither start can hold the pins where they were
         slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;

@@ -181,6 +181,13 @@ int main(int argc, char** argv)
                  "With --overlaps prevent, when the map at the layout overlaps itself, go on "
                  "from a one-to-one map with the layout's look (the map before ARAP, else the "
                  "fan start) instead of a Tutte circle; slower, not less distortion");
+    app.add_option_function<std::string>(
+           "--restart-circle",
+           [&](const std::string& v) { options.restart_on_layout_circle = v == "layout"; },
+           "Where the map restarts from a circle: layout (the inlet at the bottom, each outlet "
+           "at its layout bearing; layout_circle.h) or tutte (constant speed)")
+        ->check(CLI::IsMember({"layout", "tutte"}))
+        ->default_str("layout");
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "
                    "(area_polish.h; on by default); the value is the area term's weight in "

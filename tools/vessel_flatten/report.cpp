@@ -118,6 +118,23 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                     {"seam_alignment", seam.mean},
                     {"seam_low_alignment_fraction", seam.low_fraction},
                     {"seam_alignment_with_relief", whole.mean}};
+    const MapLook& look = r.look;  // map_look.h; bearings 0 = up, +90 = right
+    auto outlet_looks = nlohmann::json::array();
+    for (const OutletLook& o : look.outlet_looks)
+        outlet_looks.push_back({{"loop", o.loop},
+                                {"layout_bearing_deg", o.layout_bearing_deg},
+                                {"map_bearing_deg", o.map_bearing_deg},
+                                {"below_inlet", o.below_inlet},
+                                {"walk_rank", o.walk_rank}});
+    j["quality"]["look"] = {{"area_below_inlet", look.area_below_inlet},
+                            {"outlets", look.outlets},
+                            {"outlets_below_inlet", look.outlets_below_inlet},
+                            {"fan_inversions", look.fan_inversions},
+                            {"fan_kendall_tau", look.fan_kendall_tau},
+                            {"walk_inversions", look.walk_inversions},
+                            {"mean_bearing_error_deg", look.mean_bearing_error_deg},
+                            {"max_bearing_error_deg", look.max_bearing_error_deg},
+                            {"outlet_looks", outlet_looks}};
     // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces); the
     // pipeline's quality measure found them already (flat_quality).
     j["overlaps"] = {{"triangles", q.overlapping_faces},

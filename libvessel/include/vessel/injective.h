@@ -15,6 +15,15 @@ namespace vessel {
 //! \throw SolverError if the sparse factorization fails.
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh);
 
+//! \brief Tutte embedding with the boundary held at given positions: every interior vertex at
+//! the average of its neighbours. Free of flipped triangles when \p boundary is a convex polygon
+//! walked clockwise along the boundary halfedges (as on tutte_embedding()'s circle).
+//! \param boundary a position for every boundary vertex (and for no other vertex).
+//! \return |V| x 2, row `v.idx()`, scaled to the surface's 3D area.
+//! \throw InvalidInputError if a boundary vertex has no position or an interior one has.
+//! \throw SolverError if the sparse factorization fails.
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh, const Pins& boundary);
+
 struct InjectiveOptions
 {
     int max_iterations = 100;  //!< SLIM iterations

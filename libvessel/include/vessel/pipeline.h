@@ -11,6 +11,8 @@
 #include "vessel/geodesic.h"
 #include "vessel/injective.h"
 #include "vessel/layout.h"
+#include "vessel/layout_circle.h"
+#include "vessel/map_look.h"
 #include "vessel/metrics.h"
 #include "vessel/relief_cut.h"
 #include "vessel/untangle.h"
@@ -91,8 +93,9 @@ struct FlattenOptions
     std::shared_ptr<const Layout> layout;
     Initialization initialization = Initialization::LayoutLscm;
     //! Step 7 refinement. With Injective, when untangling fails or the map at the layout
-    //! overlaps itself (see `overlaps`), the map restarts from the Tutte embedding: the
-    //! layout's arrangement is then lost (the loops keep their order around the map). Noted in
+    //! overlaps itself (see `overlaps`), the map restarts from a Tutte embedding (by default
+    //! the layout circle, restart_on_layout_circle: inlet at the bottom, outlets near their
+    //! layout bearings; the pins are dropped, so SLIM may still move them). Noted in
     //! FlattenResult::notes. When the LSCM map at the layout already crosses itself, the restart
     //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
     //! ::untangle stay empty).
@@ -110,6 +113,12 @@ struct FlattenOptions
     //! from Tutte; 3-outlet tree phantom 0.0778 vs 0.0814) and costs more time.
     bool keep_layout_look = false;
     FanStartOptions fan_start;  //!< the fan start of keep_layout_look
+    //! With Refinement::Injective, when the map restarts (and keep_layout_look found no start):
+    //! start from the layout circle (layout_circle.h: Tutte's circle walked so that the inlet is
+    //! at the bottom and each outlet near its layout bearing) instead of Tutte's constant-speed
+    //! circle. CLI `--restart-circle layout|tutte`.
+    bool restart_on_layout_circle = true;
+    LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
@@ -158,6 +167,9 @@ struct FlattenResult
     InjectiveSummary injective;       //!< the SLIM run (Refinement::Injective)
     UntangleSummary untangle;         //!< the flip removal (Refinement::Injective)
     FlatQuality quality;
+    //! How the map keeps the layout's look (map_look.h): inlet at the bottom, outlets in the
+    //! layout's fan order and directions. Empty (no outlets) for a surface flattened without cuts.
+    MapLook look;
     StageTimings timings;
     std::vector<std::string> notes;  //!< fallbacks taken, one line each
 };
