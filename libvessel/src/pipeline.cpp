@@ -164,7 +164,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
                      : descent_direction(mesh, zstage.H);
     result.plan = forced_plan ? *forced_plan
                               : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
-                                          stream);
+                                          stream, zstage.H);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 
