@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace vessel {
@@ -45,6 +46,8 @@ WindingMeter::WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal
                                 " vertices; pass one per vertex, indexed by v.idx()");
     half_width_ = options_.band * mean_edge_length(mesh);
     stamp_.assign(mesh.n_vertices(), -1);
+    direction_.assign(mesh.n_vertices(),
+                      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
 
 namespace {
@@ -105,10 +108,14 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
     for (auto v : ring.vertices)
     {
         ring.centre += to_eigen(mesh_.point(v));
-        const Eigen::Vector3d g = gradient_at(mesh_, u_, v);
-        const double length = g.norm();
-        if (length > 0.0)
-            axis += g / length;
+        Eigen::Vector3d& unit = direction_[static_cast<std::size_t>(v.idx())];
+        if (std::isnan(unit.x()))
+        {
+            const Eigen::Vector3d g = gradient_at(mesh_, u_, v);
+            const double length = g.norm();
+            unit = length > 0.0 ? Eigen::Vector3d(g / length) : Eigen::Vector3d::Zero();
+        }
+        axis += unit;
     }
     ring.centre /= n;
     if (!(axis.norm() > 0.0))

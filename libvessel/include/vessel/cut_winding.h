@@ -45,8 +45,8 @@ struct PathWinding
 //! vessel axis; the angle of p around that axis is measured against a reference direction that
 //! is parallel-transported from ring to ring by the minimal rotation between consecutive axes
 //! (a discrete rotation-minimizing frame). Where the band is no clean ring the frame restarts
-//! and that stretch adds nothing. O(ring size) per cut vertex; the meter keeps one |V| scratch
-//! array, so measure many cuts with one meter.
+//! and that stretch adds nothing. O(ring size) per cut vertex; the meter keeps two |V| scratch
+//! arrays (marks, cached gradients), so measure many cuts with one meter.
 class WindingMeter
 {
 public:
@@ -72,6 +72,9 @@ private:
     double half_width_ = 0.0;
     mutable std::vector<int> stamp_;  // BFS marks, by vertex
     mutable int round_ = 0;
+    //! Unit gradient of u per vertex, computed when a ring first reaches the vertex (NaN
+    //! until then): consecutive rings of a cut share most of their vertices.
+    mutable std::vector<Eigen::Vector3d> direction_;
 };
 
 //! Seam-level figures over cuts.
