@@ -1,5 +1,7 @@
 #include "vessel/cut_plan.h"
 
+#include "vessel/cut_winding.h"
+
 #include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
@@ -30,6 +32,11 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
     if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
         throw InvalidInputError("CutPlanOptions: aligned_min_gain must be finite and >= 0");
+    if (!(winding_min_gain_deg >= 0.0) || !std::isfinite(winding_min_gain_deg))
+        throw InvalidInputError("CutPlanOptions: winding_min_gain_deg must be finite and >= 0");
+    if (!(winding_max_alignment_loss >= 0.0) || !std::isfinite(winding_max_alignment_loss))
+        throw InvalidInputError(
+            "CutPlanOptions: winding_max_alignment_loss must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -309,20 +316,47 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDista
     return path;
 }
 
+CutPath as_cut(const Mesh& mesh, const GraphPath& p)
+{
+    CutPath c;
+    c.halfedges = p.halfedges;
+    c.start = mesh.from_vertex_handle(p.halfedges.front());
+    return c;
+}
+
+// CutRoute::Aligned: whether the traced path replaces the cheapest one. With a winding meter,
+// when it winds clearly less and is not much worse aligned; otherwise (or without a meter)
+// when it follows the stream field clearly better.
+bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& traced,
+                 const Eigen::MatrixX3d& stream_field, const WindingMeter* meter,
+                 const CutPlanOptions& options)
+{
+    const CutPath a = as_cut(mesh, cheapest), b = as_cut(mesh, traced);
+    const double aligned_a = path_alignment(mesh, a, stream_field).mean;
+    const double aligned_b = path_alignment(mesh, b, stream_field).mean;
+    if (meter &&
+        std::abs(meter->measure(b).winding_deg) <
+            std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg &&
+        aligned_b >= aligned_a - options.winding_max_alignment_loss)
+        return true;
+    return aligned_b > aligned_a + options.aligned_min_gain;
+}
+
 }  // namespace
 
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
-                  const CutPlanOptions& options, const Eigen::MatrixX3d& stream_field)
+                  const CutPlanOptions& options, const Eigen::MatrixX3d& stream_field,
+                  const Eigen::VectorXd& longitudinal)
 {
     options.validate();
     CutGraph graph(mesh, weights);
-    return plan_cuts(graph, loops, winding_rate, options, stream_field);
+    return plan_cuts(graph, loops, winding_rate, options, stream_field, longitudinal);
 }
 
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                   const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
-                  const Eigen::MatrixX3d& stream_field)
+                  const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
@@ -337,6 +371,13 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         throw InvalidInputError("plan_cuts: " + std::to_string(loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
     const std::size_t nv = mesh.n_vertices();
+    if (compare && longitudinal.size() != 0 && static_cast<std::size_t>(longitudinal.size()) != nv)
+        throw InvalidInputError("plan_cuts: " + std::to_string(longitudinal.size()) +
+                                " longitudinal values for " + std::to_string(nv) +
+                                " vertices; pass harmonic_longitudinal() of the same mesh, or none");
+    const std::optional<WindingMeter> meter =
+        compare && longitudinal.size() != 0 ? std::optional<WindingMeter>(std::in_place, mesh, longitudinal)
+                                            : std::nullopt;
     const bool nearest_point = options.endpoints == EndpointPolicy::NearestToPoint;
 
     // path_of[v]: first cut through v (-1 if none); loop_of[v]: boundary loop of v (-1 if none).
@@ -456,18 +497,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 band_path(graph, query, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, slack);
-            if (along && compare)
-            {
-                // Keep the traced path only if it follows the field better than the cheapest.
-                const auto alignment = [&](const GraphPath& p) {
-                    CutPath c;
-                    c.halfedges = p.halfedges;
-                    c.start = mesh.from_vertex_handle(p.halfedges.front());
-                    return path_alignment(mesh, c, stream_field).mean;
-                };
-                if (!(alignment(*along) > alignment(found) + options.aligned_min_gain))
-                    along.reset();
-            }
+            if (along && compare && !keep_traced(mesh, found, *along, stream_field,
+                                                  meter ? &*meter : nullptr, options))
+                along.reset();
             if (along)
             {
                 found = std::move(*along);

@@ -92,12 +92,27 @@ Eigen::MatrixX3d vessel_direction(const Mesh& mesh, const PrincipalCurvature& cu
                                   const DirectionOptions& options)
 {
     options.validate();
+    if (options.confident_anisotropy <= 0.0)
+        return align_to_root(mesh, curvature.min_direction, geodesic);
+    return vessel_direction_guided(mesh, curvature, geodesic,
+                                   harmonic_longitudinal(mesh, loops, geodesic), options);
+}
+
+Eigen::MatrixX3d vessel_direction_guided(const Mesh& mesh, const PrincipalCurvature& curvature,
+                                         const Eigen::VectorXd& geodesic,
+                                         const Eigen::VectorXd& longitudinal,
+                                         const DirectionOptions& options)
+{
+    options.validate();
     const Eigen::MatrixX3d z = align_to_root(mesh, curvature.min_direction, geodesic);
     if (options.confident_anisotropy <= 0.0)
         return z;
-    return confident_direction(
-        z, curvature_anisotropy(curvature),
-        descent_direction(mesh, harmonic_longitudinal(mesh, loops, geodesic)), options);
+    if (longitudinal.size() != geodesic.size())
+        throw InvalidInputError("vessel_direction_guided: " + std::to_string(longitudinal.size()) +
+                                " longitudinal values for " + std::to_string(geodesic.size()) +
+                                " distances; pass harmonic_longitudinal() of the same mesh");
+    return confident_direction(z, curvature_anisotropy(curvature),
+                               descent_direction(mesh, longitudinal), options);
 }
 
 }  // namespace vessel

@@ -100,13 +100,15 @@ Pins concat(const Pins& a, const Pins& b)
 }
 
 
-// Stage Z (step 3) on the uncut mesh: boundary loops, geodesic distance from the inlet and the
-// aligned direction field. Also stored as vertex properties, which the seam split copies to the
+// Stage Z (step 3) on the uncut mesh: boundary loops, geodesic distance from the inlet, the
+// harmonic longitudinal coordinate (read by the direction's guide, the streamline route, the
+// winding of the cuts and the report) and the aligned direction field. Also stored as vertex properties, which the seam split copies to the
 // duplicates. A relief cut re-cuts the same surface, so its passes reuse this.
 struct DirectionStage
 {
     std::vector<BoundaryLoop> loops;
     Eigen::VectorXd G;
+    Eigen::VectorXd H;  // harmonic_longitudinal()
     Eigen::MatrixX3d z;
     Eigen::MatrixX3d winding;  // winding_rate() of z, for the cut planner
     double seconds = 0.0;
@@ -123,10 +125,12 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
     const HeatGeodesics heat(mesh, options.geodesic);
     stage.G = heat.distance(stage.loops[0].vertices);
-    stage.z = vessel_direction(mesh, curvature, stage.loops, stage.G, options.direction);
+    stage.H = harmonic_longitudinal(mesh, stage.loops, stage.G);
+    stage.z = vessel_direction_guided(mesh, curvature, stage.G, stage.H, options.direction);
     const Eigen::VectorXd kmax = curvature.k_max.cwiseAbs();
     stage.winding = winding_rate(mesh, stage.z, kmax);
     store<double>(mesh, prop::geodesic, [&](int i) { return stage.G[i]; });
+    store<double>(mesh, prop::longitudinal, [&](int i) { return stage.H[i]; });
     store<double>(mesh, prop::kmax, [&](int i) { return kmax[i]; });
     store<OpenMesh::Vec3d>(mesh, prop::direction,
                            [&](int i) { return to_openmesh(stage.z.row(i).transpose()); });
@@ -161,10 +165,10 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     if (!forced_plan && options.cuts.route != CutRoute::ShortestPath)
         stream = options.cuts.stream_field == StreamField::Direction
                      ? z
-                     : descent_direction(mesh, harmonic_longitudinal(mesh, result.loops, G));
+                     : descent_direction(mesh, zstage.H);
     result.plan = forced_plan ? *forced_plan
                               : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
-                                          stream);
+                                          stream, zstage.H);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 

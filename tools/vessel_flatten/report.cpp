@@ -1,9 +1,11 @@
 #include "report.h"
 
 #include "vessel/cut_metrics.h"
+#include "vessel/cut_winding.h"
 #include "vessel/direction.h"
 #include "vessel/properties.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -13,26 +15,42 @@ namespace vessel::cli {
 
 namespace {
 
-// Alignment of each cut (then of each relief cut) with the harmonic longitudinal direction
-// (cut_metrics.h), measured on the uncut surface: the plan's handles and the first |V|
-// vertices of the cut mesh are its own.
-std::vector<PathAlignment> cut_alignments(const Mesh& uncut, const FlattenResult& r)
+// Stage Z's harmonic longitudinal coordinate of the uncut surface: the first |V| vertices of
+// the cut mesh are its own.
+Eigen::VectorXd longitudinal_of(const Mesh& uncut, const FlattenResult& r)
 {
-    if (r.plan.paths.empty())  // one open end: a disk flattened without cuts
-        return {};
-    OpenMesh::VPropHandleT<double> geodesic_of;
-    if (!r.mesh.get_property_handle(geodesic_of, prop::geodesic))
-        throw std::logic_error("flatten() left no geodesic distance on the cut mesh");
-    Eigen::VectorXd G(static_cast<Eigen::Index>(uncut.n_vertices()));
+    OpenMesh::VPropHandleT<double> longitudinal;
+    if (!r.mesh.get_property_handle(longitudinal, prop::longitudinal))
+        throw std::logic_error("flatten() left no harmonic longitudinal coordinate on the cut mesh");
+    Eigen::VectorXd H(static_cast<Eigen::Index>(uncut.n_vertices()));
     for (auto v : uncut.vertices())
-        G[v.idx()] = r.mesh.property(geodesic_of, VertexHandle(v.idx()));
-    const Eigen::MatrixX3d reference =
-        descent_direction(uncut, harmonic_longitudinal(uncut, r.loops, G));
-    std::vector<PathAlignment> result;
+        H[v.idx()] = r.mesh.property(longitudinal, VertexHandle(v.idx()));
+    return H;
+}
+
+// Each cut (then each relief cut) measured on the uncut surface: its alignment with the
+// harmonic longitudinal direction and its winding (cut_metrics.h, cut_winding.h).
+struct CutFigures
+{
+    std::vector<PathAlignment> aligned;
+    std::vector<PathWinding> winding;
+};
+
+CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
+{
+    CutFigures figures;
+    if (r.plan.paths.empty())  // one open end: a disk flattened without cuts
+        return figures;
+    const Eigen::VectorXd H = longitudinal_of(uncut, r);
+    const Eigen::MatrixX3d reference = descent_direction(uncut, H);
+    const WindingMeter meter(uncut, H);
     for (const auto* list : {&r.plan.paths, &r.plan.relief})
         for (const auto& path : *list)
-            result.push_back(path_alignment(uncut, path, reference));
-    return result;
+        {
+            figures.aligned.push_back(path_alignment(uncut, path, reference));
+            figures.winding.push_back(meter.measure(path));
+        }
+    return figures;
 }
 
 }  // namespace
@@ -68,8 +86,11 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                    {"cut_vertices", r.mesh.n_vertices()},
                    {"seam_edges", r.seam_edges},
                    {"duplicated_vertices", r.duplicated_vertices}};
-    const std::vector<PathAlignment> aligned = cut_alignments(surface.mesh, r);
+    const CutFigures figures = cut_figures(surface.mesh, r);
+    const std::vector<PathAlignment>& aligned = figures.aligned;
     const std::size_t n_paths = r.plan.paths.size();
+    const SeamWinding winding = seam_winding(std::vector<PathWinding>(
+        figures.winding.begin(), figures.winding.begin() + static_cast<std::ptrdiff_t>(n_paths)));
     // The vessel cuts' figure, and the whole seam's (relief cuts too, as flatcheck sees it).
     const PathAlignment seam = seam_alignment(
         std::vector<PathAlignment>(aligned.begin(),
@@ -84,7 +105,11 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                                                  : "cut " + std::to_string(c.parent)},
                         {"edges", c.halfedges.size()},
                         {"cost", c.cost},
-                        {"winding_deg", c.winding_deg},
+                        {"winding_deg", figures.winding[i].winding_deg},
+                        {"winding_span_deg", figures.winding[i].span_deg},
+                        {"winding_measured_fraction",
+                         static_cast<double>(figures.winding[i].measured) /
+                             std::max(1, figures.winding[i].vertices)},
                         {"traced", c.traced},
                         {"length", aligned[i].length},
                         {"alignment", aligned[i].mean},
@@ -117,7 +142,9 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                     {"overlap_fraction", q.overlap_fraction},
                     {"seam_alignment", seam.mean},
                     {"seam_low_alignment_fraction", seam.low_fraction},
-                    {"seam_alignment_with_relief", whole.mean}};
+                    {"seam_alignment_with_relief", whole.mean},
+                    {"seam_mean_abs_winding_deg", winding.mean_abs_deg},
+                    {"seam_max_abs_winding_deg", winding.max_abs_deg}};
     const MapLook& look = r.look;  // map_look.h; bearings 0 = up, +90 = right
     auto outlet_looks = nlohmann::json::array();
     for (const OutletLook& o : look.outlet_looks)

@@ -24,10 +24,13 @@ enum class CutRoute
     //! then cannot drift from an exactly aligned curve by more than the band. Cuts whose
     //! streamline does not arrive (a sink, a cycle, another loop) keep the cheapest path.
     Streamline,
-    //! Per cut, both of the above, keeping the one better aligned with the stream field
-    //! (path_alignment() of cut_metrics.h, windowed |cos| against the field); ties keep the
-    //! cheapest path. A measured rule per cut, not per mesh: the cheapest path where it
-    //! already follows the vessel, the traced one where the cheapest path drifts.
+    //! Per cut, both of the above, keeping the one that winds less around the vessel
+    //! (WindingMeter of cut_winding.h, when plan_cuts() gets the longitudinal coordinate;
+    //! CutPlanOptions::winding_min_gain_deg, winding_max_alignment_loss), or else the one
+    //! better aligned with the stream field (path_alignment() of cut_metrics.h, windowed |cos|
+    //! against the field); ties keep the cheapest path. A measured rule per cut, not per
+    //! mesh: the cheapest path where it already follows the vessel, the traced one where the
+    //! cheapest path drifts or winds.
     Aligned,
 };
 
@@ -107,6 +110,17 @@ struct CutPlanOptions
     //! bound there) and of AneuRisk (0.016; without it AneuRisk's flatcheck seam is 0.884).
     //! Drifting cuts gain 0.04-0.28 (docs/results.md).
     double aligned_min_gain = 0.015;
+    //! CutRoute::Aligned with a longitudinal coordinate: the traced path replaces the cheapest
+    //! one if it winds less by more than this many degrees (WindingMeter, end to end) ...
+    //! Measured with 0.05 below (docs/results.md): the yardstick's largest per-path winding
+    //! drops on SimVascular demo 180 -> 36, vmtk aorta 96 -> 53, coronary clinical 77 -> 15,
+    //! artery 39 -> 8 and stays on AneuRisk, Glenn and the coronary phantom; flatcheck's seam
+    //! alignment >= 0.92 everywhere. 30 keeps the aorta's 96-degree cut (its gain is 21).
+    double winding_min_gain_deg = 15.0;
+    //! ... and its alignment with the stream field is at most this much lower (|cos| units).
+    //! 0.05 admits the demo's branch cut (loss 0.037); 0.1 also admits a Glenn cut (0.059)
+    //! whose change moves later cuts and raises Glenn's largest winding 69 -> 93.
+    double winding_max_alignment_loss = 0.05;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
@@ -158,16 +172,20 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
 //! \param stream_field |V| x 3 field toward the root traced by CutRoute::Streamline (see
 //! StreamField); unused (may be empty) with CutRoute::ShortestPath.
+//! \param longitudinal |V| harmonic_longitudinal() values: CutRoute::Aligned then chooses by
+//! winding (WindingMeter); empty = by alignment only.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
 //! reach the cut tree; if the route is Streamline and \p stream_field has not |V| rows.
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options = {},
-                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d());
+                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d(),
+                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd());
 
 //! plan_cuts() on a cut graph already built (flatten() builds it in stage GC); the same plan.
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                   const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options = {},
-                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d());
+                  const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d(),
+                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd());
 
 }  // namespace vessel

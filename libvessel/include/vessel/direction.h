@@ -81,4 +81,14 @@ Eigen::MatrixX3d vessel_direction(const Mesh& mesh, const PrincipalCurvature& cu
                                   const Eigen::VectorXd& geodesic,
                                   const DirectionOptions& options = {});
 
+//! \brief vessel_direction() with the harmonic longitudinal coordinate already at hand
+//! (flatten() computes it once in stage Z and reuses it): no factorization here.
+//! \param geodesic |V| distances from the inlet. \param longitudinal |V| values of
+//! harmonic_longitudinal(); unused when `options.confident_anisotropy` is 0.
+//! \throw InvalidInputError if sizes disagree or the options are invalid.
+Eigen::MatrixX3d vessel_direction_guided(const Mesh& mesh, const PrincipalCurvature& curvature,
+                                         const Eigen::VectorXd& geodesic,
+                                         const Eigen::VectorXd& longitudinal,
+                                         const DirectionOptions& options = {});
+
 }  // namespace vessel

@@ -20,6 +20,9 @@ inline constexpr const char* origin = "vessel:origin";
 inline constexpr const char* geodesic = "vessel:geodesic";
 //! `OpenMesh::Vec3d` per vertex: unit vessel direction z, pointing toward the root (inlet).
 inline constexpr const char* direction = "vessel:direction";
+//! `double` per vertex: harmonic longitudinal coordinate (harmonic_longitudinal() of
+//! cut_metrics.h: 0 on the inlet, rising along every vessel), computed once in stage Z.
+inline constexpr const char* longitudinal = "vessel:longitudinal";
 //! `double` per vertex: maximal principal curvature magnitude (1 / local vessel radius).
 inline constexpr const char* kmax = "vessel:kmax";
 //! `OpenMesh::Vec2d` per vertex: flattened (u, v) coordinates.

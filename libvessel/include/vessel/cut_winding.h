@@ -1,0 +1,90 @@
+#pragma once
+
+#include "vessel/cut_plan.h"
+
+#include <vector>
+
+namespace vessel {
+
+//! How a cut's winding around its vessel is measured (WindingMeter).
+struct WindingOptions
+{
+    //! Half-width of a ring, in mean edge lengths: the ring through a vertex p is the connected
+    //! band of vertices whose longitudinal value lies within band x mean edge of p's. 0.5 (as
+    //! the shared yardstick seamwinding.py) holds one vertex per column on a regular tube.
+    double band = 0.5;
+    //! Fewer vertices than this and the band is no ring (the end of a loop, a thin strip).
+    int min_ring_vertices = 8;
+    //! A band counts as a ring only if the spread (std / mean) of its vertices' distances to
+    //! the local axis is below this; junctions and aneurysm sacs are not round and are skipped.
+    double max_spread = 0.25;
+    //! ... and only if the cut's vertex lies at least this fraction of the mean radius off the
+    //! axis (an angle is ill-defined near the axis).
+    double min_offset = 0.5;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! How far one cut winds around its vessel.
+struct PathWinding
+{
+    //! Signed angle (degrees) gained around the vessel from the cut's first to its last
+    //! measured vertex, in a rotation-minimizing frame: 0 for a cut that keeps to one side
+    //! (a line of minimal curvature on a canal surface), 360 for one full turn.
+    double winding_deg = 0.0;
+    double span_deg = 0.0;  //!< largest minus smallest cumulative angle along the cut
+    int measured = 0;       //!< path vertices that lie on a clean ring (the others add 0)
+    int vertices = 0;       //!< vertices of the path
+    double length = 0.0;    //!< 3D length of the path
+};
+
+//! \brief Ring-based winding of cuts (the library's version of the yardstick seamwinding.py).
+//!
+//! At every vertex p of a cut: the ring through p (WindingOptions::band) of the harmonic
+//! longitudinal coordinate u; its centroid and the mean gradient of u over it give the local
+//! vessel axis; the angle of p around that axis is measured against a reference direction that
+//! is parallel-transported from ring to ring by the minimal rotation between consecutive axes
+//! (a discrete rotation-minimizing frame). Where the band is no clean ring the frame restarts
+//! and that stretch adds nothing. O(ring size) per cut vertex; the meter keeps two |V| scratch
+//! arrays (marks, cached gradients), so measure many cuts with one meter.
+class WindingMeter
+{
+public:
+    //! \param mesh the uncut surface (cut copies keep the first |V| vertices, but rings must
+    //! close around the vessel). \param longitudinal |V| values, e.g. harmonic_longitudinal().
+    //! \throw InvalidInputError if sizes disagree or options are invalid.
+    WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
+                 const WindingOptions& options = {});
+
+    //! \throw InvalidInputError if the path leaves the mesh's vertex range.
+    PathWinding measure(const CutPath& path) const;
+
+    //! The same for a path given as its vertices, in order.
+    PathWinding measure(const std::vector<VertexHandle>& path) const;
+
+private:
+    struct Ring;
+    bool ring_at(VertexHandle p, Ring& ring) const;
+
+    const Mesh& mesh_;
+    Eigen::VectorXd u_;  // a copy: the meter may outlive the caller's field
+    WindingOptions options_;
+    double half_width_ = 0.0;
+    mutable std::vector<int> stamp_;  // BFS marks, by vertex
+    mutable int round_ = 0;
+    //! Unit gradient of u per vertex, computed when a ring first reaches the vertex (NaN
+    //! until then): consecutive rings of a cut share most of their vertices.
+    mutable std::vector<Eigen::Vector3d> direction_;
+};
+
+//! Seam-level figures over cuts.
+struct SeamWinding
+{
+    double mean_abs_deg = 0.0;  //!< length-weighted mean of |winding_deg|
+    double max_abs_deg = 0.0;   //!< largest |winding_deg|
+};
+
+//! Length-weighted mean and max of per-cut |winding| (all zero when there are none).
+SeamWinding seam_winding(const std::vector<PathWinding>& paths);
+
+}  // namespace vessel
