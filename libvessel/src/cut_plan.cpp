@@ -1,8 +1,7 @@
 #include "vessel/cut_plan.h"
 
-#include "vessel/cut_winding.h"
-
 #include "vessel/cut_metrics.h"
+#include "vessel/cut_winding.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
 #include "detail/edge_distance.h"
