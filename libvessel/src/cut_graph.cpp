@@ -233,16 +233,11 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
     return path;
 }
 
-GraphPath CutGraph::path_of(std::vector<HalfedgeHandle> halfedges,
-                            const Eigen::MatrixX3d& winding_rate) const
+GraphPath CutGraph::path_of(std::vector<HalfedgeHandle> halfedges) const
 {
     GraphPath path;
     for (auto h : halfedges)
-    {
         path.cost += weights_[h.idx()];
-        if (winding_rate.rows() != 0)
-            path.winding_rad += winding_step(mesh_, winding_rate, h);
-    }
     path.halfedges = std::move(halfedges);
     return path;
 }

@@ -278,7 +278,7 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
 // \p excess (the path would run on beside the tree), and joined to the tree from v over the
 // shortest bridge (tree.via); unchanged if there is no such vertex.
 GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDistance& tree,
-                   double reach, double excess, const Eigen::MatrixX3d& winding_rate)
+                   double reach, double excess)
 {
     const Mesh& mesh = graph.mesh();
     const std::size_t n = path.halfedges.size();
@@ -310,7 +310,7 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDista
             else
                 halfedges.push_back(mesh.find_halfedge(VertexHandle(u), VertexHandle(w)));
         }
-        return graph.path_of(std::move(halfedges), winding_rate);
+        return graph.path_of(std::move(halfedges));
     }
     return path;
 }
@@ -473,7 +473,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         {
             const double radius = loops[l].arc_length / (2.0 * M_PI);
             found = cut_back(graph, found, tree, options.join_reach * radius,
-                             options.join_excess * radius, winding_rate);
+                             options.join_excess * radius);
         }
         if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
         {
@@ -510,7 +510,6 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         cut.outlet = static_cast<int>(l);
         cut.halfedges = std::move(found.halfedges);
         cut.cost = found.cost;
-        cut.winding_deg = found.winding_rad * 180.0 / M_PI;
         cut.start = mesh.from_vertex_handle(cut.halfedges.front());
         cut.end = mesh.to_vertex_handle(cut.halfedges.back());
         cut.parent = l == 1 ? -1 : path_of[cut.end.idx()];

@@ -53,11 +53,9 @@ public:
 
     const Mesh& mesh() const { return mesh_; }  //!< the mesh the graph was built on
 
-    //! \brief A given route as a GraphPath: the sum of its weights and, when \p winding_rate has
-    //! rows (PathQuery::winding_rate), the angle it gains around the vessel.
+    //! \brief A given route as a GraphPath: its halfedges and the sum of their weights.
     //! \param halfedges consecutive halfedges, head to tail.
-    GraphPath path_of(std::vector<HalfedgeHandle> halfedges,
-                      const Eigen::MatrixX3d& winding_rate) const;
+    GraphPath path_of(std::vector<HalfedgeHandle> halfedges) const;
 
 private:
     void relax(int v, double d, int parent);  // d < dist_[v]: lower it, place v in the heap

@@ -142,7 +142,6 @@ struct CutPath
     VertexHandle start;                     //!< vertex on the outlet loop
     VertexHandle end;                       //!< vertex on the inlet or on the parent cut
     double cost = 0.0;
-    double winding_deg = 0.0;  //!< signed angle gained around the vessel along the cut
     bool traced = false;  //!< taken in the band of a streamline (CutRoute::Streamline)
 };
 
