@@ -101,20 +101,13 @@ Eigen::MatrixX2d layout_circle_start(const LayoutInput& input, const LayoutResul
     }
     // Layout bearings (0 = up, clockwise), unwrapped so that the walk, which starts at the
     // inlet's right end (bearing 180 - w0 / 2), meets them increasing.
-    Eigen::MatrixX2d at_layout = Eigen::MatrixX2d::Zero(mesh.n_vertices(), 2);
-    for (const Pins* pins : {&placed.inlet, &placed.outlets})
-        for (const Pin& pin : *pins)
-            at_layout.row(pin.vertex.idx()) = pin.uv.transpose();
-    const MapLook look = map_look(mesh, at_layout, input.segments, placed);
+    const std::vector<double> bearing = layout_bearings(mesh, input.segments, placed);
     const double w0 = runs[0].width;
     runs[0].target = 180.0;
     for (std::size_t k = 1; k < runs.size(); ++k)
     {
-        const int l = input.segments[k].loop;
-        double b = 0.0;
-        for (const OutletLook& o : look.outlet_looks)
-            if (o.loop == l)
-                b = options.bearing_scale * o.layout_bearing_deg;
+        const double b =
+            options.bearing_scale * bearing[static_cast<std::size_t>(input.segments[k].loop)];
         // Bearings past the inlet's ends (pointing below it) go to the ends' side.
         const double layout_target = 360.0 + std::clamp(b, -180.0 + 0.5 * w0, 180.0 - 0.5 * w0);
         const double tutte = 180.0 - 0.5 * w0 +

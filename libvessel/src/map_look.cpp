@@ -55,14 +55,51 @@ double wrapped_deg(double a)
 
 int sign(double x) { return (x > 0.0) - (x < 0.0); }
 
-}  // namespace
-
-MapLook map_look(const Mesh& mesh, const Eigen::MatrixX2d& uv,
-                 const std::vector<BoundarySegment>& segments, const LayoutResult& layout)
+// One side (the map or the layout) read from its own inlet chord: the frame and every loop's
+// centre (mean of its vertices' positions; count 0 = the loop has no segment).
+struct LoopView
 {
-    detail::require_uv_rows(mesh, uv, "map_look");
-    const int n = static_cast<int>(mesh.n_vertices());
-    Eigen::MatrixX2d placed(n, 2);
+    InletFrame frame;
+    std::vector<Eigen::Vector2d> centre;
+    std::vector<int> count;
+};
+
+LoopView loop_view(const Eigen::MatrixX2d& at, const std::vector<BoundarySegment>& segments)
+{
+    const BoundarySegment* inlet = nullptr;
+    int loops = 0;
+    for (const BoundarySegment& s : segments)
+    {
+        if (s.loop == 0 && !s.vertices.empty())
+            inlet = &s;
+        loops = std::max(loops, s.loop + 1);
+    }
+    if (!inlet)
+        throw InvalidInputError("map_look: no inlet segment (loop 0); pass boundary_segments() "
+                                "of the cut mesh");
+    LoopView view;
+    view.centre.assign(loops, Eigen::Vector2d::Zero());
+    view.count.assign(loops, 0);
+    for (const BoundarySegment& s : segments)
+        for (VertexHandle v : s.vertices)
+        {
+            view.centre[s.loop] += at.row(v.idx()).transpose();
+            ++view.count[s.loop];
+        }
+    for (std::size_t l = 0; l < view.centre.size(); ++l)
+        if (view.count[l] > 0)
+            view.centre[l] /= view.count[l];
+    // The inlet's first vertex is its right end, its last its left end.
+    view.frame = inlet_frame(at.row(inlet->vertices.front().idx()).transpose(),
+                             at.row(inlet->vertices.back().idx()).transpose());
+    return view;
+}
+
+// The layout's pins as a |V| x 2 matrix; every loop vertex of \p segments must have one.
+Eigen::MatrixX2d pinned_layout(int n, const std::vector<BoundarySegment>& segments,
+                               const LayoutResult& layout)
+{
+    Eigen::MatrixX2d placed = Eigen::MatrixX2d::Zero(n, 2);
     std::vector<char> has_pin(n, 0);
     for (const Pins* pins : {&layout.inlet, &layout.outlets})
         for (const Pin& pin : *pins)
@@ -71,37 +108,39 @@ MapLook map_look(const Mesh& mesh, const Eigen::MatrixX2d& uv,
                 placed.row(pin.vertex.idx()) = pin.uv.transpose();
                 has_pin[pin.vertex.idx()] = 1;
             }
-    const BoundarySegment* inlet = nullptr;
-    for (const BoundarySegment& s : segments)
-        if (s.loop == 0 && !s.vertices.empty())
-            inlet = &s;
-    if (!inlet)
-        throw InvalidInputError("map_look: no inlet segment (loop 0); pass boundary_segments() "
-                                "of the cut mesh");
-    // Loop centres (mean of the loop's vertices), in the map and in the layout.
-    int loops = 0;
-    for (const BoundarySegment& s : segments)
-        loops = std::max(loops, s.loop + 1);
-    std::vector<Eigen::Vector2d> in_map(loops, Eigen::Vector2d::Zero());
-    std::vector<Eigen::Vector2d> in_layout(loops, Eigen::Vector2d::Zero());
-    std::vector<int> count(loops, 0);
     for (const BoundarySegment& s : segments)
         for (VertexHandle v : s.vertices)
-        {
             if (!has_pin[v.idx()])
                 throw InvalidInputError("map_look: vertex " + std::to_string(v.idx()) + " of loop " +
                                         std::to_string(s.loop) +
                                         " has no layout pin; pass the layout of this cut mesh");
-            in_map[s.loop] += uv.row(v.idx()).transpose();
-            in_layout[s.loop] += placed.row(v.idx()).transpose();
-            ++count[s.loop];
-        }
-    const auto end = [&](const Eigen::MatrixX2d& at, bool right) -> Eigen::Vector2d {
-        const VertexHandle v = right ? inlet->vertices.front() : inlet->vertices.back();
-        return at.row(v.idx()).transpose();
-    };
-    const InletFrame map_frame = inlet_frame(end(uv, true), end(uv, false));
-    const InletFrame layout_frame = inlet_frame(end(placed, true), end(placed, false));
+    return placed;
+}
+
+}  // namespace
+
+std::vector<double> layout_bearings(const Mesh& mesh,
+                                    const std::vector<BoundarySegment>& segments,
+                                    const LayoutResult& layout)
+{
+    const LoopView view =
+        loop_view(pinned_layout(static_cast<int>(mesh.n_vertices()), segments, layout), segments);
+    std::vector<double> bearing(view.centre.size(), 0.0);
+    for (std::size_t l = 1; l < view.centre.size(); ++l)
+        if (view.count[l] > 0)
+            bearing[l] = view.frame.bearing_deg(view.centre[l]);
+    return bearing;
+}
+
+MapLook map_look(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                 const std::vector<BoundarySegment>& segments, const LayoutResult& layout)
+{
+    detail::require_uv_rows(mesh, uv, "map_look");
+    const LoopView map = loop_view(uv, segments);
+    const LoopView planned =
+        loop_view(pinned_layout(static_cast<int>(mesh.n_vertices()), segments, layout), segments);
+    const InletFrame& map_frame = map.frame;
+    const int loops = static_cast<int>(map.centre.size());
 
     MapLook look;
     double area = 0.0, below = 0.0;
@@ -123,15 +162,14 @@ MapLook map_look(const Mesh& mesh, const Eigen::MatrixX2d& uv,
             rank[s.loop] = walked++;
     for (int l = 1; l < loops; ++l)
     {
-        if (count[l] == 0)
+        if (map.count[l] == 0)
             continue;
         OutletLook o;
         o.loop = l;
         o.walk_rank = rank[l];
-        const Eigen::Vector2d m = in_map[l] / count[l], p = in_layout[l] / count[l];
-        o.map_bearing_deg = map_frame.bearing_deg(m);
-        o.layout_bearing_deg = layout_frame.bearing_deg(p);
-        o.below_inlet = map_frame.local(m).y() < 0.0;
+        o.map_bearing_deg = map_frame.bearing_deg(map.centre[l]);
+        o.layout_bearing_deg = planned.frame.bearing_deg(planned.centre[l]);
+        o.below_inlet = map_frame.local(map.centre[l]).y() < 0.0;
         look.outlets_below_inlet += o.below_inlet;
         const double error = std::abs(wrapped_deg(o.map_bearing_deg - o.layout_bearing_deg));
         look.mean_bearing_error_deg += error;

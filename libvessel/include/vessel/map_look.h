@@ -57,4 +57,13 @@ struct MapLook
 MapLook map_look(const Mesh& mesh, const Eigen::MatrixX2d& uv,
                  const std::vector<BoundarySegment>& segments, const LayoutResult& layout);
 
+//! \brief The layout's own bearing of every outlet loop (OutletLook::layout_bearing_deg without
+//! a map): the loop's centre seen from the middle of the layout's inlet chord, in degrees
+//! (0 = up, +90 = right). Parameters as map_look().
+//! \return one value per loop index (entry 0, the inlet, and loops without a segment are 0).
+//! \throw InvalidInputError as map_look().
+std::vector<double> layout_bearings(const Mesh& mesh,
+                                    const std::vector<BoundarySegment>& segments,
+                                    const LayoutResult& layout);
+
 }  // namespace vessel
