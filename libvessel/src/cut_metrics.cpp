@@ -10,8 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
 #include <string>
+#include <vector>
 
 namespace vessel {
 

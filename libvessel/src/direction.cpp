@@ -91,11 +91,12 @@ Eigen::MatrixX3d vessel_direction(const Mesh& mesh, const PrincipalCurvature& cu
                                   const Eigen::VectorXd& geodesic,
                                   const DirectionOptions& options)
 {
-    options.validate();
-    if (options.confident_anisotropy <= 0.0)
-        return align_to_root(mesh, curvature.min_direction, geodesic);
-    return vessel_direction_guided(mesh, curvature, geodesic,
-                                   harmonic_longitudinal(mesh, loops, geodesic), options);
+    options.validate();  // before the solve below
+    // The guide is solved only when the blend reads it.
+    const Eigen::VectorXd longitudinal = options.confident_anisotropy > 0.0
+                                             ? harmonic_longitudinal(mesh, loops, geodesic)
+                                             : Eigen::VectorXd();
+    return vessel_direction_guided(mesh, curvature, geodesic, longitudinal, options);
 }
 
 Eigen::MatrixX3d vessel_direction_guided(const Mesh& mesh, const PrincipalCurvature& curvature,

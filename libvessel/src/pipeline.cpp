@@ -102,8 +102,9 @@ Pins concat(const Pins& a, const Pins& b)
 
 // Stage Z (step 3) on the uncut mesh: boundary loops, geodesic distance from the inlet, the
 // harmonic longitudinal coordinate (read by the direction's guide, the streamline route, the
-// winding of the cuts and the report) and the aligned direction field. Also stored as vertex properties, which the seam split copies to the
-// duplicates. A relief cut re-cuts the same surface, so its passes reuse this.
+// winding of the cuts and the report) and the aligned direction field. Also stored as vertex
+// properties, which the seam split copies to the duplicates. A relief cut re-cuts the same
+// surface, so its passes reuse this.
 struct DirectionStage
 {
     std::vector<BoundaryLoop> loops;
