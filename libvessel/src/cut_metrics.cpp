@@ -154,11 +154,16 @@ double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, d
     std::vector<double> dist(mesh.n_vertices(), std::numeric_limits<double>::infinity());
     std::vector<int> via(mesh.n_vertices(), -1);
     detail::grow_edge_distance(mesh, seeds, dist, via, [](int) { return true; }, distance);
-    const auto near = [&](VertexHandle v) { return dist[v.idx()] <= distance; };
+    // Within `distance`, an edge counts by the part of its length that does not bring the cut
+    // closer to the tree: a head-on approach scores ~0, a run at a constant offset its length.
     double length = 0.0;
     for (auto h : plan.paths[index].halfedges)
-        if (near(mesh.from_vertex_handle(h)) && near(mesh.to_vertex_handle(h)))
-            length += mesh.calc_edge_length(h);
+    {
+        const double a = dist[mesh.from_vertex_handle(h).idx()];
+        const double b = dist[mesh.to_vertex_handle(h).idx()];
+        if (a <= distance && b <= distance)
+            length += std::max(0.0, mesh.calc_edge_length(h) - (a - b));
+    }
     return length;
 }
 

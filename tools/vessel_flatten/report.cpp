@@ -97,6 +97,8 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                                    aligned.begin() + static_cast<std::ptrdiff_t>(n_paths)));
     const PathAlignment whole = seam_alignment(aligned);
     nlohmann::json cuts = nlohmann::json::array();
+    // beside_length within the default join reach (outlet radii), whatever --join-reach was.
+    const double beside_reach = CutPlanOptions{}.join_reach;
     for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
     {
         const CutPath& c = r.plan.paths[i];
@@ -115,7 +117,8 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"alignment", aligned[i].mean},
                         {"beside_length",
                          beside_length(surface.mesh, r.plan, i,
-                                       r.loops[static_cast<std::size_t>(c.outlet)].arc_length /
+                                       beside_reach *
+                                           r.loops[static_cast<std::size_t>(c.outlet)].arc_length /
                                            (2.0 * M_PI))}});
     }
     j["cuts"] = cuts;
