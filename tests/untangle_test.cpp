@@ -8,6 +8,7 @@
 #include "vessel/untangle.h"
 #include "vessel/validation.h"
 
+#include <array>
 #include <utility>
 
 using namespace vessel;
@@ -111,6 +112,48 @@ TEST_CASE("injective: with a scaffold, SLIM from the Tutte map keeps a cut cylin
             CHECK(s.scaffold_rebuilds < s.iterations + s.scaffold_passes);
         MESSAGE(s.report);
     }
+}
+
+TEST_CASE("injective: steps stopped by a surface triangle are not continued on a new scaffold")
+{
+    // Re-triangulating the scaffold only for steps that a scaffold triangle stopped keeps the
+    // map one-to-one and flip-free with no more triangulations than doing it for every stopped
+    // step (on this cut cylinder scaffold triangles stop all of them: both runs are the same).
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
+    std::array<InjectiveSummary, 2> runs;
+    for (const bool continue_surface : {false, true})
+    {
+        CAPTURE(continue_surface);
+        Eigen::MatrixX2d uv = tutte_embedding(mesh);
+        InjectiveOptions options;
+        options.scaffold = true;
+        options.max_iterations = 30;
+        options.scaffold_continue_surface_blocked = continue_surface;
+        const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
+        CHECK(s.final_energy < s.initial_energy);
+        CHECK(test::count_flips(mesh, uv) == 0);
+        CHECK(boundary_self_intersection(mesh, uv).first == -1);
+        runs[continue_surface ? 1 : 0] = s;
+        MESSAGE(s.report);
+    }
+    CHECK(runs[0].scaffold_rebuilds <= runs[1].scaffold_rebuilds);
+    CHECK(runs[0].scaffold_passes <= runs[1].scaffold_passes);
+}
+
+TEST_CASE("injective: on a map of more than 100k vertices (the global step ordered by METIS) "
+          "SLIM with a scaffold stays flip-free and one-to-one")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 200, 520);
+    REQUIRE(mesh.n_vertices() > 100000);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    InjectiveOptions options;
+    options.scaffold = true;
+    options.max_iterations = 3;
+    const InjectiveSummary s = injective_refine(mesh, uv, {}, options);
+    CHECK(s.final_energy < s.initial_energy);
+    CHECK(test::count_flips(mesh, uv) == 0);
+    CHECK(boundary_self_intersection(mesh, uv).first == -1);
+    MESSAGE(s.report);
 }
 
 TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map; the "

@@ -174,14 +174,16 @@ double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x, in
 // Largest step t in (0, 1] along d that keeps every triangle positively oriented (Smith and
 // Schaefer 2015): det of the corner-difference matrix is quadratic in t; stop short of its first
 // positive root.
+// Only ops[first ..] count (the scaffold's triangles: first = the surface's face count).
 double max_injective_step(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& d, int threads)
+                          const Eigen::VectorXd& d, int threads, std::size_t first = 0)
 {
     std::array<double, 2> partial{1.0, 1.0};
     const int used = std::min(threads, 2);
-    parallel_chunks(ops.size(), used, [&](std::size_t begin, std::size_t end, int t) {
+    const std::size_t count = ops.size() - std::min(first, ops.size());
+    parallel_chunks(count, used, [&](std::size_t begin, std::size_t end, int t) {
         double t_max = 1.0;
-        for (std::size_t f = begin; f < end; ++f)
+        for (std::size_t f = first + begin; f < first + end; ++f)
         {
             const FaceOperator& op = ops[f];
             const int i = op.corner[0], j = op.corner[1], k = op.corner[2];
@@ -614,21 +616,31 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     if (!scaffold)
         analyse();  // the pattern never changes
     std::vector<std::vector<double>> partial_values(threads - 1);
+    Eigen::VectorXd line_trial;  // the line search's trial point, kept (no 2|V|-vector per try)
     std::vector<Eigen::VectorXd> partial_rhs(threads);
 
     // Largest step along d that flips no triangle, halved until the energy does not grow:
-    // (step, the flip bound, energy there).
+    // (step, the flip bound, energy there, and 1 if the step stopped at that bound and the
+    // bound is a scaffold triangle's (faces past the surface's), else 0).
     const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
                                  const Eigen::VectorXd& dir, double e0) {
         const double bound = max_injective_step(faces, y, dir, threads);
         double step = bound;
-        double e1 = energy(faces, y + step * dir, threads);
+        Eigen::VectorXd& trial = line_trial;
+        trial = y + step * dir;
+        double e1 = energy(faces, trial, threads);
         while (!(e1 <= e0) && step > 1e-12)
         {
             step *= 0.5;
-            e1 = energy(faces, y + step * dir, threads);
+            trial = y + step * dir;
+            e1 = energy(faces, trial, threads);
         }
-        return std::array<double, 3>{step, bound, e1};
+        const bool at_bound = step < 1.0 && step == bound;
+        const bool by_scaffold =
+            at_bound && faces.size() > surface.size() &&
+            (options.scaffold_continue_surface_blocked ||
+             max_injective_step(faces, y, dir, threads, surface.size()) <= bound);
+        return std::array<double, 4>{step, bound, e1, by_scaffold ? 1.0 : 0.0};
     };
     double e_surface = summary.initial_energy;
     int slow = 0;  // consecutive iterations below the tolerance
@@ -734,7 +746,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             for (int v : scaffold->box())
                 d.segment<2>(2 * v).setZero();  // the box stays put
         const double e = energy(ops, x, threads);
-        auto [t, t_bound, e_new] = line_search(ops, x, d, e);
+        auto [t, t_bound, e_new, t_scaffold] = line_search(ops, x, d, e);
         if (options.momentum > 0.0 && momentum.size() == 2 * n)
         {
             // Heavy ball: the proxy's direction plus a share of the last iteration's motion
@@ -746,13 +758,14 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             if (scaffold)
                 scaffold->extend(m);
             Eigen::VectorXd dm = d + m;
-            const auto [tm, tm_bound, em] = line_search(ops, x, dm, e);
+            const auto [tm, tm_bound, em, tm_scaffold] = line_search(ops, x, dm, e);
             if (em < e_new)
             {
                 d = dm;
                 t = tm;
                 t_bound = tm_bound;
                 e_new = em;
+                t_scaffold = tm_scaffold;
                 ++summary.accelerated;
             }
         }
@@ -764,14 +777,17 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
             break;
         }
         x += t * d;
-        blocked_by_scaffold = t < 1.0 && t == t_bound;
+        // Only a step that a scaffold triangle stopped gets a new triangulation (here and at
+        // the next iteration): where a surface triangle stops it, the new scaffold would not
+        // let it go further.
+        blocked_by_scaffold = t_scaffold > 0.0;
         if (scaffold && options.scaffold_passes > 1)
         {
             // The step stopped where a scaffold triangle would collapse. A new triangulation
             // of the free space there usually lets the same direction go further: line search
             // the rest of it again (no new factorization, only the CGAL mesher), a few times.
             // The Steiner vertices are new: their motion is the boundary's, extended.
-            bool blocked = t < 1.0 && t == t_bound;
+            bool blocked = blocked_by_scaffold;
             double left = 1.0 - t;
             for (int pass = 1; pass < options.scaffold_passes && blocked && left > 0.05; ++pass)
             {
@@ -788,12 +804,12 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 rest.head(2 * n) = left * d.head(2 * n);
                 scaffold->extend(rest);
                 const double e_pass = energy(ops, x, threads);
-                const auto [s, s_bound, e_pass_new] = line_search(ops, x, rest, e_pass);
+                const auto [s, s_bound, e_pass_new, s_scaffold] = line_search(ops, x, rest, e_pass);
                 if (!(e_pass_new < e_pass))
                     break;
                 x += s * rest;
                 ++summary.scaffold_passes;
-                blocked = s < 1.0 && s == s_bound;
+                blocked = s_scaffold > 0.0;
                 blocked_by_scaffold = blocked;
                 left *= 1.0 - s;
             }

@@ -74,6 +74,13 @@ struct InjectiveOptions
     //! 4.7 -> 2.1 s; mean |log area| carotid 0.0390 -> 0.0400, pulmonary tree 0.1487 ->
     //! 0.1489, AneuRisk 0.1360 -> 0.1361.
     bool scaffold_keep_unblocked = true;
+    //! Treat a step stopped by a collapsing *surface* triangle like one stopped by a scaffold
+    //! triangle: triangulate the scaffold anew, continue the step (scaffold_passes) and
+    //! triangulate again at the next iteration. false (default, branch fspeed6): only a step
+    //! that a scaffold triangle stopped is continued and re-triangulated; where a surface
+    //! triangle stops it a new scaffold cannot let it go further, and each new triangulation
+    //! costs a symbolic factorization (carotid-1M: see docs/benchmarks.md, "fspeed6").
+    bool scaffold_continue_surface_blocked = false;
     //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
     //! of the last iteration's motion and keeps whichever line search ends at the lower energy
     //! (flips and, with a scaffold, crossings stay excluded: the same line search). 0 = plain

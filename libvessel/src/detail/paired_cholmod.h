@@ -10,13 +10,16 @@ namespace vessel::detail {
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
 //! come in pairs (u, v of one vertex: unknowns 2i and 2i + 1) that share their sparsity.
 //! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
-//! AMD and hands the paired permutation to CHOLMOD, instead of AMD on the whole matrix: the same
+//! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the whole matrix: the same
 //! kind of ordering for a fraction of the symbolic analysis's cost, which matters where the
 //! pattern changes every iteration (SLIM's scaffold). factorize() and solve() are Eigen's.
 class PairedCholmod
     : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
 {
 public:
+    //! Vertex count from which the vertex graph is ordered by METIS instead of AMD.
+    static constexpr int kMetisVertices = 100000;
+
     //! Symbolic analysis of \p A (upper triangle, compressed, even size). Check info().
     void analyze_pairs(const Eigen::SparseMatrix<double>& A)
     {
@@ -52,7 +55,15 @@ public:
         graph.sorted = 0;
         graph.packed = 1;
         std::vector<int> vertex_order(n);
-        if (!cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &cholmod()))
+        // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
+        // fill on large maps (carotid-1M, SLIM: peak RSS 2752 -> 2431 MB, page faults 11.0M
+        // -> 8.9M; 300k: 808 -> 750 MB), the same CPU time there (branch fspeed6,
+        // docs/benchmarks.md); below it AMD, cheaper to compute on small graphs.
+        const bool ok =
+            n >= kMetisVertices
+                ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &cholmod())
+                : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &cholmod());
+        if (!ok)
         {
             m_info = Eigen::NumericalIssue;
             return;
