@@ -3,6 +3,7 @@
 #include "vessel/boundary.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
+#include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
 #include "detail/paired_cholmod.h"
 #include "detail/scaffold.h"
@@ -46,6 +47,11 @@ void InjectiveOptions::validate() const
     if (scaffold_rebuild_every < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
                                 std::to_string(scaffold_rebuild_every));
+    for (const CentrePull& pull : centre_pulls)
+        if (pull.vertices.empty() || !(pull.weight >= 0.0) || !pull.origin.allFinite() ||
+            !(std::abs(pull.normal.norm() - 1.0) < 1e-9))
+            throw InvalidInputError("InjectiveOptions: a centre pull needs vertices, a weight "
+                                    ">= 0, a finite origin and a unit normal");
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
@@ -558,6 +564,11 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     const int n = static_cast<int>(mesh.n_vertices());
     detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
+    for (const CentrePull& pull : options.centre_pulls)
+        for (int v : pull.vertices)
+            if (v < 0 || v >= n)
+                throw InvalidInputError("injective_refine: centre pull vertex " + std::to_string(v) +
+                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
 
     const std::vector<FaceOperator> surface = face_operators(mesh);
     const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
@@ -618,15 +629,21 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
 
     // Largest step along d that flips no triangle, halved until the energy does not grow:
     // (step, the flip bound, energy there).
+    // The energy minimized: the faces' and the centre pulls'.
+    const auto total_energy = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) {
+        const double e = energy(faces, y, threads);
+        return options.centre_pulls.empty() ? e
+                                            : e + detail::centre_pull_energy(options.centre_pulls, y);
+    };
     const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
                                  const Eigen::VectorXd& dir, double e0) {
         const double bound = max_injective_step(faces, y, dir, threads);
         double step = bound;
-        double e1 = energy(faces, y + step * dir, threads);
+        double e1 = total_energy(faces, y + step * dir);
         while (!(e1 <= e0) && step > 1e-12)
         {
             step *= 0.5;
-            e1 = energy(faces, y + step * dir, threads);
+            e1 = total_energy(faces, y + step * dir);
         }
         return std::array<double, 3>{step, bound, e1};
     };
@@ -706,6 +723,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 values[M.diagonal[i]] += pin_weight;
                 rhs[i] += pin_weight * x[i];
             }
+        detail::add_centre_pulls(options.centre_pulls, x, M.diagonal, values, rhs);
         // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal
         // term (a Levenberg-style damping: the line search still uses the true energy) fixes it.
         for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
@@ -733,7 +751,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         if (scaffold)
             for (int v : scaffold->box())
                 d.segment<2>(2 * v).setZero();  // the box stays put
-        const double e = energy(ops, x, threads);
+        const double e = total_energy(ops, x);
         auto [t, t_bound, e_new] = line_search(ops, x, d, e);
         if (options.momentum > 0.0 && momentum.size() == 2 * n)
         {
@@ -787,7 +805,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
                 rest.head(2 * n) = left * d.head(2 * n);
                 scaffold->extend(rest);
-                const double e_pass = energy(ops, x, threads);
+                const double e_pass = total_energy(ops, x);
                 const auto [s, s_bound, e_pass_new] = line_search(ops, x, rest, e_pass);
                 if (!(e_pass_new < e_pass))
                     break;
@@ -806,7 +824,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         }
         else if (watch && summary.iterations - last_simple_it >= options.crossing_patience)
             break;  // crossed for that long: it will not come apart by itself
-        const double e_surface_new = scaffold ? energy(surface, x, threads) : e_new;
+        const double e_surface_new =
+            scaffold || !options.centre_pulls.empty() ? energy(surface, x, threads) : e_new;
         const double decrease = (e_surface - e_surface_new) / e_surface;
         e_surface = e_surface_new;
         // One small step can come from a short line search (a nearly collapsed triangle in

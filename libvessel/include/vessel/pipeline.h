@@ -119,6 +119,11 @@ struct FlattenOptions
     //! circle. CLI `--restart-circle layout|tutte`.
     bool restart_on_layout_circle = true;
     LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
+    //! With Refinement::Injective, when the map restarts on a tree's layout: SLIM also pulls
+    //! every outlet loop's centre toward the ray from the inlet's centre on which the start put
+    //! it, and holds the inlet's centre (centre_pull.h, look_pulls()); the weight multiplies the
+    //! squared distances (SLIM's energy is >= 4 x the area). 0 = off. CLI `--look-pull W`.
+    double look_pull = 0.0;
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of

@@ -1,0 +1,97 @@
+#include "vessel/centre_pull.h"
+
+#include "vessel/errors.h"
+#include "detail/centre_pull.h"
+
+#include <map>
+#include <string>
+
+namespace vessel {
+namespace {
+
+Eigen::Vector2d centre(const std::vector<int>& vertices, const Eigen::VectorXd& x)
+{
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (int v : vertices)
+        c += x.segment<2>(2 * v);
+    return c / static_cast<double>(vertices.size());
+}
+
+// Signed distance of the pull's centre from its line.
+double offset(const CentrePull& pull, const Eigen::VectorXd& x)
+{
+    return pull.normal.dot(centre(pull.vertices, x) - pull.origin);
+}
+
+}  // namespace
+
+std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
+                                   const Eigen::MatrixX2d& uv, double weight)
+{
+    std::map<int, std::vector<int>> loops;  // loop index -> its vertices (0 = inlet)
+    for (const BoundarySegment& seg : segments)
+        for (VertexHandle v : seg.vertices)
+        {
+            if (v.idx() < 0 || v.idx() >= uv.rows())
+                throw InvalidInputError("look_pulls: segment vertex " + std::to_string(v.idx()) +
+                                        " is not a row of the map (" +
+                                        std::to_string(uv.rows()) + " rows)");
+            loops[seg.loop].push_back(v.idx());
+        }
+    if (!loops.count(0))
+        throw InvalidInputError("look_pulls: no inlet segment (loop 0) among the segments");
+    const auto mean = [&](const std::vector<int>& vs) {
+        Eigen::Vector2d c = Eigen::Vector2d::Zero();
+        for (int v : vs)
+            c += uv.row(v).transpose();
+        return Eigen::Vector2d(c / static_cast<double>(vs.size()));
+    };
+    const Eigen::Vector2d inlet = mean(loops[0]);
+    std::vector<CentrePull> pulls;
+    pulls.push_back({loops[0], inlet, Eigen::Vector2d::UnitX(), weight});
+    pulls.push_back({loops[0], inlet, Eigen::Vector2d::UnitY(), weight});
+    for (const auto& [loop, vertices] : loops)
+    {
+        const Eigen::Vector2d ray = mean(vertices) - inlet;
+        if (loop == 0 || ray.norm() == 0.0)
+            continue;
+        pulls.push_back({vertices, inlet, Eigen::Vector2d(-ray.y(), ray.x()).normalized(), weight});
+    }
+    return pulls;
+}
+
+namespace detail {
+
+double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x)
+{
+    double e = 0.0;
+    for (const CentrePull& pull : pulls)
+    {
+        const double r = offset(pull, x);
+        e += pull.weight * r * r;
+    }
+    return e;
+}
+
+void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                      const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs)
+{
+    // E = W r^2 with r = n . (mean(x_S) - o): dE/dx_v = 2 (W / |S|) r n. The proxy
+    // sum_v (W / |S|) |y_v - (x_v - r n)|^2 has that gradient at y = x and curvature
+    // W / |S| per vertex (>= the true one along any common motion of S).
+    for (const CentrePull& pull : pulls)
+    {
+        const double w = pull.weight / static_cast<double>(pull.vertices.size());
+        const Eigen::Vector2d shift = offset(pull, x) * pull.normal;
+        for (int v : pull.vertices)
+            for (int k = 0; k < 2; ++k)
+            {
+                const int i = 2 * v + k;
+                values[diagonal[i]] += w;
+                rhs[i] += w * (x[i] - shift[k]);
+            }
+    }
+}
+
+}  // namespace detail
+}  // namespace vessel
