@@ -93,5 +93,34 @@ void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorX
     }
 }
 
+void add_centre_pull_gradient(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                              const std::vector<int>& slot, double* gradient)
+{
+    for (const CentrePull& pull : pulls)
+    {
+        const double w = pull.weight / static_cast<double>(pull.vertices.size());
+        const Eigen::Vector2d g = 2.0 * w * offset(pull, x) * pull.normal;
+        for (int v : pull.vertices)
+            if (slot[v] >= 0)
+                for (int k = 0; k < 2; ++k)
+                    gradient[2 * slot[v] + k] += g[k];
+    }
+}
+
+void add_centre_pull_curvature(const std::vector<CentrePull>& pulls, const std::vector<int>& slot,
+                               const std::vector<int>& diagonal, double* values)
+{
+    for (const CentrePull& pull : pulls)
+    {
+        // The proxy's curvature, 2 (W / |S|) per coordinate (the energy's own Hessian is
+        // dense over S; this one majorizes it along any common motion of S).
+        const double w = 2.0 * pull.weight / static_cast<double>(pull.vertices.size());
+        for (int v : pull.vertices)
+            if (slot[v] >= 0)
+                for (int k = 0; k < 2; ++k)
+                    values[diagonal[2 * slot[v] + k]] += w;
+    }
+}
+
 }  // namespace detail
 }  // namespace vessel

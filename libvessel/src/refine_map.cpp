@@ -96,6 +96,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         {
             AreaPolishOptions polish = options.area_polish;
             polish.keep_boundary_simple = options.overlaps != OverlapPolicy::Keep;
+            polish.centre_pulls = slim.centre_pulls;
             result.notes.push_back(area_polish(mesh, result.uv, pins, polish).report);
         }
     }

@@ -18,4 +18,12 @@ double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::Vec
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs);
 
+//! Add the pulls' gradient at \p x to \p gradient, whose entries 2 slot[v] + k are vertex v's
+//! (slot[v] < 0: a fixed vertex, skipped); and, if \p diagonal is given, each pull's per-vertex
+//! curvature weight / |vertices| to the values at diagonal[2 slot[v] + k] (as add_centre_pulls).
+void add_centre_pull_gradient(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                              const std::vector<int>& slot, double* gradient);
+void add_centre_pull_curvature(const std::vector<CentrePull>& pulls, const std::vector<int>& slot,
+                               const std::vector<int>& diagonal, double* values);
+
 }  // namespace vessel::detail
