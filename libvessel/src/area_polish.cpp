@@ -39,6 +39,7 @@ void AreaPolishOptions::validate() const
         throw InvalidInputError("AreaPolishOptions: tolerance must be >= 0");
     if (!(scaffold_weight > 0.0))
         throw InvalidInputError("AreaPolishOptions: scaffold_weight must be > 0");
+    validate_centre_pulls(centre_pulls, "AreaPolishOptions");
 }
 
 namespace {
@@ -339,6 +340,11 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     detail::require_uv_rows(mesh, uv, "area_polish");
     const int n = static_cast<int>(mesh.n_vertices());
     const std::vector<int> pinned = pin_index(mesh, pins, "area_polish");
+    for (const CentrePull& pull : options.centre_pulls)
+        for (int v : pull.vertices)
+            if (v < 0 || v >= n)
+                throw InvalidInputError("area_polish: centre pull vertex " + std::to_string(v) +
+                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
     const std::vector<FaceOperator> surface = detail::face_operators(mesh);
     const auto loops = boundary_loops(mesh);
     if (loops.size() != 1)

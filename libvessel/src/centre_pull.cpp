@@ -3,6 +3,7 @@
 #include "vessel/errors.h"
 #include "detail/centre_pull.h"
 
+#include <cmath>
 #include <map>
 #include <string>
 
@@ -24,6 +25,19 @@ double offset(const CentrePull& pull, const Eigen::VectorXd& x)
 }
 
 }  // namespace
+
+void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::string& who)
+{
+    for (std::size_t i = 0; i < pulls.size(); ++i)
+    {
+        const CentrePull& pull = pulls[i];
+        if (pull.vertices.empty() || !(pull.weight >= 0.0) || !std::isfinite(pull.weight) ||
+            !pull.origin.allFinite() || !(std::abs(pull.normal.norm() - 1.0) < 1e-9))
+            throw InvalidInputError(who + ": centre pull " + std::to_string(i) +
+                                    " needs vertices, a finite weight >= 0, a finite origin "
+                                    "and a unit normal");
+    }
+}
 
 std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
                                    const Eigen::MatrixX2d& uv, double weight)

@@ -47,11 +47,7 @@ void InjectiveOptions::validate() const
     if (scaffold_rebuild_every < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
                                 std::to_string(scaffold_rebuild_every));
-    for (const CentrePull& pull : centre_pulls)
-        if (pull.vertices.empty() || !(pull.weight >= 0.0) || !pull.origin.allFinite() ||
-            !(std::abs(pull.normal.norm() - 1.0) < 1e-9))
-            throw InvalidInputError("InjectiveOptions: a centre pull needs vertices, a weight "
-                                    ">= 0, a finite origin and a unit normal");
+    validate_centre_pulls(centre_pulls, "InjectiveOptions");
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)

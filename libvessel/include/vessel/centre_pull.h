@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace vessel {
@@ -19,6 +20,11 @@ struct CentrePull
     Eigen::Vector2d normal = Eigen::Vector2d::UnitX();  //!< unit length
     double weight = 0.0;  //!< >= 0; multiplies a squared length (an area)
 };
+
+//! \brief Check every pull: vertices, a weight >= 0, a finite origin and a unit normal.
+//! \param who the options' name for the message.
+//! \throw InvalidInputError naming the bad pull.
+void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::string& who);
 
 //! \brief The pulls that keep a map's look while SLIM runs: the inlet's centre is held where it
 //! is in \p uv (two pulls, u and v) and every outlet loop's centre is pulled onto the ray from
