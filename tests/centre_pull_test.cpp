@@ -81,7 +81,7 @@ TEST_CASE("centre pull: the area polish moves a pulled centre onto its line")
 
 TEST_CASE("centre pull: look_pulls holds the inlet and puts each outlet on its ray")
 {
-    // Two segments of loop 1 count as one outlet; the inlet gets two pulls (u and v).
+    // Two segments of loop 1 count as one outlet; each half of the inlet gets two pulls (u, v).
     Eigen::MatrixX2d uv(6, 2);
     uv << -1, 0, 1, 0, 2, 2, 2, 4, -3, 3, -3, 3;
     std::vector<BoundarySegment> segments(3);
@@ -92,16 +92,18 @@ TEST_CASE("centre pull: look_pulls holds the inlet and puts each outlet on its r
     segments[2].loop = 1;
     segments[2].vertices = {VertexHandle(3)};
     const std::vector<CentrePull> pulls = look_pulls(segments, uv, 2.5);
-    REQUIRE(pulls.size() == 3);
+    REQUIRE(pulls.size() == 5);  // the inlet's two halves, two pulls each
     for (const CentrePull& p : pulls)
     {
         CHECK(p.weight == 2.5);
-        CHECK(p.origin.isApprox(Eigen::Vector2d::Zero()));
         CHECK(p.normal.norm() == doctest::Approx(1.0));
         CHECK(p.normal.dot(centre(uv, p.vertices) - p.origin) == doctest::Approx(0.0));
     }
-    CHECK(pulls[2].vertices.size() == 2);
-    CHECK(std::abs(pulls[2].normal.dot(Eigen::Vector2d(2, 3).normalized())) < 1e-12);
+    CHECK(pulls[0].origin.isApprox(Eigen::Vector2d(-1, 0)));
+    CHECK(pulls[2].origin.isApprox(Eigen::Vector2d(1, 0)));
+    CHECK(pulls[4].vertices.size() == 2);
+    CHECK(pulls[4].origin.isApprox(Eigen::Vector2d::Zero()));  // the inlet's centre
+    CHECK(std::abs(pulls[4].normal.dot(Eigen::Vector2d(2, 3).normalized())) < 1e-12);
     segments[0].loop = 2;  // no inlet
     CHECK_THROWS_AS(look_pulls(segments, uv, 1.0), InvalidInputError);
 }

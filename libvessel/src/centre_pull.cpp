@@ -3,6 +3,7 @@
 #include "vessel/errors.h"
 #include "detail/centre_pull.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -62,8 +63,18 @@ std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
     };
     const Eigen::Vector2d inlet = mean(loops[0]);
     std::vector<CentrePull> pulls;
-    pulls.push_back({loops[0], inlet, Eigen::Vector2d::UnitX(), weight});
-    pulls.push_back({loops[0], inlet, Eigen::Vector2d::UnitY(), weight});
+    // The inlet's two halves (in walk order) held where they are: its centre and its chord's
+    // direction stay, so the map cannot turn under the outlets' rays.
+    const std::vector<int>& walk = loops[0];
+    const std::size_t half = std::max<std::size_t>(walk.size() / 2, 1);
+    for (const std::vector<int>& part :
+         {std::vector<int>(walk.begin(), walk.begin() + half),
+          std::vector<int>(walk.begin() + (half < walk.size() ? half : 0), walk.end())})
+    {
+        const Eigen::Vector2d at = mean(part);
+        pulls.push_back({part, at, Eigen::Vector2d::UnitX(), weight});
+        pulls.push_back({part, at, Eigen::Vector2d::UnitY(), weight});
+    }
     for (const auto& [loop, vertices] : loops)
     {
         const Eigen::Vector2d ray = mean(vertices) - inlet;

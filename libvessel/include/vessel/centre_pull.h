@@ -26,8 +26,9 @@ struct CentrePull
 //! \throw InvalidInputError naming the bad pull.
 void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::string& who);
 
-//! \brief The pulls that keep a map's look while SLIM runs: the inlet's centre is held where it
-//! is in \p uv (two pulls, u and v) and every outlet loop's centre is pulled onto the ray from
+//! \brief The pulls that keep a map's look while SLIM runs: the inlet is held where it is in
+//! \p uv (its two halves along the walk, each by two pulls, u and v: its centre and its chord's
+//! direction stay) and every outlet loop's centre is pulled onto the ray from
 //! the inlet's centre through where that centre is in \p uv (its bearing; a loop split by cuts
 //! counts once, all its vertices). Meant for a start that has the layout's look (the layout
 //! circle, layout_circle.h).
