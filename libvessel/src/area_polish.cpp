@@ -1,5 +1,6 @@
 #include "vessel/area_polish.h"
 
+#include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
 #include "detail/scaffold.h"
 #include "detail/serial_openmp.h"
@@ -38,6 +39,7 @@ void AreaPolishOptions::validate() const
         throw InvalidInputError("AreaPolishOptions: tolerance must be >= 0");
     if (!(scaffold_weight > 0.0))
         throw InvalidInputError("AreaPolishOptions: scaffold_weight must be > 0");
+    validate_centre_pulls(centre_pulls, "AreaPolishOptions");
 }
 
 namespace {
@@ -50,15 +52,16 @@ class PolishEnergy final : public ceres::FirstOrderFunction
 {
 public:
     PolishEnergy(std::vector<FaceOperator> ops, const std::vector<int>& free_vertices,
-                 Eigen::VectorXd& x, double lambda)
+                 Eigen::VectorXd& x, double lambda, const std::vector<CentrePull>& pulls)
         : ops_(std::move(ops)), free_(free_vertices), x_(x), slot_(x.size() / 2, -1),
-          lambda_(lambda)
+          lambda_(lambda), pulls_(pulls)
     {
         for (std::size_t i = 0; i < free_.size(); ++i)
             slot_[free_[i]] = static_cast<int>(i);
     }
 
     const std::vector<FaceOperator>& faces() const { return ops_; }
+    const std::vector<CentrePull>& pulls() const { return pulls_; }
     // Per vertex: its index among the free vertices (its u, v are parameters 2i, 2i + 1); -1 if fixed.
     const std::vector<int>& slot() const { return slot_; }
     Eigen::Matrix2d jacobian(const FaceOperator& op) const { return detail::jacobian(op, x_.data()); }
@@ -101,6 +104,12 @@ public:
                            lambda_ * (1.0 - 1.0 / (D * D)) * cof);
             detail::add_face_gradient(op, G, slot_, gradient);
         }
+        if (!pulls_.empty())
+        {
+            e += detail::centre_pull_energy(pulls_, x_);
+            if (gradient)
+                detail::add_centre_pull_gradient(pulls_, x_, slot_, gradient);
+        }
         *cost = e;
         return std::isfinite(e);
     }
@@ -111,6 +120,7 @@ private:
     Eigen::VectorXd& x_;
     std::vector<int> slot_;
     double lambda_;
+    const std::vector<CentrePull>& pulls_;
 };
 
 // The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
@@ -224,6 +234,7 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
                     if (entry[f][e] >= 0)
                         values[entry[f][e]] += Hv(a, b);
         }
+        detail::add_centre_pull_curvature(energy.pulls(), slot, diagonal, values);
         // Translations (and, without pins, rotations) leave the energy unchanged: a small
         // multiple of the identity keeps the system definite.
         double trace = 0.0;
@@ -329,6 +340,11 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     detail::require_uv_rows(mesh, uv, "area_polish");
     const int n = static_cast<int>(mesh.n_vertices());
     const std::vector<int> pinned = pin_index(mesh, pins, "area_polish");
+    for (const CentrePull& pull : options.centre_pulls)
+        for (int v : pull.vertices)
+            if (v < 0 || v >= n)
+                throw InvalidInputError("area_polish: centre pull vertex " + std::to_string(v) +
+                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
     const std::vector<FaceOperator> surface = detail::face_operators(mesh);
     const auto loops = boundary_loops(mesh);
     if (loops.size() != 1)
@@ -371,7 +387,8 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
                 boundary, n, options.scaffold_weight * area, inside, x, free_vertices);
             ops.insert(ops.end(), free_space.begin(), free_space.end());
         }
-        auto* energy = new PolishEnergy(std::move(ops), free_vertices, x, options.area_weight);
+        auto* energy = new PolishEnergy(std::move(ops), free_vertices, x, options.area_weight,
+                                        options.centre_pulls);
         const ceres::GradientProblem problem(energy);  // owns the energy
         std::vector<double> p(energy->NumParameters());
         energy->gather(p.data());

@@ -3,6 +3,7 @@
 #include "vessel/boundary.h"
 #include "vessel/embedding.h"
 #include "vessel/errors.h"
+#include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
 #include "detail/paired_cholmod.h"
 #include "detail/scaffold.h"
@@ -46,6 +47,7 @@ void InjectiveOptions::validate() const
     if (scaffold_rebuild_every < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
                                 std::to_string(scaffold_rebuild_every));
+    validate_centre_pulls(centre_pulls, "InjectiveOptions");
 }
 
 Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
@@ -560,6 +562,11 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     const int n = static_cast<int>(mesh.n_vertices());
     detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
+    for (const CentrePull& pull : options.centre_pulls)
+        for (int v : pull.vertices)
+            if (v < 0 || v >= n)
+                throw InvalidInputError("injective_refine: centre pull vertex " + std::to_string(v) +
+                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
 
     const std::vector<FaceOperator> surface = face_operators(mesh);
     const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
@@ -622,18 +629,24 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     // Largest step along d that flips no triangle, halved until the energy does not grow:
     // (step, the flip bound, energy there, and 1 if the step stopped at that bound and the
     // bound is a scaffold triangle's (faces past the surface's), else 0).
+    // The energy minimized: the faces' and the centre pulls'.
+    const auto total_energy = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) {
+        const double e = energy(faces, y, threads);
+        return options.centre_pulls.empty() ? e
+                                            : e + detail::centre_pull_energy(options.centre_pulls, y);
+    };
     const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
                                  const Eigen::VectorXd& dir, double e0) {
         const double bound = max_injective_step(faces, y, dir, threads);
         double step = bound;
         Eigen::VectorXd& trial = line_trial;
         trial = y + step * dir;
-        double e1 = energy(faces, trial, threads);
+        double e1 = total_energy(faces, trial);
         while (!(e1 <= e0) && step > 1e-12)
         {
             step *= 0.5;
             trial = y + step * dir;
-            e1 = energy(faces, trial, threads);
+            e1 = total_energy(faces, trial);
         }
         const bool at_bound = step < 1.0 && step == bound;
         const bool by_scaffold =
@@ -718,6 +731,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 values[M.diagonal[i]] += pin_weight;
                 rhs[i] += pin_weight * x[i];
             }
+        detail::add_centre_pulls(options.centre_pulls, x, M.diagonal, values, rhs);
         // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal
         // term (a Levenberg-style damping: the line search still uses the true energy) fixes it.
         for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
@@ -745,7 +759,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         if (scaffold)
             for (int v : scaffold->box())
                 d.segment<2>(2 * v).setZero();  // the box stays put
-        const double e = energy(ops, x, threads);
+        const double e = total_energy(ops, x);
         auto [t, t_bound, e_new, t_scaffold] = line_search(ops, x, d, e);
         if (options.momentum > 0.0 && momentum.size() == 2 * n)
         {
@@ -803,7 +817,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                 Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
                 rest.head(2 * n) = left * d.head(2 * n);
                 scaffold->extend(rest);
-                const double e_pass = energy(ops, x, threads);
+                const double e_pass = total_energy(ops, x);
                 const auto [s, s_bound, e_pass_new, s_scaffold] = line_search(ops, x, rest, e_pass);
                 if (!(e_pass_new < e_pass))
                     break;
@@ -822,7 +836,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         }
         else if (watch && summary.iterations - last_simple_it >= options.crossing_patience)
             break;  // crossed for that long: it will not come apart by itself
-        const double e_surface_new = scaffold ? energy(surface, x, threads) : e_new;
+        const double e_surface_new =
+            scaffold || !options.centre_pulls.empty() ? energy(surface, x, threads) : e_new;
         const double decrease = (e_surface - e_surface_new) / e_surface;
         e_surface = e_surface_new;
         // One small step can come from a short line search (a nearly collapsed triangle in

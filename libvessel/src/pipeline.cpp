@@ -32,6 +32,9 @@ void FlattenOptions::validate() const
         untangle.validate();
         fan_start.validate();
         layout_circle.validate();
+        if (!(look_pull >= 0.0 && std::isfinite(look_pull)))
+            throw InvalidInputError("FlattenOptions: look_pull must be >= 0 and finite, got " +
+                                    std::to_string(look_pull));
         if (polish_area)
             area_polish.validate();
         if (polish_area && !(polished_scaffold_tolerance > 0.0))

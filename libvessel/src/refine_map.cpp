@@ -1,6 +1,7 @@
 #include "detail/refine_map.h"
 
 #include "vessel/area_polish.h"
+#include "vessel/centre_pull.h"
 #include "vessel/embedding.h"
 #include "vessel/fan_start.h"
 #include "vessel/layout_circle.h"
@@ -80,6 +81,8 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         else if (!from_fan)
             result.uv = tutte_embedding(mesh);
         pins.clear();  // neither start can hold the pins where they were
+        if (layout && options.look_pull > 0.0)
+            slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull);
         slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }
@@ -93,6 +96,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         {
             AreaPolishOptions polish = options.area_polish;
             polish.keep_boundary_simple = options.overlaps != OverlapPolicy::Keep;
+            polish.centre_pulls = slim.centre_pulls;
             result.notes.push_back(area_polish(mesh, result.uv, pins, polish).report);
         }
     }

@@ -188,6 +188,11 @@ int main(int argc, char** argv)
            "at its layout bearing; layout_circle.h) or tutte (constant speed)")
         ->check(CLI::IsMember({"layout", "tutte"}))
         ->default_str("layout");
+    app.add_option("--look-pull", options.look_pull,
+                   "When the map restarts, SLIM also pulls each outlet's centre toward its "
+                   "bearing from the inlet in the start map (centre_pull.h); the weight, 0 = off")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "
                    "(area_polish.h; on by default); the value is the area term's weight in "

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/centre_pull.h"
 #include "vessel/pins.h"
 
 #include <string>
@@ -39,6 +40,10 @@ struct AreaPolishOptions
     //! The scaffold's total weight, as a fraction of the surface area, shared equally by its
     //! triangles (as InjectiveOptions::scaffold_weight).
     double scaffold_weight = 0.002;
+    //! Soft pulls on vertex sets' centres (centre_pull.h) added to the energy (its gradient
+    //! exact; the Newton steps' Hessian gets their diagonal proxy). Empty = none. The pipeline
+    //! passes SLIM's (FlattenOptions::look_pull).
+    std::vector<CentrePull> centre_pulls;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/centre_pull.h"
 #include "vessel/pins.h"
 
 #include <string>
@@ -88,6 +89,11 @@ struct InjectiveOptions
     //! "SLIM momentum"); 0.6 and more let carotid-13k's SLIM reach its crossing, and its scaffold
     //! phase then costs 4x the time.
     double momentum = 0.5;
+    //! Soft pulls on vertex sets' centres (centre_pull.h), added to the energy SLIM minimizes
+    //! and line searches (through a diagonal proxy in the global step: the solver's pattern
+    //! is unchanged). Empty = none. The pipeline fills it on a restart to keep the start's look
+    //! (FlattenOptions::look_pull); the summary's energies stay the surface's alone.
+    std::vector<CentrePull> centre_pulls;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
