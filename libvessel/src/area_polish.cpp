@@ -340,11 +340,7 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     detail::require_uv_rows(mesh, uv, "area_polish");
     const int n = static_cast<int>(mesh.n_vertices());
     const std::vector<int> pinned = pin_index(mesh, pins, "area_polish");
-    for (const CentrePull& pull : options.centre_pulls)
-        for (int v : pull.vertices)
-            if (v < 0 || v >= n)
-                throw InvalidInputError("area_polish: centre pull vertex " + std::to_string(v) +
-                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
+    detail::require_centre_pull_vertices(options.centre_pulls, n, "area_polish");
     const std::vector<FaceOperator> surface = detail::face_operators(mesh);
     const auto loops = boundary_loops(mesh);
     if (loops.size() != 1)

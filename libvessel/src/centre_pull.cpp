@@ -87,6 +87,17 @@ std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
 
 namespace detail {
 
+void require_centre_pull_vertices(const std::vector<CentrePull>& pulls, int n,
+                                  const std::string& who)
+{
+    for (const CentrePull& pull : pulls)
+        for (int v : pull.vertices)
+            if (v < 0 || v >= n)
+                throw InvalidInputError(who + ": centre pull vertex " + std::to_string(v) +
+                                        " is not a vertex of the mesh (" + std::to_string(n) +
+                                        ")");
+}
+
 double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x)
 {
     double e = 0.0;

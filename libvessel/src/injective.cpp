@@ -562,11 +562,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     const int n = static_cast<int>(mesh.n_vertices());
     detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
-    for (const CentrePull& pull : options.centre_pulls)
-        for (int v : pull.vertices)
-            if (v < 0 || v >= n)
-                throw InvalidInputError("injective_refine: centre pull vertex " + std::to_string(v) +
-                                        " is not a vertex of the mesh (" + std::to_string(n) + ")");
+    detail::require_centre_pull_vertices(options.centre_pulls, n, "injective_refine");
 
     const std::vector<FaceOperator> surface = face_operators(mesh);
     const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
@@ -639,14 +635,13 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
                                  const Eigen::VectorXd& dir, double e0) {
         const double bound = max_injective_step(faces, y, dir, threads);
         double step = bound;
-        Eigen::VectorXd& trial = line_trial;
-        trial = y + step * dir;
-        double e1 = total_energy(faces, trial);
+        line_trial = y + step * dir;
+        double e1 = total_energy(faces, line_trial);
         while (!(e1 <= e0) && step > 1e-12)
         {
             step *= 0.5;
-            trial = y + step * dir;
-            e1 = total_energy(faces, trial);
+            line_trial = y + step * dir;
+            e1 = total_energy(faces, line_trial);
         }
         const bool at_bound = step < 1.0 && step == bound;
         const bool by_scaffold =

@@ -4,9 +4,16 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace vessel::detail {
+
+//! \brief Check that every vertex of every pull is one of the \p n vertices of the mesh.
+//! \param who the caller's name for the message.
+//! \throw InvalidInputError naming the first vertex out of range.
+void require_centre_pull_vertices(const std::vector<CentrePull>& pulls, int n,
+                                  const std::string& who);
 
 //! Sum of the pulls' energies at the interleaved map \p x (u0 v0 u1 v1 ...).
 double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x);
@@ -19,10 +26,12 @@ void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorX
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs);
 
 //! Add the pulls' gradient at \p x to \p gradient, whose entries 2 slot[v] + k are vertex v's
-//! (slot[v] < 0: a fixed vertex, skipped); and, if \p diagonal is given, each pull's per-vertex
-//! curvature weight / |vertices| to the values at diagonal[2 slot[v] + k] (as add_centre_pulls).
+//! (slot[v] < 0: a fixed vertex, skipped).
 void add_centre_pull_gradient(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                               const std::vector<int>& slot, double* gradient);
+//! Add each pull's per-vertex curvature 2 weight / |vertices| (the proxy's, which majorizes the
+//! pull's dense Hessian along any common motion of its vertices) to the values at
+//! diagonal[2 slot[v] + k] of the free vertices (slot[v] >= 0).
 void add_centre_pull_curvature(const std::vector<CentrePull>& pulls, const std::vector<int>& slot,
                                const std::vector<int>& diagonal, double* values);
 
