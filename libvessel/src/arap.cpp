@@ -71,9 +71,14 @@ double closest_rotation_angle(const Eigen::Matrix2d& J)
 double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matrix2d& R)
 {
     const Eigen::Matrix2d J = arap_jacobian(face, uv);
-    const double t = closest_rotation_angle(J);
-    const double c = std::cos(t), s = std::sin(t);
-    R << c, -s, s, c;
+    // The rotation of closest_rotation_angle() without the angle: (cos t, sin t) is the unit
+    // vector along (J00 + J11, J10 - J01); t = 0 (atan2(0, 0)) when that vector is zero.
+    const double c = J(0, 0) + J(1, 1), s = J(1, 0) - J(0, 1);
+    const double length = std::sqrt(c * c + s * s);
+    if (length > 0.0)
+        R << c / length, -s / length, s / length, c / length;
+    else
+        R.setIdentity();
     return face.area * (J - R).squaredNorm();
 }
 
