@@ -151,6 +151,33 @@ Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
            eig.eigenvectors().transpose();
 }
 
+// Adds one face's projected Hessian with respect to its corners' (u, v) (6 x 6, the lower
+// triangle row by row: (a, b), b <= a) to `values` at `entry` (-1: a fixed vertex's, skipped).
+void add_face_hessian(const FaceOperator& op, const Eigen::Matrix2d& J, double lambda,
+                      const std::array<int, 21>& entry, double* values)
+{
+    const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
+    // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k): with D the 2 x 3 matrix
+    // of the rows d0, d1, the (u, u), (v, u) and (v, v) blocks over the corners are
+    // D^T HJ_ij D, HJ_ij the 2 x 2 blocks of HJ (about a third of the flops of the dense
+    // 6 x 4 by 4 x 4 by 4 x 6 product).
+    Eigen::Matrix<double, 2, 3> D;
+    D << op.d0[0], op.d0[1], op.d0[2], op.d1[0], op.d1[1], op.d1[2];
+    const Eigen::Matrix3d Huu = D.transpose() * HJ.topLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvu = D.transpose() * HJ.bottomLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvv = D.transpose() * HJ.bottomRightCorner<2, 2>() * D;
+    int e = 0;
+    for (int a = 0; a < 6; ++a)
+        for (int b = 0; b <= a; ++b, ++e)
+            if (entry[e] >= 0)
+            {
+                // Row a = 2k (u_k) or 2k + 1 (v_k), column b = 2l or 2l + 1.
+                const int k = a / 2, l = b / 2;
+                values[entry[e]] += a % 2 == 0 ? (b % 2 == 0 ? Huu(k, l) : Hvu(l, k))
+                                               : (b % 2 == 0 ? Hvu(k, l) : Hvv(k, l));
+            }
+}
+
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
 // line searched from the full step back to one that flips no face and lowers the energy
 // (Armijo). Returns the steps taken; `cost` is the energy at the end.
@@ -215,36 +242,24 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         }
     }
     double* values = H.valuePtr();
+    const Eigen::Index nnz = H.nonZeros();
+    // The faces' blocks are summed on up to two threads (as SLIM's), each into its own values.
+    const int threads = detail::face_threads(energy.faces().size());
+    std::vector<std::vector<double>> partial_values(threads - 1, std::vector<double>(nnz));
     int done = 0;
     for (; done < iterations; ++done)
     {
-        std::fill(values, values + H.nonZeros(), 0.0);
-        for (std::size_t f = 0; f < energy.faces().size(); ++f)
-        {
-            const FaceOperator& op = energy.faces()[f];
-            const Eigen::Matrix2d J = energy.jacobian(op);
-            const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
-            // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k): with D the 2 x 3
-            // matrix of the rows d0, d1, the Hessian's (u, u), (v, u) and (v, v) blocks over the
-            // corners are D^T HJ_ij D, HJ_ij the 2 x 2 blocks of HJ (about a third of the
-            // flops of the dense 6 x 4 by 4 x 4 by 4 x 6 product).
-            Eigen::Matrix<double, 2, 3> D;
-            D << op.d0[0], op.d0[1], op.d0[2], op.d1[0], op.d1[1], op.d1[2];
-            const Eigen::Matrix3d Huu = D.transpose() * HJ.topLeftCorner<2, 2>() * D;
-            const Eigen::Matrix3d Hvu = D.transpose() * HJ.bottomLeftCorner<2, 2>() * D;
-            const Eigen::Matrix3d Hvv = D.transpose() * HJ.bottomRightCorner<2, 2>() * D;
-            int e = 0;
-            for (int a = 0; a < 6; ++a)
-                for (int b = 0; b <= a; ++b, ++e)
-                    if (entry[f][e] >= 0)
-                    {
-                        // Row a = 2k (u_k) or 2k + 1 (v_k), column b = 2l or 2l + 1, b <= a.
-                        const int k = a / 2, l = b / 2;
-                        values[entry[f][e]] += a % 2 == 0
-                                                   ? (b % 2 == 0 ? Huu(k, l) : Hvu(l, k))
-                                                   : (b % 2 == 0 ? Hvu(k, l) : Hvv(k, l));
-                    }
-        }
+        const std::vector<FaceOperator>& faces = energy.faces();
+        const auto add_faces = [&](std::size_t begin, std::size_t end, int t) {
+            double* v = t == 0 ? values : partial_values[t - 1].data();
+            std::fill(v, v + nnz, 0.0);
+            for (std::size_t f = begin; f < end; ++f)
+                add_face_hessian(faces[f], energy.jacobian(faces[f]), lambda, entry[f], v);
+        };
+        detail::parallel_chunks(faces.size(), threads, add_faces);
+        for (const auto& other : partial_values)
+            for (Eigen::Index i = 0; i < nnz; ++i)
+                values[i] += other[i];
         detail::add_centre_pull_curvature(energy.pulls(), slot, diagonal, values);
         // Translations (and, without pins, rotations) leave the energy unchanged: a small
         // multiple of the identity keeps the system definite.
