@@ -2,6 +2,7 @@
 
 #include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
+#include "detail/paired_cholmod.h"
 #include "detail/scaffold.h"
 #include "detail/serial_openmp.h"
 #include "detail/uv_rows.h"
@@ -150,6 +151,33 @@ Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
            eig.eigenvectors().transpose();
 }
 
+// Adds one face's projected Hessian with respect to its corners' (u, v) (6 x 6, the lower
+// triangle row by row: (a, b), b <= a) to `values` at `entry` (-1: a fixed vertex's, skipped).
+void add_face_hessian(const FaceOperator& op, const Eigen::Matrix2d& J, double lambda,
+                      const std::array<int, 21>& entry, double* values)
+{
+    const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
+    // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k): with D the 2 x 3 matrix
+    // of the rows d0, d1, the (u, u), (v, u) and (v, v) blocks over the corners are
+    // D^T HJ_ij D, HJ_ij the 2 x 2 blocks of HJ (about a third of the flops of the dense
+    // 6 x 4 by 4 x 4 by 4 x 6 product).
+    Eigen::Matrix<double, 2, 3> D;
+    D << op.d0[0], op.d0[1], op.d0[2], op.d1[0], op.d1[1], op.d1[2];
+    const Eigen::Matrix3d Huu = D.transpose() * HJ.topLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvu = D.transpose() * HJ.bottomLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvv = D.transpose() * HJ.bottomRightCorner<2, 2>() * D;
+    int e = 0;
+    for (int a = 0; a < 6; ++a)
+        for (int b = 0; b <= a; ++b, ++e)
+            if (entry[e] >= 0)
+            {
+                // Row a = 2k (u_k) or 2k + 1 (v_k), column b = 2l or 2l + 1.
+                const int k = a / 2, l = b / 2;
+                values[entry[e]] += a % 2 == 0 ? (b % 2 == 0 ? Huu(k, l) : Hvu(l, k))
+                                               : (b % 2 == 0 ? Hvu(k, l) : Hvv(k, l));
+            }
+}
+
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
 // line searched from the full step back to one that flips no face and lowers the energy
 // (Armijo). Returns the steps taken; `cost` is the energy at the end.
@@ -161,7 +189,12 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
     energy.gather(p.data());
     if (!energy.Evaluate(p.data(), &cost, gradient.data()))
         return 0;
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    // The u and v of a vertex share their sparsity: the paired analysis of SLIM's global step
+    // (the vertex graph ordered by AMD, by METIS on large maps), on the upper triangle.
+    // Against CHOLMOD's own AMD on the lower triangle: carotid-300k, 10 Newton steps, 2
+    // analyses: the factor's flops 1.17e10 -> 6.1e9, a factorization ~1.08 -> ~0.7 s
+    // (docs/benchmarks.md, branch fspeed7).
+    detail::PairedCholmod solver;
     // The Hessian's pattern is the same at every step: built once (from triplets), then each
     // face's 6 x 6 block is added straight into the values at `entry` (-1: a fixed vertex's).
     Eigen::SparseMatrix<double> H(m, m);
@@ -179,7 +212,7 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
                     if (sa >= 0 && sb >= 0)
                     {
                         const int ra = 2 * sa + a % 2, rb = 2 * sb + b % 2;
-                        triplets.emplace_back(std::max(ra, rb), std::min(ra, rb), 0.0);
+                        triplets.emplace_back(std::min(ra, rb), std::max(ra, rb), 0.0);
                     }
                 }
         H.setFromTriplets(triplets.begin(), triplets.end());
@@ -203,37 +236,30 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
                     if (sa >= 0 && sb >= 0)
                     {
                         const int ra = 2 * sa + a % 2, rb = 2 * sb + b % 2;
-                        entry[f][e] = index(std::max(ra, rb), std::min(ra, rb));
+                        entry[f][e] = index(std::min(ra, rb), std::max(ra, rb));
                     }
                 }
         }
     }
     double* values = H.valuePtr();
+    const Eigen::Index nnz = H.nonZeros();
+    // The faces' blocks are summed on up to two threads (as SLIM's), each into its own values.
+    const int threads = detail::face_threads(energy.faces().size());
+    std::vector<std::vector<double>> partial_values(threads - 1, std::vector<double>(nnz));
     int done = 0;
     for (; done < iterations; ++done)
     {
-        std::fill(values, values + H.nonZeros(), 0.0);
-        for (std::size_t f = 0; f < energy.faces().size(); ++f)
-        {
-            const FaceOperator& op = energy.faces()[f];
-            const Eigen::Matrix2d J = energy.jacobian(op);
-            const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
-            // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k).
-            Eigen::Matrix<double, 4, 6> B = Eigen::Matrix<double, 4, 6>::Zero();
-            for (int k = 0; k < 3; ++k)
-            {
-                B(0, 2 * k) = op.d0[k];
-                B(1, 2 * k) = op.d1[k];
-                B(2, 2 * k + 1) = op.d0[k];
-                B(3, 2 * k + 1) = op.d1[k];
-            }
-            const Eigen::Matrix<double, 6, 6> Hv = B.transpose() * HJ * B;
-            int e = 0;
-            for (int a = 0; a < 6; ++a)
-                for (int b = 0; b <= a; ++b, ++e)
-                    if (entry[f][e] >= 0)
-                        values[entry[f][e]] += Hv(a, b);
-        }
+        const std::vector<FaceOperator>& faces = energy.faces();
+        const auto add_faces = [&](std::size_t begin, std::size_t end, int t) {
+            double* v = t == 0 ? values : partial_values[t - 1].data();
+            std::fill(v, v + nnz, 0.0);
+            for (std::size_t f = begin; f < end; ++f)
+                add_face_hessian(faces[f], energy.jacobian(faces[f]), lambda, entry[f], v);
+        };
+        detail::parallel_chunks(faces.size(), threads, add_faces);
+        for (const auto& other : partial_values)
+            for (Eigen::Index i = 0; i < nnz; ++i)
+                values[i] += other[i];
         detail::add_centre_pull_curvature(energy.pulls(), slot, diagonal, values);
         // Translations (and, without pins, rotations) leave the energy unchanged: a small
         // multiple of the identity keeps the system definite.
@@ -246,7 +272,11 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         {
             const detail::SerialOpenMp serial;
             if (done == 0)
-                solver.analyzePattern(H);
+            {
+                solver.analyze_pairs(H);
+                if (solver.info() != Eigen::Success)
+                    break;
+            }
             solver.factorize(H);
         }
         if (solver.info() != Eigen::Success)

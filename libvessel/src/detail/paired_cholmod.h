@@ -12,7 +12,8 @@ namespace vessel::detail {
 //! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
 //! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the whole matrix: the same
 //! kind of ordering for a fraction of the symbolic analysis's cost, which matters where the
-//! pattern changes every iteration (SLIM's scaffold). factorize() and solve() are Eigen's.
+//! pattern changes every iteration (SLIM's scaffold), and from kMetisVertices on a factor with
+//! far fewer flops (the area polish's Newton Hessian too). factorize() and solve() are Eigen's.
 class PairedCholmod
     : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
 {
