@@ -1,6 +1,7 @@
 #include "vessel/cut_graph.h"
 
 #include "vessel/errors.h"
+#include "detail/quad_heap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -85,60 +86,22 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
     slot_.assign(nv, -1);
 }
 
-// The heap is 4-ary over vertices with their distance as key; slot_[v] is v's place in it (-1
-// when not in it), so a shorter distance moves the vertex up instead of adding an entry.
+// The heap is 4-ary over vertices with their distance as key (detail::heap_lower); of two equal
+// distances the one placed first stays above.
+namespace {
+bool closer(const detail::HeapItem& a, const detail::HeapItem& b) { return a.first < b.first; }
+}  // namespace
+
 void CutGraph::relax(int v, double d, int parent)
 {
     dist_[v] = d;
     parent_[v] = parent;
-    int i = slot_[v];
-    if (i < 0)
-    {
-        i = static_cast<int>(heap_.size());
-        heap_.emplace_back();
-    }
-    while (i > 0)
-    {
-        const int up = (i - 1) / 4;
-        if (heap_[up].first <= d)
-            break;
-        heap_[i] = heap_[up];
-        slot_[heap_[i].second] = i;
-        i = up;
-    }
-    heap_[i] = {d, v};
-    slot_[v] = i;
+    detail::heap_lower(heap_, slot_, v, d, closer);
 }
 
 int CutGraph::pop_min()
 {
-    const int top = heap_.front().second;
-    slot_[top] = -1;
-    const std::pair<double, int> last = heap_.back();
-    heap_.pop_back();
-    const int n = static_cast<int>(heap_.size());
-    if (n == 0)
-        return top;
-    int i = 0;
-    for (;;)
-    {
-        const int first = 4 * i + 1;
-        if (first >= n)
-            break;
-        int best = first;
-        const int end = std::min(first + 4, n);
-        for (int c = first + 1; c < end; ++c)
-            if (heap_[c].first < heap_[best].first)
-                best = c;
-        if (heap_[best].first >= last.first)
-            break;
-        heap_[i] = heap_[best];
-        slot_[heap_[i].second] = i;
-        i = best;
-    }
-    heap_[i] = last;
-    slot_[last.second] = i;
-    return top;
+    return detail::heap_pop(heap_, slot_, closer).second;
 }
 
 GraphPath CutGraph::shortest_path(const PathQuery& query)

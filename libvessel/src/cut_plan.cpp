@@ -4,9 +4,8 @@
 #include "vessel/cut_winding.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
-#include "detail/edge_distance.h"
+#include "detail/quad_heap.h"
 
-#include <functional>
 #include <optional>
 #include <queue>
 #include <unordered_map>
@@ -138,18 +137,66 @@ void grow_rings(const Mesh& mesh, const std::vector<VertexHandle>& seeds, int ma
 
 // Distance along edges to the cut tree (0 on it) and the next vertex toward it, grown
 // (Dijkstra) from \p seeds, keeping shorter distances already there; loop vertices (loop_of
-// >= 0) are neither seeds nor passed through.
-struct TreeDistance
+// >= 0) are neither seeds nor passed through. The same field as detail::grow_edge_distance():
+// the arcs are visited in voh_range() order and the heap settles vertices by (distance, index),
+// as its std::priority_queue of pairs does, so equal distances pick the same `via`. It runs on
+// the graph's arcs with a 4-ary heap with decrease-key whose arrays are reused by every grow.
+class TreeDistance
 {
+public:
     std::vector<double> dist;
     std::vector<int> via;  // neighbour one step closer to the tree, -1 on it or unreached
 
-    void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
+    void reset(std::size_t nv)
+    {
+        dist.assign(nv, std::numeric_limits<double>::infinity());
+        via.assign(nv, -1);
+        slot_.assign(nv, -1);
+        heap_.clear();
+    }
+
+    void grow(const CutGraph& graph, const std::vector<VertexHandle>& seeds,
               const std::vector<int>& loop_of)
     {
-        detail::grow_edge_distance(mesh, seeds, dist, via,
-                                   [&](int v) { return loop_of[v] < 0; });
+        const Mesh& mesh = graph.mesh();
+        for (auto s : seeds)
+            if (loop_of[s.idx()] < 0)
+            {
+                via[s.idx()] = -1;
+                lower(s.idx(), 0.0);
+            }
+        while (!heap_.empty())
+        {
+            const auto [d, v] = pop_min();
+            const auto& p = mesh.point(VertexHandle(v));
+            const auto [first, last] = graph.arc_heads(v);
+            for (const int* a = first; a != last; ++a)
+            {
+                const int w = *a;
+                const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
+                if (nd < dist[w] && loop_of[w] < 0)
+                {
+                    via[w] = v;
+                    lower(w, nd);
+                }
+            }
+        }
     }
+
+private:
+    // By (distance, index), as std::pair compares.
+    static bool before(const detail::HeapItem& a, const detail::HeapItem& b) { return a < b; }
+
+    void lower(int v, double d)
+    {
+        dist[v] = d;
+        detail::heap_lower(heap_, slot_, v, d, before);
+    }
+
+    detail::HeapItem pop_min() { return detail::heap_pop(heap_, slot_, before); }
+
+    std::vector<int> slot_;  // place in heap_, -1 if not there
+    std::vector<detail::HeapItem> heap_;
 };
 
 // CutRoute::Streamline for one cut: trace \p field from \p start until a face touches
@@ -333,12 +380,13 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
     const CutPath a = as_cut(mesh, cheapest), b = as_cut(mesh, traced);
     const double aligned_a = path_alignment(mesh, a, stream_field).mean;
     const double aligned_b = path_alignment(mesh, b, stream_field).mean;
-    if (meter &&
-        std::abs(meter->measure(b).winding_deg) <
-            std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg &&
-        aligned_b >= aligned_a - options.winding_max_alignment_loss)
+    // Either test alone can keep it; the windings (the costly part) are measured only when
+    // the alignments leave the answer open.
+    if (aligned_b > aligned_a + options.aligned_min_gain)
         return true;
-    return aligned_b > aligned_a + options.aligned_min_gain;
+    return meter && aligned_b >= aligned_a - options.winding_max_alignment_loss &&
+           std::abs(meter->measure(b).winding_deg) <
+               std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
 }  // namespace
@@ -417,10 +465,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     const bool approach = options.join == CutJoin::Approach;
     TreeDistance tree;
     if (streamline || approach)
-    {
-        tree.dist.assign(nv, std::numeric_limits<double>::infinity());
-        tree.via.assign(nv, -1);
-    }
+        tree.reset(nv);
     const double slack = streamline ? options.join_rings * mean_edge_length(mesh) : 0.0;
 
     CutPlan plan;
@@ -525,14 +570,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         if (l >= 2 && loop_of[cut.start.idx()] < 0)
             query.is_target[cut.start.idx()] = 1;
-        if (streamline || approach)
+        // The join rings and the tree distance serve later outlets only.
+        if ((streamline || approach) && l + 1 < loops.size())
         {
             std::vector<VertexHandle> on_cut;
             for (auto h : cut.halfedges)
                 on_cut.push_back(mesh.to_vertex_handle(h));
             if (streamline)
                 grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
-            tree.grow(mesh, on_cut, loop_of);
+            tree.grow(graph, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));
     }

@@ -53,6 +53,13 @@ public:
 
     const Mesh& mesh() const { return mesh_; }  //!< the mesh the graph was built on
 
+    //! \brief Head vertex indices of the arcs leaving vertex index \p v, as [first, last), in the
+    //! order voh_range() visits them (clockwise from the vertex's halfedge).
+    std::pair<const int*, const int*> arc_heads(int v) const
+    {
+        return {arc_to_.data() + first_[v], arc_to_.data() + first_[v + 1]};
+    }
+
     //! \brief A given route as a GraphPath: its halfedges and the sum of their weights.
     //! \param halfedges consecutive halfedges, head to tail.
     GraphPath path_of(std::vector<HalfedgeHandle> halfedges) const;
