@@ -89,19 +89,25 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
 // The heap is 4-ary over vertices with their distance as key (detail::heap_lower); of two equal
 // distances the one placed first stays above.
 namespace {
-bool closer(const detail::HeapItem& a, const detail::HeapItem& b) { return a.first < b.first; }
+struct Closer
+{
+    bool operator()(const detail::HeapItem& a, const detail::HeapItem& b) const
+    {
+        return a.first < b.first;
+    }
+};
 }  // namespace
 
 void CutGraph::relax(int v, double d, int parent)
 {
     dist_[v] = d;
     parent_[v] = parent;
-    detail::heap_lower(heap_, slot_, v, d, closer);
+    detail::heap_lower(heap_, slot_, v, d, Closer{});
 }
 
 int CutGraph::pop_min()
 {
-    return detail::heap_pop(heap_, slot_, closer).second;
+    return detail::heap_pop(heap_, slot_, Closer{}).second;
 }
 
 GraphPath CutGraph::shortest_path(const PathQuery& query)
