@@ -59,9 +59,7 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
     mean_weight_ = std::accumulate(weights.begin(), weights.end(), 0.0) /
                    static_cast<double>(std::max<std::size_t>(1, weights.size()));
     first_.assign(nv + 1, 0);
-    arc_to_.reserve(mesh.n_halfedges());
-    arc_halfedge_.reserve(mesh.n_halfedges());
-    arc_weight_.reserve(mesh.n_halfedges());
+    arcs_.reserve(mesh.n_halfedges());
     // Outgoing halfedges clockwise from the vertex's halfedge, as voh_range() visits them (the
     // order decides between exactly equal routes), without the circulator's overhead.
     for (std::size_t v = 0; v < nv; ++v)
@@ -72,13 +70,11 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
             HalfedgeHandle h = start;
             do
             {
-                arc_to_.push_back(mesh.to_vertex_handle(h).idx());
-                arc_halfedge_.push_back(h.idx());
-                arc_weight_.push_back(weights[h.idx()]);
+                arcs_.push_back({mesh.to_vertex_handle(h).idx(), h.idx(), weights[h.idx()]});
                 h = mesh.cw_rotated_halfedge_handle(h);
             } while (h != start);
         }
-        first_[v + 1] = static_cast<int>(arc_to_.size());
+        first_[v + 1] = static_cast<int>(arcs_.size());
     }
     dist_.assign(nv, kInfinity);
     parent_.assign(nv, -1);
@@ -142,17 +138,18 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
             break;
         }
         const double d = dist_[v];
-        for (int a = first_[v]; a < first_[v + 1]; ++a)
+        const auto [first, last] = arcs(v);
+        for (const Arc* a = first; a != last; ++a)
         {
-            const int w = arc_to_[a];
+            const int w = a->to;
             if ((state_[w] & kSettled) || (any_blocked && query.is_blocked[w]))
                 continue;
-            const double nd = d + arc_weight_[a];
+            const double nd = d + a->weight;
             if (nd < dist_[w])
             {
                 if (dist_[w] == kInfinity)
                     touched_.push_back(w);
-                relax(w, nd, arc_halfedge_[a]);
+                relax(w, nd, a->halfedge);
             }
         }
     }

@@ -200,10 +200,10 @@ private:
         {
             const auto [d, v] = pop_min();
             const auto& p = mesh.point(VertexHandle(v));
-            const auto [first, last] = graph.arc_heads(v);
-            for (const int* a = first; a != last; ++a)
+            const auto [first, last] = graph.arcs(v);
+            for (const CutGraph::Arc* a = first; a != last; ++a)
             {
-                const int w = *a;
+                const int w = a->to;
                 const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
                 if (nd <= bound_ && nd < dist[w] && loop_of[w] < 0)
                 {
