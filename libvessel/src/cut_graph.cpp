@@ -1,6 +1,7 @@
 #include "vessel/cut_graph.h"
 
 #include "vessel/errors.h"
+#include "detail/quad_heap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,9 +59,7 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
     mean_weight_ = std::accumulate(weights.begin(), weights.end(), 0.0) /
                    static_cast<double>(std::max<std::size_t>(1, weights.size()));
     first_.assign(nv + 1, 0);
-    arc_to_.reserve(mesh.n_halfedges());
-    arc_halfedge_.reserve(mesh.n_halfedges());
-    arc_weight_.reserve(mesh.n_halfedges());
+    arcs_.reserve(mesh.n_halfedges());
     // Outgoing halfedges clockwise from the vertex's halfedge, as voh_range() visits them (the
     // order decides between exactly equal routes), without the circulator's overhead.
     for (std::size_t v = 0; v < nv; ++v)
@@ -71,13 +70,11 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
             HalfedgeHandle h = start;
             do
             {
-                arc_to_.push_back(mesh.to_vertex_handle(h).idx());
-                arc_halfedge_.push_back(h.idx());
-                arc_weight_.push_back(weights[h.idx()]);
+                arcs_.push_back({mesh.to_vertex_handle(h).idx(), h.idx(), weights[h.idx()]});
                 h = mesh.cw_rotated_halfedge_handle(h);
             } while (h != start);
         }
-        first_[v + 1] = static_cast<int>(arc_to_.size());
+        first_[v + 1] = static_cast<int>(arcs_.size());
     }
     dist_.assign(nv, kInfinity);
     parent_.assign(nv, -1);
@@ -85,60 +82,28 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
     slot_.assign(nv, -1);
 }
 
-// The heap is 4-ary over vertices with their distance as key; slot_[v] is v's place in it (-1
-// when not in it), so a shorter distance moves the vertex up instead of adding an entry.
+// The heap is 4-ary over vertices with their distance as key (detail::heap_lower); of two equal
+// distances the one placed first stays above.
+namespace {
+struct Closer
+{
+    bool operator()(const detail::HeapItem& a, const detail::HeapItem& b) const
+    {
+        return a.first < b.first;
+    }
+};
+}  // namespace
+
 void CutGraph::relax(int v, double d, int parent)
 {
     dist_[v] = d;
     parent_[v] = parent;
-    int i = slot_[v];
-    if (i < 0)
-    {
-        i = static_cast<int>(heap_.size());
-        heap_.emplace_back();
-    }
-    while (i > 0)
-    {
-        const int up = (i - 1) / 4;
-        if (heap_[up].first <= d)
-            break;
-        heap_[i] = heap_[up];
-        slot_[heap_[i].second] = i;
-        i = up;
-    }
-    heap_[i] = {d, v};
-    slot_[v] = i;
+    detail::heap_lower(heap_, slot_, v, d, Closer{});
 }
 
 int CutGraph::pop_min()
 {
-    const int top = heap_.front().second;
-    slot_[top] = -1;
-    const std::pair<double, int> last = heap_.back();
-    heap_.pop_back();
-    const int n = static_cast<int>(heap_.size());
-    if (n == 0)
-        return top;
-    int i = 0;
-    for (;;)
-    {
-        const int first = 4 * i + 1;
-        if (first >= n)
-            break;
-        int best = first;
-        const int end = std::min(first + 4, n);
-        for (int c = first + 1; c < end; ++c)
-            if (heap_[c].first < heap_[best].first)
-                best = c;
-        if (heap_[best].first >= last.first)
-            break;
-        heap_[i] = heap_[best];
-        slot_[heap_[i].second] = i;
-        i = best;
-    }
-    heap_[i] = last;
-    slot_[last.second] = i;
-    return top;
+    return detail::heap_pop(heap_, slot_, Closer{}).second;
 }
 
 GraphPath CutGraph::shortest_path(const PathQuery& query)
@@ -173,17 +138,18 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
             break;
         }
         const double d = dist_[v];
-        for (int a = first_[v]; a < first_[v + 1]; ++a)
+        const auto [first, last] = arcs(v);
+        for (const Arc* a = first; a != last; ++a)
         {
-            const int w = arc_to_[a];
+            const int w = a->to;
             if ((state_[w] & kSettled) || (any_blocked && query.is_blocked[w]))
                 continue;
-            const double nd = d + arc_weight_[a];
+            const double nd = d + a->weight;
             if (nd < dist_[w])
             {
                 if (dist_[w] == kInfinity)
                     touched_.push_back(w);
-                relax(w, nd, arc_halfedge_[a]);
+                relax(w, nd, a->halfedge);
             }
         }
     }

@@ -4,8 +4,9 @@
 #include "vessel/cut_winding.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
-#include "detail/edge_distance.h"
+#include "detail/quad_heap.h"
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <queue>
@@ -138,18 +139,103 @@ void grow_rings(const Mesh& mesh, const std::vector<VertexHandle>& seeds, int ma
 
 // Distance along edges to the cut tree (0 on it) and the next vertex toward it, grown
 // (Dijkstra) from \p seeds, keeping shorter distances already there; loop vertices (loop_of
-// >= 0) are neither seeds nor passed through.
-struct TreeDistance
+// >= 0) are neither seeds nor passed through. The same field as detail::grow_edge_distance():
+// the arcs are visited in voh_range() order and the heap settles vertices by (distance, index),
+// as its std::priority_queue of pairs does, so equal distances pick the same `via`. It runs on
+// the graph's arcs with a 4-ary heap with decrease-key whose arrays are reused by every grow.
+//
+// Only distances up to bound() are kept (farther vertices stay unreached): a vertex within it
+// gets the same distance and `via` as an unbounded grow, because Dijkstra settles everything
+// within the bound before anything beyond it. unbound() replays the grows without the bound
+// when a caller needs farther values.
+class TreeDistance
 {
+public:
     std::vector<double> dist;
     std::vector<int> via;  // neighbour one step closer to the tree, -1 on it or unreached
 
-    void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
+    void reset(std::size_t nv, double bound)
+    {
+        dist.assign(nv, std::numeric_limits<double>::infinity());
+        via.assign(nv, -1);
+        slot_.assign(nv, -1);
+        heap_.clear();
+        grown_.clear();
+        bound_ = bound;
+    }
+
+    double bound() const { return bound_; }
+
+    void grow(const CutGraph& graph, const std::vector<VertexHandle>& seeds,
               const std::vector<int>& loop_of)
     {
-        detail::grow_edge_distance(mesh, seeds, dist, via,
-                                   [&](int v) { return loop_of[v] < 0; });
+        grown_.push_back(seeds);
+        run(graph, seeds, loop_of);
     }
+
+    // The same field without the bound: every grow so far again, in order.
+    void unbound(const CutGraph& graph, const std::vector<int>& loop_of)
+    {
+        if (bound_ == std::numeric_limits<double>::infinity())
+            return;
+        bound_ = std::numeric_limits<double>::infinity();
+        std::fill(dist.begin(), dist.end(), bound_);
+        std::fill(via.begin(), via.end(), -1);
+        for (const auto& seeds : grown_)
+            run(graph, seeds, loop_of);
+    }
+
+private:
+    void run(const CutGraph& graph, const std::vector<VertexHandle>& seeds,
+             const std::vector<int>& loop_of)
+    {
+        const Mesh& mesh = graph.mesh();
+        for (auto s : seeds)
+            if (loop_of[s.idx()] < 0)
+            {
+                via[s.idx()] = -1;
+                lower(s.idx(), 0.0);
+            }
+        while (!heap_.empty())
+        {
+            const auto [d, v] = pop_min();
+            const auto& p = mesh.point(VertexHandle(v));
+            const auto [first, last] = graph.arcs(v);
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+            {
+                const int w = a->to;
+                const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
+                if (nd <= bound_ && nd < dist[w] && loop_of[w] < 0)
+                {
+                    via[w] = v;
+                    lower(w, nd);
+                }
+            }
+        }
+    }
+
+private:
+    // By (distance, index), as std::pair compares.
+    struct Before
+    {
+        bool operator()(const detail::HeapItem& a, const detail::HeapItem& b) const
+        {
+            return a < b;
+        }
+    };
+
+    void lower(int v, double d)
+    {
+        dist[v] = d;
+        detail::heap_lower(heap_, slot_, v, d, Before{});
+    }
+
+    detail::HeapItem pop_min() { return detail::heap_pop(heap_, slot_, Before{}); }
+
+    double bound_ = std::numeric_limits<double>::infinity();
+    std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
+    std::vector<int> slot_;  // place in heap_, -1 if not there
+    std::vector<detail::HeapItem> heap_;
 };
 
 // CutRoute::Streamline for one cut: trace \p field from \p start until a face touches
@@ -157,11 +243,13 @@ struct TreeDistance
 // \p band_rings rings around the crossed faces. For a cut that ends on the cut tree (\p tree
 // given) the trace is cut back to where it first comes within \p slack of its nearest
 // approach to the tree, and the band also covers the shortest bridge from there to the tree.
-// Empty when the trace does not arrive or the band holds no route.
-std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
+// Empty when the trace does not arrive or the band holds no route. \p loop_of as in
+// TreeDistance, to unbound \p tree when the approach lies beyond its bound.
+std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
                                    const Eigen::MatrixX3d& field, VertexHandle start,
                                    const std::vector<char>& stop_at, int band_rings,
-                                   const TreeDistance* tree, double slack)
+                                   TreeDistance* tree, const std::vector<int>& loop_of,
+                                   double slack)
 {
     const Mesh& mesh = graph.mesh();
     const Streamline line = trace_streamline(mesh, field, start, stop_at);
@@ -174,16 +262,27 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
         std::vector<double> near(n_faces);
         std::vector<int> corner(n_faces, -1);
         double nearest = std::numeric_limits<double>::infinity();
-        for (std::size_t i = 0; i < n_faces; ++i)
+        const auto approach = [&] {
+            nearest = std::numeric_limits<double>::infinity();
+            for (std::size_t i = 0; i < n_faces; ++i)
+            {
+                near[i] = std::numeric_limits<double>::infinity();
+                corner[i] = -1;
+                for (auto v : mesh.fv_range(line.faces[i]))
+                    if (tree->dist[v.idx()] < near[i])
+                    {
+                        near[i] = tree->dist[v.idx()];
+                        corner[i] = v.idx();
+                    }
+                nearest = std::min(nearest, near[i]);
+            }
+        };
+        approach();
+        // Every face within the slack of the nearest approach must lie inside the bound.
+        if (!(nearest + slack <= tree->bound()))
         {
-            near[i] = std::numeric_limits<double>::infinity();
-            for (auto v : mesh.fv_range(line.faces[i]))
-                if (tree->dist[v.idx()] < near[i])
-                {
-                    near[i] = tree->dist[v.idx()];
-                    corner[i] = v.idx();
-                }
-            nearest = std::min(nearest, near[i]);
+            tree->unbound(graph, loop_of);
+            approach();
         }
         if (!std::isfinite(nearest))
             return std::nullopt;
@@ -203,9 +302,12 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     std::vector<int> ring(mesh.n_vertices(), -1);
     grow_rings(mesh, seeds, band_rings, no_skip, ring);
 
-    PathQuery band = query;
+    PathQuery band;
     band.sources = {start};
+    band.is_target = query.is_target;
+    band.is_blocked = query.is_blocked;
     band.is_blocked.resize(mesh.n_vertices(), 0);
+    band.tie_tolerance = query.tie_tolerance;
     // The cut opens its loop at `start` only: no step along the rim (boundary edges).
     for (auto v : query.sources)
         if (v != start)
@@ -213,14 +315,19 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
+    // The band borrows the query's |V| x 3 winding field instead of copying it.
+    band.winding_rate.swap(query.winding_rate);
+    std::optional<GraphPath> path;
     try
     {
-        return graph.shortest_path(band);
+        path = graph.shortest_path(band);
     }
     catch (const InvalidInputError&)
     {
-        return std::nullopt;  // no target inside the band
+        // no target inside the band
     }
+    band.winding_rate.swap(query.winding_rate);
+    return path;
 }
 
 // The cut-tree vertices within (1 + slack) x the edge-path distance from \p loop to the nearest
@@ -325,20 +432,25 @@ CutPath as_cut(const Mesh& mesh, const GraphPath& p)
 
 // CutRoute::Aligned: whether the traced path replaces the cheapest one. With a winding meter,
 // when it winds clearly less and is not much worse aligned; otherwise (or without a meter)
-// when it follows the stream field clearly better.
+// when it follows the stream field clearly better. \p winding_meter returns the meter (built
+// at its first call) or null.
 bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& traced,
-                 const Eigen::MatrixX3d& stream_field, const WindingMeter* meter,
+                 const Eigen::MatrixX3d& stream_field,
+                 const std::function<const WindingMeter*()>& winding_meter,
                  const CutPlanOptions& options)
 {
     const CutPath a = as_cut(mesh, cheapest), b = as_cut(mesh, traced);
     const double aligned_a = path_alignment(mesh, a, stream_field).mean;
     const double aligned_b = path_alignment(mesh, b, stream_field).mean;
-    if (meter &&
-        std::abs(meter->measure(b).winding_deg) <
-            std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg &&
-        aligned_b >= aligned_a - options.winding_max_alignment_loss)
+    // Either test alone can keep it; the windings (the costly part) are measured only when
+    // the alignments leave the answer open.
+    if (aligned_b > aligned_a + options.aligned_min_gain)
         return true;
-    return aligned_b > aligned_a + options.aligned_min_gain;
+    if (!(aligned_b >= aligned_a - options.winding_max_alignment_loss))
+        return false;
+    const WindingMeter* meter = winding_meter();
+    return meter && std::abs(meter->measure(b).winding_deg) <
+                        std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
 }  // namespace
@@ -374,9 +486,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         throw InvalidInputError("plan_cuts: " + std::to_string(longitudinal.size()) +
                                 " longitudinal values for " + std::to_string(nv) +
                                 " vertices; pass harmonic_longitudinal() of the same mesh, or none");
-    const std::optional<WindingMeter> meter =
-        compare && longitudinal.size() != 0 ? std::optional<WindingMeter>(std::in_place, mesh, longitudinal)
-                                            : std::nullopt;
+    // Built at the first cut whose alignments leave the choice to the windings (keep_traced).
+    std::optional<WindingMeter> meter;
+    const auto winding_meter = [&]() -> const WindingMeter* {
+        if (!compare || longitudinal.size() == 0)
+            return nullptr;
+        if (!meter)
+            meter.emplace(mesh, longitudinal);
+        return &*meter;
+    };
     const bool nearest_point = options.endpoints == EndpointPolicy::NearestToPoint;
 
     // path_of[v]: first cut through v (-1 if none); loop_of[v]: boundary loop of v (-1 if none).
@@ -415,13 +533,19 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     std::vector<char> stop_at(streamline ? nv : 0, 0);
     const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     const bool approach = options.join == CutJoin::Approach;
+    const double slack = streamline ? options.join_rings * mean_edge_length(mesh) : 0.0;
+    // The tree distance is read up to the cut-back reach of CutJoin::Approach and, on the
+    // streamline route, up to the slack beyond a trace's nearest approach (which stops within
+    // join_rings of the tree when it arrives); band_path() unbounds it when that is not enough.
     TreeDistance tree;
     if (streamline || approach)
     {
-        tree.dist.assign(nv, std::numeric_limits<double>::infinity());
-        tree.via.assign(nv, -1);
+        double bound = 3.0 * slack;
+        if (approach)
+            for (std::size_t l = 2; l < loops.size(); ++l)
+                bound = std::max(bound, options.join_reach * (loops[l].arc_length / (2.0 * M_PI)));
+        tree.reset(nv, bound);
     }
-    const double slack = streamline ? options.join_rings * mean_edge_length(mesh) : 0.0;
 
     CutPlan plan;
     for (std::size_t l = 1; l < loops.size(); ++l)
@@ -495,9 +619,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             std::optional<GraphPath> along =
                 band_path(graph, query, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
-                          options.band_rings, l == 1 ? nullptr : &tree, slack);
+                          options.band_rings, l == 1 ? nullptr : &tree, loop_of, slack);
             if (along && compare && !keep_traced(mesh, found, *along, stream_field,
-                                                  meter ? &*meter : nullptr, options))
+                                                  winding_meter, options))
                 along.reset();
             if (along)
             {
@@ -525,14 +649,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         if (l >= 2 && loop_of[cut.start.idx()] < 0)
             query.is_target[cut.start.idx()] = 1;
-        if (streamline || approach)
+        // The join rings and the tree distance serve later outlets only.
+        if ((streamline || approach) && l + 1 < loops.size())
         {
             std::vector<VertexHandle> on_cut;
             for (auto h : cut.halfedges)
                 on_cut.push_back(mesh.to_vertex_handle(h));
             if (streamline)
                 grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
-            tree.grow(mesh, on_cut, loop_of);
+            tree.grow(graph, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));
     }

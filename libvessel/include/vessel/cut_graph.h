@@ -53,6 +53,21 @@ public:
 
     const Mesh& mesh() const { return mesh_; }  //!< the mesh the graph was built on
 
+    //! An arc: one halfedge of the mesh with its weight.
+    struct Arc
+    {
+        int to = -1;        //!< head vertex index
+        int halfedge = -1;  //!< halfedge index
+        double weight = 0.0;
+    };
+
+    //! \brief The arcs leaving vertex index \p v, as [first, last), in the order voh_range()
+    //! visits them (clockwise from the vertex's halfedge).
+    std::pair<const Arc*, const Arc*> arcs(int v) const
+    {
+        return {arcs_.data() + first_[v], arcs_.data() + first_[v + 1]};
+    }
+
     //! \brief A given route as a GraphPath: its halfedges and the sum of their weights.
     //! \param halfedges consecutive halfedges, head to tail.
     GraphPath path_of(std::vector<HalfedgeHandle> halfedges) const;
@@ -65,9 +80,7 @@ private:
     const HalfedgeWeights& weights_;
     double mean_weight_ = 0.0;
     std::vector<int> first_;        // |V|+1: arcs of vertex v are [first_[v], first_[v+1])
-    std::vector<int> arc_to_;       // head vertex of each arc
-    std::vector<int> arc_halfedge_; // halfedge of each arc
-    std::vector<double> arc_weight_;
+    std::vector<Arc> arcs_;  // together, so a search reads one cache line per arc
     // Scratch, valid for the vertices in touched_ only; reset at the start of each query.
     std::vector<double> dist_;
     std::vector<int> parent_;  // halfedge entering the vertex on the Dijkstra tree
