@@ -127,6 +127,16 @@ struct FlattenOptions
     //! mean |log area| 0.0097 -> 0.0221, 2x `keep`; at 1: 6 inversions, 1.33x `keep`;
     //! docs/overlaps.md "The look pull"). CLI `--look-pull W`.
     double look_pull = 0.0;
+    //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
+    //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays
+    //! (each outlet held on its start ray, branch look2). CLI `--look-pull-form hinges|rays`.
+    LookPullForm look_pull_form = LookPullForm::Hinges;
+    //! The hinges' margin (look_pull_form Hinges), degrees: the least angle kept between two
+    //! consecutive outlets' bearings and between an outlet and the inlet's line (less where the
+    //! start has less).
+    double look_margin_deg = 2.0;
+    //! The inlet hold's weight with look_pull_form Hinges, if larger than look_pull (look_pulls()).
+    double look_hold = 0.0;
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
