@@ -222,33 +222,37 @@ TEST_CASE("centre pull: bad pulls are refused")
     CHECK_THROWS_AS(injective_refine(mesh, uv, {}, options), InvalidInputError);
 }
 
-TEST_CASE(
-    "overlaps with a look pull: the pulmonary Glenn tree keeps its outlets above the inlet "
-    "and nearer the walk order, one-to-one")
+TEST_CASE("overlaps with a look pull: the pulmonary Glenn tree keeps its outlets above the inlet "
+          "and nearer the walk order, one-to-one, within 1.5x the unconstrained map's area")
 {
-    // Measured (docs/overlaps.md, "Look pull"): by default 1 of 20 outlets below the inlet and
-    // 22 walk inversions (SLIM's scaffold phase and then the polish pull the branches into a
-    // blob); --look-pull 100: 0 below, 3 inversions, mean |log area| 0.0097 -> 0.0220.
+    // Measured (docs/overlaps.md, "The look hinges"): by default 1 of 20 outlets below the
+    // inlet and 22 walk inversions (of 190 pairs), mean |log area| 0.0097; --look-pull 100
+    // (hinges, margin 2 deg): 0 below, 7 inversions, 0.0141; --overlaps keep: 0.0111.
     const TreeSurface surface = load_tree_surface(std::string(VESSEL_SHARED_DATA) +
                                                   "/svfsi-tests/pulmonary-glenn-wall.ply");
     const FlattenResult plain = flatten(surface.mesh, FlattenOptions());
     FlattenOptions options;
     options.look_pull = 100.0;
+    REQUIRE(options.look_pull_form == LookPullForm::Hinges);
     const FlattenResult pulled = flatten(surface.mesh, options);
+    FlattenOptions keep;
+    keep.overlaps = OverlapPolicy::Keep;
+    const FlattenResult kept = flatten(surface.mesh, keep);
     CHECK(pulled.quality.flipped_triangles == 0);
     CHECK(pulled.quality.overlapping_triangles == 0);
     CHECK(boundary_self_intersection(pulled.mesh, pulled.uv).first == -1);
     CHECK(pulled.look.outlets == 20);
     CHECK(pulled.look.outlets_below_inlet == 0);
     CHECK(pulled.look.area_below_inlet < 0.005);
-    CHECK(3 * pulled.look.walk_inversions <= plain.look.walk_inversions);
+    CHECK(2 * pulled.look.walk_inversions <= plain.look.walk_inversions);
     CHECK(pulled.look.mean_bearing_error_deg < 0.5 * plain.look.mean_bearing_error_deg);
-    // The price, in area (2.3x the default's; not the default for that reason).
-    CHECK(pulled.quality.mean_abs_log_area <= 3.0 * plain.quality.mean_abs_log_area);
+    // Issue 7's bound, which the rays' form broke (look2: 1.99x).
+    CHECK(pulled.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
     MESSAGE("Glenn: default " << plain.look.walk_inversions << " walk inversions, "
                               << plain.look.outlets_below_inlet << " below, mean |log area| "
-                              << plain.quality.mean_abs_log_area
-                              << "; look pull 100: " << pulled.look.walk_inversions << ", "
+                              << plain.quality.mean_abs_log_area << "; look hinges 100: "
+                              << pulled.look.walk_inversions << ", "
                               << pulled.look.outlets_below_inlet << ", "
-                              << pulled.quality.mean_abs_log_area);
+                              << pulled.quality.mean_abs_log_area << "; keep "
+                              << kept.quality.mean_abs_log_area);
 }

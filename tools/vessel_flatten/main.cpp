@@ -189,8 +189,9 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"layout", "tutte"}))
         ->default_str("layout");
     app.add_option("--look-pull", options.look_pull,
-                   "When the map restarts, SLIM also pulls each outlet's centre toward its "
-                   "bearing from the inlet in the start map (centre_pull.h); the weight, 0 = off")
+                   "When the map restarts, SLIM and the area polish also keep the start's look "
+                   "(each outlet above the inlet and in walk order, or on its start ray: "
+                   "--look-pull-form; centre_pull.h); the weight, 0 = off")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option_function<std::string>(
