@@ -63,6 +63,7 @@ public:
 
     const std::vector<FaceOperator>& faces() const { return ops_; }
     const std::vector<CentrePull>& pulls() const { return pulls_; }
+    const Eigen::VectorXd& x() const { return x_; }
     // Per vertex: its index among the free vertices (its u, v are parameters 2i, 2i + 1); -1 if fixed.
     const std::vector<int>& slot() const { return slot_; }
     Eigen::Matrix2d jacobian(const FaceOperator& op) const { return detail::jacobian(op, x_.data()); }
@@ -260,7 +261,7 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         for (const auto& other : partial_values)
             for (Eigen::Index i = 0; i < nnz; ++i)
                 values[i] += other[i];
-        detail::add_centre_pull_curvature(energy.pulls(), slot, diagonal, values);
+        detail::add_centre_pull_curvature(energy.pulls(), energy.x(), slot, diagonal, values);
         // Translations (and, without pins, rotations) leave the energy unchanged: a small
         // multiple of the identity keeps the system definite.
         double trace = 0.0;

@@ -82,7 +82,9 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             result.uv = tutte_embedding(mesh);
         pins.clear();  // neither start can hold the pins where they were
         if (layout && options.look_pull > 0.0)
-            slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull);
+            slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull,
+                                           options.look_pull_form, options.look_margin_deg,
+                                           options.look_hold);
         slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }

@@ -189,9 +189,30 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"layout", "tutte"}))
         ->default_str("layout");
     app.add_option("--look-pull", options.look_pull,
-                   "When the map restarts, SLIM also pulls each outlet's centre toward its "
-                   "bearing from the inlet in the start map (centre_pull.h); the weight, 0 = off")
+                   "When the map restarts, SLIM and the area polish also keep the start's look "
+                   "(each outlet above the inlet and in walk order, or on its start ray: "
+                   "--look-pull-form; centre_pull.h); the weight, 0 = off")
         ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option_function<std::string>(
+           "--look-pull-form",
+           [&](const std::string& v) {
+               options.look_pull_form =
+                   v == "rays" ? vessel::LookPullForm::Rays : vessel::LookPullForm::Hinges;
+           },
+           "The look pull's outlet terms: hinges (zero cost while each outlet stays above the "
+           "inlet and in walk order) or rays (each outlet held on its start ray)")
+        ->check(CLI::IsMember({"hinges", "rays"}))
+        ->default_str("hinges");
+    app.add_option("--look-hold", options.look_hold,
+                   "The look pull's inlet hold weight with hinges, if larger than --look-pull "
+                   "(a rigid motion: costs no area)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--look-margin", options.look_margin_deg,
+                   "The look pull's hinge margin, degrees (between consecutive outlets' "
+                   "bearings and above the inlet's line)")
+        ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str();
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "

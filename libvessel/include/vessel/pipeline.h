@@ -120,13 +120,25 @@ struct FlattenOptions
     bool restart_on_layout_circle = true;
     LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
     //! With Refinement::Injective, when the map restarts on a tree's layout: SLIM and the area
-    //! polish also pull every outlet loop's centre toward the ray from the inlet's centre on
-    //! which the start put it, and hold the inlet (centre_pull.h, look_pulls()); the weight
-    //! multiplies the squared distances (SLIM's energy is >= 4 x the area). 0 = off (default:
-    //! the look costs area; Glenn at 100: walk inversions 22 -> 3, 0 outlets below the inlet,
-    //! mean |log area| 0.0097 -> 0.0221, 2x `keep`; at 1: 6 inversions, 1.33x `keep`;
-    //! docs/overlaps.md "The look pull"). CLI `--look-pull W`.
+    //! polish also keep the start's look with soft terms on the loops' centres (centre_pull.h,
+    //! look_pulls(); look_pull_form: hinges, or look2's rays), holding the inlet; the weight
+    //! multiplies squared lengths (SLIM's energy is >= 4 x the area). 0 = off (default: no
+    //! weight meets issue 7's 1.5x-keep area bound everywhere; hinges at 100: Glenn walk
+    //! inversions 22 -> 7, 0 outlets below the inlet, mean |log area| 0.0097 -> 0.0141, 1.27x
+    //! `keep`; 30-outlet phantoms 1.5-2.4x `keep`; docs/overlaps.md "The look hinges").
+    //! CLI `--look-pull W`.
     double look_pull = 0.0;
+    //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
+    //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays
+    //! (each outlet held on its start ray, branch look2). CLI `--look-pull-form hinges|rays`.
+    LookPullForm look_pull_form = LookPullForm::Hinges;
+    //! The hinges' margin (look_pull_form Hinges), degrees: the least angle kept between two
+    //! consecutive outlets' bearings and between an outlet and the inlet's line (less where the
+    //! start has less). CLI `--look-margin DEG`.
+    double look_margin_deg = 2.0;
+    //! The inlet hold's weight with look_pull_form Hinges, if larger than look_pull (look_pulls():
+    //! a rigid motion, no area cost). 0 = look_pull's. CLI `--look-hold W`.
+    double look_hold = 0.0;
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of

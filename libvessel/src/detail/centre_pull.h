@@ -19,8 +19,10 @@ void require_centre_pull_vertices(const std::vector<CentrePull>& pulls, int n,
 double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x);
 
 //! Add the pulls to SLIM's global step at \p x as a diagonal proxy whose gradient at \p x is
-//! the pulls' (each vertex of a pull is drawn toward its place moved by the centre's offset
-//! from the line, with weight / |vertices|; so the normal matrix's pattern is unchanged).
+//! the pulls' (each vertex of an active pull is drawn toward its place moved against the
+//! residual's gradient, with weight |dr/dc|^2 / |set|: a Line pull's vertices toward their
+//! places moved by the centre's offset from the line, with weight / |vertices|; so the normal
+//! matrix's pattern is unchanged; hinges that hold add nothing).
 //! \param diagonal value index of entry (i, i) of the normal matrix's values \p values.
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs);
@@ -29,10 +31,12 @@ void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorX
 //! (slot[v] < 0: a fixed vertex, skipped).
 void add_centre_pull_gradient(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                               const std::vector<int>& slot, double* gradient);
-//! Add each pull's per-vertex curvature 2 weight / |vertices| (the proxy's, which majorizes the
-//! pull's dense Hessian along any common motion of its vertices) to the values at
+//! Add each pull's per-vertex curvature at \p x, 2 weight |dr/dc|^2 / |set| (the proxy's,
+//! which majorizes the pull's dense Gauss-Newton Hessian along any common motion of a set; a
+//! Line pull: 2 weight / |vertices|; a hinge that holds: 0) to the values at
 //! diagonal[2 slot[v] + k] of the free vertices (slot[v] >= 0).
-void add_centre_pull_curvature(const std::vector<CentrePull>& pulls, const std::vector<int>& slot,
-                               const std::vector<int>& diagonal, double* values);
+void add_centre_pull_curvature(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                               const std::vector<int>& slot, const std::vector<int>& diagonal,
+                               double* values);
 
 }  // namespace vessel::detail
