@@ -595,6 +595,15 @@ std::string status_of(const json& r)
     return "";
 }
 
+// The --method the table's pipeline ran with ("default" or "paper").
+std::string method_of(const std::vector<json>& results)
+{
+    for (const json& r : results)
+        if (r.contains("method"))
+            return r["method"].get<std::string>();
+    return "default";
+}
+
 void print_results(const std::vector<json>& results, bool markdown, std::ostream& os)
 {
     Table med{{"mesh", "triangles", "runs", "Z", "GC", "VC", "AC", "L", "F", "Total", "read",
@@ -653,11 +662,7 @@ void print_results(const std::vector<json>& results, bool markdown, std::ostream
                          std::to_string(r["refinement"]["iterations"].get<int>()),
                          std::to_string(r["seam_edges"].get<int>()), notes});
     }
-    std::string method = "default";
-    for (const json& r : results)
-        if (r.contains("method"))
-            method = r["method"].get<std::string>();
-    const std::string title = "Median seconds per stage (--method " + method + ")";
+    const std::string title = "Median seconds per stage (--method " + method_of(results) + ")";
     os << (markdown ? "\n**" + title + "**\n\n" : "\n" + title + "\n");
     print_table(med, markdown, os);
     os << (markdown ? "\n**Min–max seconds per stage**\n\n" : "\nMin-max seconds per stage\n");
@@ -815,8 +820,9 @@ void print_peer(const std::vector<json>& results, bool markdown, std::ostream& o
     os << (markdown ? "\n**Ratio peer / ours (medians; > 1 = ours faster)**\n\n"
                     : "\nRatio peer / ours (medians; > 1 = ours faster)\n");
     print_table(ratio, markdown, os);
-    os << (markdown ? "\n**Quality of the final maps (ours: default refinement; peer: ARAP)**\n\n"
-                    : "\nQuality of the final maps (ours: default refinement; peer: ARAP)\n");
+    const std::string title =
+        "Quality of the final maps (ours: --method " + method_of(results) + "; peer: ARAP)";
+    os << (markdown ? "\n**" + title + "**\n\n" : "\n" + title + "\n");
     print_table(quality, markdown, os);
 }
 
