@@ -222,6 +222,24 @@ TEST_CASE("centre pull: bad pulls are refused")
     CHECK_THROWS_AS(injective_refine(mesh, uv, {}, options), InvalidInputError);
 }
 
+TEST_CASE("centre pull: bad look options are refused by FlattenOptions")
+{
+    FlattenOptions options;
+    CHECK_NOTHROW(options.validate());
+    options.look_pull = -1.0;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.look_pull = 10.0;
+    options.look_margin_deg = 90.0;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.look_margin_deg = 2.0;
+    options.look_hold = -1.0;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.look_hold = std::nan("");
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.look_hold = 1000.0;
+    CHECK_NOTHROW(options.validate());
+}
+
 TEST_CASE("overlaps with a look pull: the pulmonary Glenn tree keeps its outlets above the inlet "
           "and nearer the walk order, one-to-one, within 1.5x the unconstrained map's area")
 {

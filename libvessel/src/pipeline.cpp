@@ -35,6 +35,9 @@ void FlattenOptions::validate() const
         if (!(look_pull >= 0.0 && std::isfinite(look_pull)))
             throw InvalidInputError("FlattenOptions: look_pull must be >= 0 and finite, got " +
                                     std::to_string(look_pull));
+        if (!(look_hold >= 0.0 && std::isfinite(look_hold)))
+            throw InvalidInputError("FlattenOptions: look_hold must be >= 0 and finite, got " +
+                                    std::to_string(look_hold));
         if (!(look_margin_deg >= 0.0 && look_margin_deg < 90.0))
             throw InvalidInputError("FlattenOptions: look_margin_deg must be in [0, 90), got " +
                                     std::to_string(look_margin_deg));
