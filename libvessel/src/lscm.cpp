@@ -2,11 +2,13 @@
 
 #include "vessel/errors.h"
 #include "vessel/operators.h"
+#include "detail/paired_cholmod.h"
 #include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
 
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -65,7 +67,7 @@ void check_pins(const Mesh& mesh, const Pins& pins, std::vector<int>& pinned)
 Eigen::VectorXd solve_regularised(const Eigen::SparseMatrix<double>& A, const Eigen::VectorXd& b)
 {
     const double shift = 1e-10 * std::max(1e-300, A.diagonal().cwiseAbs().maxCoeff());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> solver;
     solver.setShift(shift);
     {
         const detail::SerialOpenMp serial;
@@ -76,7 +78,7 @@ Eigen::VectorXd solve_regularised(const Eigen::SparseMatrix<double>& A, const Ei
                           std::to_string(A.rows()) + " unknowns), not even regularised; every " +
                           "connected component needs two pins and the mesh must have no " +
                           "degenerate triangles");
-    const auto full = A.selfadjointView<Eigen::Lower>();
+    const auto full = A.selfadjointView<Eigen::Upper>();
     Eigen::VectorXd x = solver.solve(b);
     for (int round = 0; round < 5 && x.allFinite(); ++round)
         x += solver.solve(b - full * x);
@@ -168,7 +170,7 @@ Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
         const int fc = dof[c];
         if (fc >= 0)
         {
-            if (fc <= fr)  // CHOLMOD reads the lower triangle only
+            if (fr <= fc)  // the solver reads the upper triangle only
                 triplets.emplace_back(fr, fc, w);
         }
         else
@@ -180,12 +182,16 @@ Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
     // CHOLMOD's supernodal LLT rather than Eigen's SimplicialLDLT: on a 300k-triangle mesh
     // (300k unknowns, ~17M nonzeros in the factor) its BLAS-3 supernodes factor 2.6x faster than
     // SimplicialLDLT and 3.3x faster than CHOLMOD's own simplicial LDLT (measured 4.0 s vs 10.3 s
-    // vs 13.4 s wall on a loaded 2-core machine). METIS ordering barely reduces the fill on these
-    // meshes and costs more to compute than CHOLMOD's default AMD.
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    // vs 13.4 s wall on a loaded 2-core machine). The unknowns come in (u, v) pairs, so AMD
+    // orders the vertex graph (PairedCholmod), a quarter of the entries. METIS would cut the
+    // fill on large maps but costs more than it saves in this single factorization (carotid-300k
+    // with METIS: slower in alternated runs).
+    detail::PairedCholmod solver;
     {
         const detail::SerialOpenMp serial;
-        solver.compute(A);
+        solver.analyze_pairs(A, std::numeric_limits<int>::max());
+        if (solver.info() == Eigen::Success)
+            solver.factorize(A);
     }
     Eigen::VectorXd x;
     if (solver.info() == Eigen::Success)

@@ -22,7 +22,9 @@ public:
     static constexpr int kMetisVertices = 100000;
 
     //! Symbolic analysis of \p A (upper triangle, compressed, even size). Check info().
-    void analyze_pairs(const Eigen::SparseMatrix<double>& A)
+    //! \p metis_vertices: the vertex count from which METIS orders (a single factorization,
+    //! e.g. LSCM's, is better served by AMD's cheaper ordering at every size).
+    void analyze_pairs(const Eigen::SparseMatrix<double>& A, int metis_vertices = kMetisVertices)
     {
         const int n = static_cast<int>(A.cols()) / 2;
         // Upper pattern of the vertex graph: vertex I <= J for each stored (i, j).
@@ -61,7 +63,7 @@ public:
         // -> 8.9M; 300k: 808 -> 750 MB), the same CPU time there (branch fspeed6,
         // docs/benchmarks.md); below it AMD, cheaper to compute on small graphs.
         const bool ok =
-            n >= kMetisVertices
+            n >= metis_vertices
                 ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &cholmod())
                 : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &cholmod());
         if (!ok)
