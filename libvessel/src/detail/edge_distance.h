@@ -1,7 +1,9 @@
 #pragma once
 
-// Multi-source Dijkstra along a mesh's edges (3D edge lengths), shared by the cut planner's
-// distance to the cut tree (cut_plan.cpp) and beside_length() (cut_metrics.cpp).
+// Multi-source Dijkstra along a mesh's edges (3D edge lengths), used by beside_length()
+// (cut_metrics.cpp). The cut planner's distance to the cut tree (cut_plan.cpp, TreeDistance)
+// computes the same field on its CutGraph's arcs with the 4-ary heap of detail/quad_heap.h
+// and reused arrays, settling vertices in the same order; a change to one is a change to both.
 
 #include "vessel/mesh.h"
 

@@ -10,10 +10,11 @@ namespace vessel::detail {
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
 //! come in pairs (u, v of one vertex: unknowns 2i and 2i + 1) that share their sparsity.
 //! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
-//! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the whole matrix: the same
-//! kind of ordering for a fraction of the symbolic analysis's cost, which matters where the
-//! pattern changes every iteration (SLIM's scaffold), and from kMetisVertices on a factor with
-//! far fewer flops (the area polish's Newton Hessian too). factorize() and solve() are Eigen's.
+//! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the
+//! whole matrix: the same kind of ordering for a fraction of the symbolic analysis's cost, which
+//! matters where the pattern changes every iteration (SLIM's scaffold), and from kMetisVertices
+//! on a factor with far fewer flops (the area polish's Newton Hessian too; LSCM's single
+//! factorization keeps AMD). factorize() and solve() are Eigen's.
 class PairedCholmod
     : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
 {
