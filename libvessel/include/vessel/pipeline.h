@@ -12,6 +12,7 @@
 #include "vessel/injective.h"
 #include "vessel/layout.h"
 #include "vessel/layout_circle.h"
+#include "vessel/look_retry.h"
 #include "vessel/map_look.h"
 #include "vessel/metrics.h"
 #include "vessel/relief_cut.h"
@@ -139,6 +140,11 @@ struct FlattenOptions
     //! The inlet hold's weight with look_pull_form Hinges, if larger than look_pull (look_pulls():
     //! a rigid motion, no area cost). 0 = look_pull's. CLI `--look-hold W`.
     double look_hold = 0.0;
+    //! With look_pull 0: after a restarted map whose look is broken (an outlet below the inlet,
+    //! or many walk inversions), redo it with the hinge pull and keep that map if it is
+    //! one-to-one and within the area bound (look_retry.h; on by default, LookRetry::Auto).
+    //! CLI `--look-retry auto|off|force`.
+    LookRetryOptions look_retry;
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
@@ -190,6 +196,7 @@ struct FlattenResult
     //! How the map keeps the layout's look (map_look.h): inlet at the bottom, outlets in the
     //! layout's fan order and directions. Empty (no outlets) for a surface flattened without cuts.
     MapLook look;
+    LookRetrySummary look_retry;  //!< what FlattenOptions::look_retry did
     StageTimings timings;
     std::vector<std::string> notes;  //!< fallbacks taken, one line each
 };
