@@ -7,6 +7,7 @@
 #include "vessel/pipeline.h"
 #include "vessel/validation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -73,4 +74,39 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
                                        << r.look.walk_inversions << ", "
                                        << r.quality.mean_abs_log_area_normalized << "; keep "
                                        << kept.quality.mean_abs_log_area_normalized);
+}
+
+TEST_SUITE("slow")
+{
+    // "overlaps" in the name: the slow overlap tests run together (ctest -L slow -R overlap).
+    TEST_CASE("overlaps: look retry on a 30-outlet phantom whose pulled map is over the area "
+              "bound keeps the default map")
+    {
+        // Measured (docs/overlaps.md, "The adaptive look"): seed 32 (edge 0.75) has 2 outlets
+        // below the inlet by default, so the retry runs; the pulled map is 2x `keep`'s mean
+        // |log area|, above max_area_over_keep, and the default map stays, bit for bit.
+        TreePhantomOptions tree;
+        tree.outlets = 30;
+        tree.seed = 32;
+        tree.edge_length = 0.75;
+        const Mesh mesh = tree_phantom(tree);
+        const FlattenResult r = flatten(mesh, FlattenOptions());
+        FlattenOptions off;
+        off.look_retry.mode = LookRetry::Off;
+        const FlattenResult plain = flatten(mesh, off);
+        REQUIRE(r.look_retry.tried);
+        CHECK_FALSE(r.look_retry.kept);
+        CHECK(r.look_retry.keep_area > 0.0);
+        CHECK(r.look_retry.pulled_area >
+              FlattenOptions().look_retry.max_area_over_keep * r.look_retry.keep_area);
+        REQUIRE(r.uv.rows() == plain.uv.rows());
+        CHECK((r.uv - plain.uv).cwiseAbs().maxCoeff() == 0.0);
+        CHECK(r.look.outlets_below_inlet == plain.look.outlets_below_inlet);
+        CHECK(r.quality.mean_abs_log_area == plain.quality.mean_abs_log_area);
+        CHECK(r.quality.overlapping_triangles == 0);
+        CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+            return note.find("kept the default map") != std::string::npos;
+        }));
+        MESSAGE("30 outlets, seed 32: " << r.look_retry.report);
+    }
 }
