@@ -42,6 +42,14 @@ std::string look_line(const MapLook& look)
            " walk inversions";
 }
 
+// Fewer outlets below the inlet, or as many and fewer walk inversions.
+bool look_better(const MapLook& look, const MapLook& than)
+{
+    return look.outlets_below_inlet < than.outlets_below_inlet ||
+           (look.outlets_below_inlet == than.outlets_below_inlet &&
+            look.walk_inversions < than.walk_inversions);
+}
+
 }  // namespace
 
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
@@ -71,9 +79,12 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     const MapLook look = map_look(mesh, trial.uv, layout.segments, placed);
 
     std::string verdict;
+    const MapLook& was = summary.default_look;
     if (quality.flipped_triangles > 0 || quality.overlapping_triangles > 0 ||
         boundary_self_intersection(mesh, trial.uv).first >= 0)
         verdict = "not one-to-one";
+    else if (!look_better(look, was))
+        verdict = "look not better";
     else if (summary.pulled_area > summary.default_area ||
              quality.mean_abs_log_area > before.mean_abs_log_area)
     {

@@ -16,7 +16,8 @@ enum class LookRetry
 
 //! \brief The adaptive look of issue 7: after a restarted map (FlattenOptions::look_pull 0), if
 //! its look is broken, redo the restart, SLIM and the polish with the hinge pull and keep that
-//! map only if it is one-to-one and its area distortion is within the bound.
+//! map only if it is one-to-one, its look is better (fewer outlets below the inlet, or as many
+//! and fewer walk inversions) and its area distortion is within the bound.
 //! Measured (docs/overlaps.md "The adaptive look"): Glenn's default map (1 outlet below the
 //! inlet, 22 walk inversions) is redone and kept; trees whose look holds are untouched.
 struct LookRetryOptions
