@@ -9,6 +9,7 @@
 #include "vessel/properties.h"
 #include "vessel/spectral.h"
 #include "detail/disk_flatten.h"
+#include "detail/look_retry.h"
 #include "detail/refine_map.h"
 #include "detail/stage_clock.h"
 
@@ -41,6 +42,7 @@ void FlattenOptions::validate() const
         if (!(look_margin_deg >= 0.0 && look_margin_deg < 90.0))
             throw InvalidInputError("FlattenOptions: look_margin_deg must be in [0, 90), got " +
                                     std::to_string(look_margin_deg));
+        look_retry.validate();
         if (polish_area)
             area_polish.validate();
         if (polish_area && !(polished_scaffold_tolerance > 0.0))
@@ -236,9 +238,13 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     // only work whose result was thrown away (docs/benchmarks.md).
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
+    const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
     if (detail::refine_map(mesh, pins, options, crossing, crosses_at_once ? crossing : "",
                            result, &input, &placed))
+    {
         at_layout = false;
+        detail::retry_look(mesh, pins, initial, options, result, input, placed);
+    }
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);
     store<OpenMesh::Vec2d>(

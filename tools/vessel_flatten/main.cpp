@@ -214,6 +214,32 @@ int main(int argc, char** argv)
                    "bearings and above the inlet's line)")
         ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str();
+    app.add_option_function<std::string>(
+           "--look-retry",
+           [&](const std::string& v) {
+               options.look_retry.mode = v == "off"     ? vessel::LookRetry::Off
+                                         : v == "force" ? vessel::LookRetry::Force
+                                                        : vessel::LookRetry::Auto;
+           },
+           "After a restarted map (--look-pull 0): auto redoes it with the hinge pull when its "
+           "look is broken (an outlet below the inlet, or many walk inversions) and keeps that "
+           "map if one-to-one and within the area bound (look_retry.h); force redoes it always; "
+           "off never")
+        ->check(CLI::IsMember({"auto", "off", "force"}))
+        ->default_str("auto");
+    app.add_option("--look-retry-pull", options.look_retry.pull,
+                   "The look retry's hinge weight")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--look-retry-inversions", options.look_retry.max_walk_inversion_fraction,
+                   "The look is broken above this fraction of outlet pairs in walk inversion")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    app.add_option("--look-retry-area", options.look_retry.max_area_over_keep,
+                   "The pulled map is kept if its mean |log area| is at most this factor times "
+                   "the --overlaps keep map's")
+        ->check(CLI::Range(1.0, 1e9))
+        ->capture_default_str();
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "
                    "(area_polish.h; on by default); the value is the area term's weight in "

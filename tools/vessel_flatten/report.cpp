@@ -165,6 +165,14 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                             {"mean_bearing_error_deg", look.mean_bearing_error_deg},
                             {"max_bearing_error_deg", look.max_bearing_error_deg},
                             {"outlet_looks", outlet_looks}};
+    const LookRetrySummary& retry = r.look_retry;  // look_retry.h
+    j["look_retry"] = {{"tried", retry.tried},
+                       {"kept", retry.kept},
+                       {"default_area", retry.default_area},
+                       {"pulled_area", retry.pulled_area},
+                       {"keep_area", retry.keep_area},
+                       {"default_outlets_below_inlet", retry.default_look.outlets_below_inlet},
+                       {"default_walk_inversions", retry.default_look.walk_inversions}};
     // Face ids index the f lines of the flat OBJ (cutting never adds or reorders faces); the
     // pipeline's quality measure found them already (flat_quality).
     j["overlaps"] = {{"triangles", q.overlapping_faces},

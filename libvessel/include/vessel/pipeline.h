@@ -12,6 +12,7 @@
 #include "vessel/injective.h"
 #include "vessel/layout.h"
 #include "vessel/layout_circle.h"
+#include "vessel/look_retry.h"
 #include "vessel/map_look.h"
 #include "vessel/metrics.h"
 #include "vessel/relief_cut.h"
@@ -125,8 +126,8 @@ struct FlattenOptions
     //! multiplies squared lengths (SLIM's energy is >= 4 x the area). 0 = off (default: no
     //! weight meets issue 7's 1.5x-keep area bound everywhere; hinges at 100: Glenn walk
     //! inversions 22 -> 7, 0 outlets below the inlet, mean |log area| 0.0097 -> 0.0141, 1.27x
-    //! `keep`; 30-outlet phantoms 1.5-2.4x `keep`; docs/overlaps.md "The look hinges").
-    //! CLI `--look-pull W`.
+    //! `keep`; 30-outlet phantoms 1.5-2.4x `keep`; docs/overlaps.md "The look hinges"); the
+    //! default gets it adaptively instead (look_retry). CLI `--look-pull W`.
     double look_pull = 0.0;
     //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
     //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays
@@ -139,6 +140,11 @@ struct FlattenOptions
     //! The inlet hold's weight with look_pull_form Hinges, if larger than look_pull (look_pulls():
     //! a rigid motion, no area cost). 0 = look_pull's. CLI `--look-hold W`.
     double look_hold = 0.0;
+    //! With look_pull 0: after a restarted map whose look is broken (an outlet below the inlet,
+    //! or many walk inversions), redo it with the hinge pull and keep that map if it is
+    //! one-to-one and within the area bound (look_retry.h; on by default, LookRetry::Auto).
+    //! CLI `--look-retry auto|off|force`.
+    LookRetryOptions look_retry;
     //! With Refinement::Injective: after SLIM (when it runs), lower the area distortion with area_polish()
     //! (area_polish.h), trading conformal distortion for it; one-to-one maps stay one-to-one
     //! unless overlaps is OverlapPolicy::Keep. On by default (issue 7: the area distortion of
@@ -190,6 +196,7 @@ struct FlattenResult
     //! How the map keeps the layout's look (map_look.h): inlet at the bottom, outlets in the
     //! layout's fan order and directions. Empty (no outlets) for a surface flattened without cuts.
     MapLook look;
+    LookRetrySummary look_retry;  //!< what FlattenOptions::look_retry did
     StageTimings timings;
     std::vector<std::string> notes;  //!< fallbacks taken, one line each
 };

@@ -1,0 +1,23 @@
+#pragma once
+
+#include "vessel/pipeline.h"
+
+namespace vessel::detail {
+
+//! \brief FlattenOptions::look_retry after a restarted map: measure the look of result.uv; if it
+//! is broken (or LookRetry::Force), redo the restart, SLIM and the polish with the hinge pull
+//! (refine_map() with FlattenOptions::look_pull = LookRetryOptions::pull) and keep that map only
+//! if it has no flipped or overlapping triangle, a simple boundary, a better look (fewer outlets
+//! below the inlet, or as many and fewer walk inversions), and a mean |log area| within
+//! LookRetryOptions::max_area_over_keep of the `keep` map's (OverlapPolicy::Keep from
+//! \p initial and \p pins; computed only when the pulled map's area is above the default's).
+//! Fills result.look_retry, and on keeping result.uv and .injective; one line in result.notes.
+//! Does nothing with LookRetry::Off, a look_pull already set, OverlapPolicy::Keep, or no
+//! outlets.
+//! \param initial the map refine_map() started from (the LSCM map at the layout).
+//! \param pins the layout's inlet pins refine_map() was given.
+void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
+                const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
+                const LayoutResult& placed);
+
+}  // namespace vessel::detail
