@@ -486,13 +486,14 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         throw InvalidInputError("plan_cuts: " + std::to_string(longitudinal.size()) +
                                 " longitudinal values for " + std::to_string(nv) +
                                 " vertices; pass harmonic_longitudinal() of the same mesh, or none");
+    const double mean_edge = streamline ? mean_edge_length(mesh) : 0.0;
     // Built at the first cut whose alignments leave the choice to the windings (keep_traced).
     std::optional<WindingMeter> meter;
     const auto winding_meter = [&]() -> const WindingMeter* {
         if (!compare || longitudinal.size() == 0)
             return nullptr;
         if (!meter)
-            meter.emplace(mesh, longitudinal);
+            meter.emplace(graph, longitudinal, mean_edge);
         return &*meter;
     };
     const bool nearest_point = options.endpoints == EndpointPolicy::NearestToPoint;
@@ -533,7 +534,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     std::vector<char> stop_at(streamline ? nv : 0, 0);
     const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     const bool approach = options.join == CutJoin::Approach;
-    const double slack = streamline ? options.join_rings * mean_edge_length(mesh) : 0.0;
+    const double slack = streamline ? options.join_rings * mean_edge : 0.0;
     // The tree distance is read up to the cut-back reach of CutJoin::Approach and, on the
     // streamline route, up to the slack beyond a trace's nearest approach (which stops within
     // join_rings of the tree when it arrives); band_path() unbounds it when that is not enough.
