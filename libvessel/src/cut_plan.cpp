@@ -113,7 +113,7 @@ VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidat
 
 // Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
 // farther), keeping smaller values already there; vertices flagged in \p skip are not entered.
-void grow_rings(const Mesh& mesh, const std::vector<VertexHandle>& seeds, int max_rings,
+void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, int max_rings,
                 const std::vector<int>& skip, std::vector<int>& ring)
 {
     std::vector<VertexHandle> front;
@@ -127,12 +127,19 @@ void grow_rings(const Mesh& mesh, const std::vector<VertexHandle>& seeds, int ma
     {
         std::vector<VertexHandle> next;
         for (auto v : front)
-            for (auto w : mesh.vv_range(v))
-                if (skip[w.idx()] < 0 && (ring[w.idx()] < 0 || ring[w.idx()] > r))
+        {
+            // The graph's arcs, in vv_range() order.
+            const auto [first, last] = graph.arcs(v.idx());
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+            {
+                const int w = a->to;
+                if (skip[w] < 0 && (ring[w] < 0 || ring[w] > r))
                 {
-                    ring[w.idx()] = r;
-                    next.push_back(w);
+                    ring[w] = r;
+                    next.push_back(VertexHandle(w));
                 }
+            }
+        }
         front.swap(next);
     }
 }
@@ -204,8 +211,11 @@ private:
             for (const CutGraph::Arc* a = first; a != last; ++a)
             {
                 const int w = a->to;
+                // d + length >= d >= dist[w] would fail the test below: skip the length.
+                if (dist[w] <= d || loop_of[w] >= 0)
+                    continue;
                 const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
-                if (nd <= bound_ && nd < dist[w] && loop_of[w] < 0)
+                if (nd <= bound_ && nd < dist[w])
                 {
                     via[w] = v;
                     lower(w, nd);
@@ -300,7 +310,7 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
             seeds.push_back(v);
     const std::vector<int> no_skip(mesh.n_vertices(), -1);
     std::vector<int> ring(mesh.n_vertices(), -1);
-    grow_rings(mesh, seeds, band_rings, no_skip, ring);
+    grow_rings(graph, seeds, band_rings, no_skip, ring);
 
     PathQuery band;
     band.sources = {start};
@@ -657,7 +667,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             for (auto h : cut.halfedges)
                 on_cut.push_back(mesh.to_vertex_handle(h));
             if (streamline)
-                grow_rings(mesh, on_cut, options.join_rings, loop_of, join);
+                grow_rings(graph, on_cut, options.join_rings, loop_of, join);
             tree.grow(graph, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));
