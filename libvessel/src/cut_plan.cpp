@@ -6,6 +6,8 @@
 #include "vessel/streamline.h"
 #include "detail/quad_heap.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <functional>
 #include <optional>
@@ -155,6 +157,9 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
 // gets the same distance and `via` as an unbounded grow, because Dijkstra settles everything
 // within the bound before anything beyond it. unbound() replays the grows without the bound
 // when a caller needs farther values.
+//
+// A grow may also be deferred (defer()) until a reader says how far it reads (cover()), which
+// then runs the deferred grows, or replays them all with a larger bound.
 class TreeDistance
 {
 public:
@@ -168,31 +173,52 @@ public:
         slot_.assign(nv, -1);
         heap_.clear();
         grown_.clear();
+        applied_ = 0;
+        points_.clear();
         bound_ = bound;
     }
 
     double bound() const { return bound_; }
 
-    // Adds \p seeds to the tree. \p bound (never above the current one) lowers the bound from
-    // now on: what the earlier grows kept within it stays exact.
     void grow(const CutGraph& graph, const std::vector<VertexHandle>& seeds,
-              const std::vector<int>& loop_of, double bound)
+              const std::vector<int>& loop_of)
     {
-        bound_ = std::min(bound_, bound);
-        grown_.push_back(seeds);
-        run(graph, seeds, loop_of);
+        defer(graph.mesh(), seeds, loop_of);
+        cover(graph, loop_of, bound_);
     }
+
+    // Adds \p seeds to the tree without growing the field yet.
+    void defer(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
+               const std::vector<int>& loop_of)
+    {
+        grown_.push_back(seeds);
+        for (auto s : seeds)
+            if (loop_of[s.idx()] < 0)
+                points_.push_back(to_eigen(mesh.point(s)));
+    }
+
+    // Makes the field exact within \p radius: the deferred grows run, all of them again (in
+    // order, with \p radius as the bound) if the bound is below it.
+    void cover(const CutGraph& graph, const std::vector<int>& loop_of, double radius)
+    {
+        if (radius > bound_)
+        {
+            bound_ = radius;
+            std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
+            std::fill(via.begin(), via.end(), -1);
+            applied_ = 0;
+        }
+        for (; applied_ < grown_.size(); ++applied_)
+            run(graph, grown_[applied_], loop_of);
+    }
+
+    // The points of the tree's vertices (the seeds off the loops), deferred ones included.
+    const std::vector<Eigen::Vector3d>& points() const { return points_; }
 
     // The same field without the bound: every grow so far again, in order.
     void unbound(const CutGraph& graph, const std::vector<int>& loop_of)
     {
-        if (bound_ == std::numeric_limits<double>::infinity())
-            return;
-        bound_ = std::numeric_limits<double>::infinity();
-        std::fill(dist.begin(), dist.end(), bound_);
-        std::fill(via.begin(), via.end(), -1);
-        for (const auto& seeds : grown_)
-            run(graph, seeds, loop_of);
+        cover(graph, loop_of, std::numeric_limits<double>::infinity());
     }
 
 private:
@@ -247,6 +273,8 @@ private:
 
     double bound_ = std::numeric_limits<double>::infinity();
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
+    std::size_t applied_ = 0;                       // grows run into the field so far
+    std::vector<Eigen::Vector3d> points_;           // see points()
     std::vector<int> slot_;  // place in heap_, -1 if not there
     std::vector<detail::HeapItem> heap_;
 };
@@ -397,14 +425,51 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
 // whose remaining length along the path exceeds its distance to the tree by more than
 // \p excess (the path would run on beside the tree), and joined to the tree from v over the
 // shortest bridge (tree.via); unchanged if there is no such vertex.
-GraphPath cut_back(const CutGraph& graph, const GraphPath& path, const TreeDistance& tree,
-                   double reach, double excess)
+//
+// The tree distance is read only as far as a vertex could pass: at vertex i, up to
+// min(reach, left - excess), and not at all where the straight distance to the nearest tree
+// vertex (which the edge-path distance cannot undercut) already exceeds that. \p tree covers
+// the largest such read (TreeDistance::cover()); when there is none the path is kept as is.
+GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& tree,
+                   const std::vector<int>& loop_of, double reach, double excess)
 {
     const Mesh& mesh = graph.mesh();
     const std::size_t n = path.halfedges.size();
     std::vector<double> left(n, 0.0);  // path length after the head of halfedge i
     for (std::size_t i = n - 1; i-- > 0;)
         left[i] = left[i + 1] + mesh.calc_edge_length(path.halfedges[i + 1]);
+    // A margin far above rounding (1e-9 of the lengths involved) keeps the screen on the safe
+    // side: it may read further than needed, never less.
+    const double margin = 1e-9 * (reach + excess + (n > 0 ? left[0] : 0.0));
+    std::vector<Eigen::Vector3d> near;  // tree points within reach of the path's bounding box
+    Eigen::AlignedBox3d box;
+    for (std::size_t i = 0; i + 1 < n; ++i)
+        if (left[i] - excess + margin >= 0.0)
+            box.extend(to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i]))));
+    if (box.isEmpty())
+        return path;
+    box.min().array() -= reach + margin;
+    box.max().array() += reach + margin;
+    for (const auto& q : tree.points())
+        if (box.contains(q))
+            near.push_back(q);
+    double radius = -1.0;  // farthest read
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+        const double read = std::min(reach, left[i] - excess) + margin;
+        if (read < 0.0 || read <= radius)
+            continue;
+        const Eigen::Vector3d p = to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i])));
+        for (const auto& q : near)
+            if ((p - q).norm() <= read)
+            {
+                radius = read;
+                break;
+            }
+    }
+    if (radius < 0.0)
+        return path;
+    tree.cover(graph, loop_of, radius);
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
         const VertexHandle v = mesh.to_vertex_handle(path.halfedges[i]);
@@ -551,23 +616,19 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // The tree distance is read up to the cut-back reach of CutJoin::Approach and, on the
     // streamline route, up to the slack beyond a trace's nearest approach (which stops within
     // join_rings of the tree when it arrives); band_path() unbounds it when that is not enough.
-    // read_within[l]: how far the outlets after l read it (the largest reach among them), the
-    // bound of the grow after cut l. Not lowered on the streamline routes: there a trace's
-    // nearest approach often lies beyond a later outlet's reach, and unbound() replays every
-    // grow (pulmonary-glenn-wall's default VC took 2.3x as long).
+    // Without a stream field only cut_back() reads it: its grows are deferred until cut_back()
+    // knows how far it reads (often nowhere).
     TreeDistance tree;
-    std::vector<double> read_within(loops.size(), 3.0 * slack);
-    if (streamline || approach)
+    if (streamline)
     {
-        for (std::size_t l = loops.size() - 1; l-- > 1;)
-            read_within[l] = std::max(read_within[l + 1],
-                                      approach ? options.join_reach *
-                                                     (loops[l + 1].arc_length / (2.0 * M_PI))
-                                               : 0.0);
-        if (streamline)
-            std::fill(read_within.begin(), read_within.end(), read_within[1]);
-        tree.reset(nv, read_within[1]);
+        double bound = 3.0 * slack;
+        if (approach)
+            for (std::size_t l = 2; l < loops.size(); ++l)
+                bound = std::max(bound, options.join_reach * (loops[l].arc_length / (2.0 * M_PI)));
+        tree.reset(nv, bound);
     }
+    else if (approach)
+        tree.reset(nv, 0.0);
 
     CutPlan plan;
     for (std::size_t l = 1; l < loops.size(); ++l)
@@ -618,7 +679,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         if (l >= 2 && approach)
         {
             const double radius = loops[l].arc_length / (2.0 * M_PI);
-            found = cut_back(graph, found, tree, options.join_reach * radius,
+            found = cut_back(graph, found, tree, loop_of, options.join_reach * radius,
                              options.join_excess * radius);
         }
         if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
@@ -679,7 +740,10 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 on_cut.push_back(mesh.to_vertex_handle(h));
             if (streamline)
                 grow_rings(graph, on_cut, options.join_rings, loop_of, join);
-            tree.grow(graph, on_cut, loop_of, read_within[l]);
+            if (streamline)
+                tree.grow(graph, on_cut, loop_of);
+            else
+                tree.defer(mesh, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));
     }
