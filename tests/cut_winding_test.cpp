@@ -165,6 +165,34 @@ TEST_CASE("cut_winding: on a torus piece every line along the tube measures ~0")
     CHECK(std::abs(std::abs(meter.measure(spiral).winding_deg) - 360.0) < 20.0);
 }
 
+TEST_CASE("cut_winding: the meter over a CutGraph's arcs gives the same figures")
+{
+    // plan_cuts() builds its meter on the cut graph (rings walked over the arcs, the mean edge
+    // passed in); the cuts it picks by winding must be the ones the circulator meter picks.
+    HelicalTubeOptions options;
+    const Mesh mesh = helical_tube(options);
+    const Eigen::VectorXd u = longitudinal(mesh);
+    const HalfedgeWeights weights(mesh.n_halfedges(), 1.0);
+    const CutGraph graph(mesh, weights);
+    const WindingMeter by_mesh(mesh, u);
+    const WindingMeter by_graph(graph, u, mean_edge_length(mesh));
+    const auto angle = [&](const Eigen::Vector3d& p) {
+        return std::atan2(p.z(), std::hypot(p.x(), p.y()) - options.helix_radius);
+    };
+    for (double turns : {0.0, 0.5, 1.0})
+    {
+        CAPTURE(turns);
+        const auto path = ring_path(options.n_around, mesh, angle,
+                                    [&](double s) { return 2.0 * M_PI * turns * s; });
+        const PathWinding a = by_mesh.measure(path), b = by_graph.measure(path);
+        CHECK(a.measured > 0);
+        CHECK(a.measured == b.measured);
+        CHECK(a.winding_deg == b.winding_deg);  // bit for bit: the same rings in the same order
+        CHECK(a.span_deg == b.span_deg);
+    }
+    CHECK_THROWS_AS(WindingMeter(graph, u, -1.0), InvalidInputError);
+}
+
 TEST_CASE("cut_winding: bad input is refused with what to fix")
 {
     const Mesh mesh = helical_tube();

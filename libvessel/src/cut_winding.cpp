@@ -50,6 +50,24 @@ WindingMeter::WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal
                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
 
+WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
+                           double mean_edge, const WindingOptions& options)
+    : mesh_(graph.mesh()), graph_(&graph), u_(longitudinal), options_(options)
+{
+    options_.validate();
+    if (static_cast<std::size_t>(longitudinal.size()) != mesh_.n_vertices())
+        throw InvalidInputError("WindingMeter: " + std::to_string(longitudinal.size()) +
+                                " longitudinal values for " + std::to_string(mesh_.n_vertices()) +
+                                " vertices; pass one per vertex, indexed by v.idx()");
+    if (!(mean_edge >= 0.0) || !std::isfinite(mean_edge))
+        throw InvalidInputError("WindingMeter: mean edge length " + std::to_string(mean_edge) +
+                                " must be finite and >= 0; pass mean_edge_length(graph.mesh())");
+    half_width_ = options_.band * mean_edge;
+    stamp_.assign(mesh_.n_vertices(), -1);
+    direction_.assign(mesh_.n_vertices(),
+                      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+}
+
 namespace {
 
 // Area-weighted gradient of the piecewise-linear u over the faces around v (unnormalized).
@@ -93,13 +111,25 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
     const double lo = u_[p.idx()] - half_width_, hi = u_[p.idx()] + half_width_;
     ring.vertices.assign(1, p);
     stamp_[p.idx()] = round_;
+    const auto enter = [&](int w) {
+        if (stamp_[w] != round_ && u_[w] >= lo && u_[w] <= hi)
+        {
+            stamp_[w] = round_;
+            ring.vertices.push_back(VertexHandle(w));
+        }
+    };
+    // Breadth first; the graph's arcs list the neighbours in vv_range() order, so both walks
+    // give the same ring in the same order (and the same sums below).
     for (std::size_t head = 0; head < ring.vertices.size(); ++head)
-        for (auto w : mesh_.vv_range(ring.vertices[head]))
-            if (stamp_[w.idx()] != round_ && u_[w.idx()] >= lo && u_[w.idx()] <= hi)
-            {
-                stamp_[w.idx()] = round_;
-                ring.vertices.push_back(w);
-            }
+        if (graph_)
+        {
+            const auto [first, last] = graph_->arcs(ring.vertices[head].idx());
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+                enter(a->to);
+        }
+        else
+            for (auto w : mesh_.vv_range(ring.vertices[head]))
+                enter(w.idx());
     const auto n = static_cast<double>(ring.vertices.size());
     if (ring.vertices.size() < static_cast<std::size_t>(options_.min_ring_vertices))
         return false;

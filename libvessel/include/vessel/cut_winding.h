@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/cut_graph.h"
 #include "vessel/cut_plan.h"
 
 #include <vector>
@@ -56,6 +57,14 @@ public:
     WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
                  const WindingOptions& options = {});
 
+    //! \brief The same meter (the same figures), walking its rings over the arcs of \p graph
+    //! (the mesh's edges, in the order vv_range() visits them) instead of OpenMesh's
+    //! circulators. For a meter inside plan_cuts(), which has both at hand.
+    //! \param mean_edge mean_edge_length(graph.mesh()), which the caller already computed.
+    //! \throw InvalidInputError as above, or if \p mean_edge is negative or not finite.
+    WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal, double mean_edge,
+                 const WindingOptions& options = {});
+
     //! \throw InvalidInputError if the path leaves the mesh's vertex range.
     PathWinding measure(const CutPath& path) const;
 
@@ -67,6 +76,7 @@ private:
     bool ring_at(VertexHandle p, Ring& ring) const;
 
     const Mesh& mesh_;
+    const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs
     Eigen::VectorXd u_;  // a copy: the meter may outlive the caller's field
     WindingOptions options_;
     double half_width_ = 0.0;
