@@ -1,6 +1,7 @@
 #include "vessel/curvature.h"
 
 #include "vessel/errors.h"
+#include "detail/sub_timer.h"
 
 #include <Eigen/Dense>
 
@@ -253,8 +254,11 @@ PrincipalCurvature principal_curvature(const Mesh& mesh, const CurvatureOptions&
                                 std::to_string(mesh.n_vertices()) +
                                 " vertices); pass a triangle mesh");
     const int n = static_cast<int>(mesh.n_vertices());
+    detail::SubTimer sub;
     const FitInput in = make_fit_input(mesh);
+    sub.lap("  curv.fit_input");
     const double radius = options.scale * mean_edge_length(mesh);
+    sub.lap("  curv.mean_edge");
 
     PrincipalCurvature result;
     result.min_direction.resize(n, 3);
@@ -312,6 +316,7 @@ PrincipalCurvature principal_curvature(const Mesh& mesh, const CurvatureOptions&
     for (const auto& error : errors)
         if (error)
             std::rethrow_exception(error);
+    sub.lap("  curv.fits");
     return result;
 }
 

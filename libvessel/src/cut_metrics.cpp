@@ -1,6 +1,7 @@
 #include "vessel/cut_metrics.h"
 
 #include "vessel/errors.h"
+#include "detail/sub_timer.h"
 #include "vessel/operators.h"
 #include "detail/edge_distance.h"
 #include "detail/serial_openmp.h"
@@ -103,7 +104,9 @@ Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<Bounda
     for (Eigen::Index i = 0; i < n; ++i)
         if (!fixed[i])
             unknown[i] = n_free++;
+    detail::SubTimer sub;
     const Eigen::SparseMatrix<double> L = cotan_laplacian(mesh);
+    sub.lap("  harm.laplacian");
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(static_cast<std::size_t>(L.nonZeros()));
     Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
@@ -120,15 +123,20 @@ Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<Bounda
         }
     Eigen::SparseMatrix<double> A(n_free, n_free);
     A.setFromTriplets(entries.begin(), entries.end());
+    sub.lap("  harm.assemble");
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
     {
         const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
-        solver.compute(A);
+        solver.analyzePattern(A);
+        sub.lap("  harm.analyze");
+        solver.factorize(A);
+        sub.lap("  harm.factorize");
     }
     if (solver.info() != Eigen::Success)
         throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
                           "factorized; every connected part of the mesh needs a boundary loop");
     const Eigen::VectorXd x = solver.solve(rhs);
+    sub.lap("  harm.solve");
     for (Eigen::Index i = 0; i < n; ++i)
         if (unknown[i] >= 0)
             value[i] = x[unknown[i]];
