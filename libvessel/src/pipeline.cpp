@@ -136,13 +136,17 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     if (stage.loops.size() < 2)
         throw InvalidInputError("flatten: the mesh has " + std::to_string(stage.loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
+    // The harmonic coordinate's factorization needs only the loops: it runs beside the
+    // curvature fits and the geodesic distance (together about the CPU time of two cores).
+    std::future<HarmonicLongitudinal> harmonic = std::async(
+        std::launch::async, [&mesh, &stage] { return HarmonicLongitudinal(mesh, stage.loops); });
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
     sub.lap("Z.curvature");
     const HeatGeodesics heat(mesh, options.geodesic);
     sub.lap("Z.heat_construct");
     stage.G = heat.distance(stage.loops[0].vertices);
     sub.lap("Z.heat_distance");
-    stage.H = harmonic_longitudinal(mesh, stage.loops, stage.G);
+    stage.H = harmonic.get().solve(stage.G);
     sub.lap("Z.harmonic");
     stage.z = vessel_direction_guided(mesh, curvature, stage.G, stage.H, options.direction);
     sub.lap("Z.direction");
