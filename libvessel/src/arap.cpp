@@ -3,7 +3,6 @@
 #include "detail/arap_ceres.h"
 #include "detail/face_jacobian.h"
 #include "detail/serial_openmp.h"
-#include "detail/sub_timer.h"
 #include "vessel/errors.h"
 
 #include <Eigen/CholmodSupport>
@@ -11,11 +10,8 @@
 
 #include <algorithm>
 #include <array>
-#include <memory>
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -127,48 +123,15 @@ std::vector<bool> pinned_vertices(const Mesh& mesh, const Pins& pins, const char
     return is_pinned;
 }
 
-// Eigen's simplicial CHOLMOD LL' with its factor exposed, so that the two columns of the
-// right-hand side can be solved on two threads at once (CHOLMOD only reads the factor; each
-// column gets the same arithmetic as in a two-column solve, so the result is the same bits).
-class ColumnCholmod
-    : public Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower>
-{
-public:
-    //! x.col(c) = K^-1 b.col(c), the columns on up to two threads; false if CHOLMOD failed.
-    bool solve_columns(Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int threads) const
-    {
-        const auto rows = static_cast<std::size_t>(b.rows());
-        bool ok[2] = {true, true};
-        detail::parallel_chunks(2, std::min(threads, 2), [&](std::size_t begin, std::size_t end, int) {
-            cholmod_common common;
-            cholmod_start(&common);
-            for (std::size_t c = begin; c < end; ++c)
-            {
-                const auto column = static_cast<Eigen::Index>(c);
-                cholmod_dense B{};
-                B.nrow = B.nzmax = B.d = rows;
-                B.ncol = 1;
-                B.x = b.col(column).data();
-                B.xtype = CHOLMOD_REAL;
-                B.dtype = CHOLMOD_DOUBLE;
-                cholmod_dense* X = cholmod_solve(CHOLMOD_A, m_cholmodFactor, &B, &common);
-                ok[c] = X != nullptr && common.status == CHOLMOD_OK;
-                if (ok[c])
-                    x.col(column) = Eigen::Map<const Eigen::VectorXd>(
-                        static_cast<const double*>(X->x), b.rows());
-                cholmod_free_dense(&X, &common);
-            }
-            cholmod_finish(&common);
-        });
-        return ok[0] && ok[1];
-    }
-};
+using ArapCholmod = Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
 
 }  // namespace
 
-// The global step's system: K_ff u_f = b(R) - K_fp u_p with K the cotan Laplacian (weights
-// cot a + cot b), factored once; K depends on the mesh and on which vertices are pinned, not on
-// the map or the pins' targets.
+// Global step: minimising sum_t sum_k cot_k / 2 ||u_j - u_l - R_t (x_j - x_l)||^2 (which equals
+// the documented energy) over the free u gives K_ff u_f = b(R) - K_fp u_p with K the cotan
+// Laplacian (weights cot a + cot b). K does not depend on R, on the map or on the pins' targets,
+// only on the mesh and on which vertices are pinned: factor it once (possibly ahead, on another
+// thread: arap_prefactor()).
 class ArapFactor
 {
 public:
@@ -183,10 +146,6 @@ public:
             return;
         std::vector<Eigen::Triplet<double>> triplets;
         triplets.reserve(9 * faces_.size());
-        // Per free vertex, its right-hand-side terms: 2 * (3 t + k) + (1 if subtracted), in the
-        // order a face-by-face scatter would add them, so that a per-vertex gather (on two
-        // threads) sums the same numbers in the same order.
-        std::vector<int> count(n_free_ + 1, 0);
         for (const auto& face : faces_)
             for (int k = 0; k < 3; ++k)
             {
@@ -198,27 +157,9 @@ public:
                     triplets.emplace_back(fj, fj, w);
                     if (fl >= 0)
                         triplets.emplace_back(std::max(fj, fl), std::min(fj, fl), -w);
-                    ++count[fj + 1];
                 }
                 if (fl >= 0)
-                {
                     triplets.emplace_back(fl, fl, w);
-                    ++count[fl + 1];
-                }
-            }
-        for (int i = 0; i < n_free_; ++i)
-            count[i + 1] += count[i];
-        term_start_ = count;
-        terms_.resize(count[n_free_]);
-        for (std::size_t t = 0; t < faces_.size(); ++t)
-            for (int k = 0; k < 3; ++k)
-            {
-                const int j = faces_[t].v[(k + 1) % 3], l = faces_[t].v[(k + 2) % 3];
-                const int term = 2 * static_cast<int>(3 * t + k);
-                if (dof_[j] >= 0)
-                    terms_[count[dof_[j]]++] = term;
-                if (dof_[l] >= 0)
-                    terms_[count[dof_[l]]++] = term + 1;
             }
         Eigen::SparseMatrix<double> K(n_free_, n_free_);
         K.setFromTriplets(triplets.begin(), triplets.end());
@@ -239,18 +180,14 @@ public:
     const std::vector<bool>& is_pinned() const { return is_pinned_; }
     const std::vector<int>& dof() const { return dof_; }
     int n_free() const { return n_free_; }
-    const ColumnCholmod& solver() const { return solver_; }
-    //! Terms of free vertex i: terms()[term_start()[i] .. term_start()[i + 1]).
-    const std::vector<int>& term_start() const { return term_start_; }
-    const std::vector<int>& terms() const { return terms_; }
+    const ArapCholmod& solver() const { return solver_; }
 
 private:
     std::vector<detail::ArapFace> faces_;
     std::vector<bool> is_pinned_;
     std::vector<int> dof_;
     int n_free_ = 0;
-    std::vector<int> term_start_, terms_;
-    ColumnCholmod solver_;
+    ArapCholmod solver_;
 };
 
 namespace {
@@ -262,7 +199,6 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
     const std::vector<int>& dof = system.dof();
     const int n = static_cast<int>(uv.rows());
     const int n_free = system.n_free();
-    detail::SubTimer sub;
 
     ArapSummary summary;
     summary.initial_energy = summary.final_energy = detail::arap_energy(faces, uv);
@@ -285,15 +221,13 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
             if (fl >= 0 && fj < 0)
                 b_pinned.row(fl) += w * uv.row(j);
         }
-    sub.lap("  arap.b_pinned");
 
     // Local step: the closest rotation per face. It also yields the energy of the current map,
     // so each sweep evaluates the Jacobians once, and each face's right-hand-side terms
     // cot_k R_t (x_j - x_l) for the next global step. Per face, so on two threads for large
-    // meshes; each vertex then gathers its terms in face order, as a face-by-face scatter
-    // on one thread would add them.
+    // meshes; the terms are summed into b in face order, as on one thread.
     const int threads = detail::face_threads(faces.size());
-    std::vector<Eigen::RowVector2d> rotated(3 * faces.size());
+    std::vector<std::array<Eigen::RowVector2d, 3>> rotated(faces.size());
     const auto local_step = [&] {
         std::array<double, 2> partial{0.0, 0.0};
         detail::parallel_chunks(faces.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
@@ -304,51 +238,39 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                 const auto& face = faces[f];
                 e += detail::face_energy(face, uv, R);
                 for (int k = 0; k < 3; ++k)
-                    rotated[3 * f + k] = face.cot[k] *
-                                         (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
+                    rotated[f][k] = face.cot[k] *
+                                    (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
             }
             partial[t] = e;
         });
         return partial[0] + partial[1];
     };
-    const std::vector<int>& term_start = system.term_start();
-    const std::vector<int>& terms = system.terms();
     double energy = local_step();
-    sub.lap("  arap.local0");
-    double t_b = 0, t_s = 0, t_w = 0, t_l = 0;
-    auto tick = std::chrono::steady_clock::now();
-    auto tock = [&](double& acc) { auto now = std::chrono::steady_clock::now(); acc += std::chrono::duration<double>(now - tick).count(); tick = now; };
     Eigen::MatrixX2d b(n_free, 2), x(n_free, 2);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
-        detail::parallel_chunks(static_cast<std::size_t>(n_free), threads,
-                                [&](std::size_t begin, std::size_t end, int) {
-            for (std::size_t i = begin; i < end; ++i)
+        b = b_pinned;
+        for (std::size_t t = 0; t < faces.size(); ++t)
+        {
+            const auto& face = faces[t];
+            for (int k = 0; k < 3; ++k)
             {
-                Eigen::RowVector2d sum = b_pinned.row(static_cast<Eigen::Index>(i));
-                for (int k = term_start[i]; k < term_start[i + 1]; ++k)
-                {
-                    if (terms[k] & 1)
-                        sum -= rotated[terms[k] >> 1];
-                    else
-                        sum += rotated[terms[k] >> 1];
-                }
-                b.row(static_cast<Eigen::Index>(i)) = sum;
+                const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
+                if (dof[j] >= 0)
+                    b.row(dof[j]) += rotated[t][k];
+                if (dof[l] >= 0)
+                    b.row(dof[l]) -= rotated[t][k];
             }
-        });
-        tock(t_b);
-        const bool solved = std::getenv("ARAP_SPLIT") ? system.solver().solve_columns(b, x, threads) : (x = system.solver().solve(b), system.solver().info() == Eigen::Success);
-        tock(t_s);
-        if (!solved || !x.allFinite())
+        }
+        x = system.solver().solve(b);
+        if (system.solver().info() != Eigen::Success || !x.allFinite())
             throw SolverError("arap: CHOLMOD solve failed in local/global iteration " +
                               std::to_string(it));
         for (int i = 0; i < n; ++i)
             if (dof[i] >= 0)
                 uv.row(i) = x.row(dof[i]);
-        tock(t_w);
         const double previous = energy;
         energy = local_step();
-        tock(t_l);
         summary.iterations = it;
         if (!(previous > 0.0) || (previous - energy) < options.tolerance * previous)
         {
@@ -360,9 +282,6 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
         if (options.on_iteration && !options.on_iteration(it, energy))
             break;
     }
-    if (std::getenv("VESSEL_SUBTIMES"))
-        std::fprintf(stderr, "  [sub]   arap.iter: %d its, rhs %.4f solve %.4f write %.4f local %.4f\n", summary.iterations, t_b, t_s, t_w, t_l);
-    sub.lap("  arap.iterations");
     summary.final_energy = energy;
     std::ostringstream report;
     report << "LocalGlobal: " << summary.iterations << " iterations, energy "
@@ -414,7 +333,6 @@ ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
     check_uv(mesh, uv, "arap");
     if (mesh.n_faces() == 0)
         throw InvalidInputError("arap: the mesh has no faces; pass a triangulated disk");
-    detail::SubTimer sub;
     const std::vector<bool> is_pinned = pinned_vertices(mesh, pins, "arap");
     if (options.prefactored && options.prefactored->is_pinned() != is_pinned)
         throw InvalidInputError("arap: ArapOptions::prefactored was made for other pins or "
@@ -433,7 +351,6 @@ ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
     else
         summary = arap_local_global(ArapFactor(mesh, is_pinned, detail::arap_faces(mesh, "arap")),
                                     work, options);
-    sub.lap("  arap.total");
     uv = work;
     return summary;
 }

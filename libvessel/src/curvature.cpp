@@ -1,7 +1,6 @@
 #include "vessel/curvature.h"
 
 #include "vessel/errors.h"
-#include "detail/sub_timer.h"
 
 #include <Eigen/Dense>
 
@@ -254,11 +253,8 @@ PrincipalCurvature principal_curvature(const Mesh& mesh, const CurvatureOptions&
                                 std::to_string(mesh.n_vertices()) +
                                 " vertices); pass a triangle mesh");
     const int n = static_cast<int>(mesh.n_vertices());
-    detail::SubTimer sub;
     const FitInput in = make_fit_input(mesh);
-    sub.lap("  curv.fit_input");
     const double radius = options.scale * mean_edge_length(mesh);
-    sub.lap("  curv.mean_edge");
 
     PrincipalCurvature result;
     result.min_direction.resize(n, 3);
@@ -316,7 +312,6 @@ PrincipalCurvature principal_curvature(const Mesh& mesh, const CurvatureOptions&
     for (const auto& error : errors)
         if (error)
             std::rethrow_exception(error);
-    sub.lap("  curv.fits");
     return result;
 }
 

@@ -1,7 +1,6 @@
 #include "vessel/cut_metrics.h"
 
 #include "vessel/errors.h"
-#include "detail/sub_timer.h"
 #include "vessel/operators.h"
 #include "detail/edge_distance.h"
 #include "detail/serial_openmp.h"
@@ -102,9 +101,7 @@ HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
     for (Eigen::Index i = 0; i < n; ++i)
         if (!fixed[i])
             d.unknown[i] = n_free++;
-    detail::SubTimer sub;
     d.L = cotan_laplacian(mesh);
-    sub.lap("  harm.laplacian");
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(static_cast<std::size_t>(d.L.nonZeros()));
     for (Eigen::Index col = 0; col < d.L.outerSize(); ++col)
@@ -116,12 +113,10 @@ HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
         }
     Eigen::SparseMatrix<double> A(n_free, n_free);
     A.setFromTriplets(entries.begin(), entries.end());
-    sub.lap("  harm.assemble");
     {
         const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
         d.solver.compute(A);
     }
-    sub.lap("  harm.factorize");
     if (d.solver.info() != Eigen::Success)
         throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
                           "factorized; every connected part of the mesh needs a boundary loop");

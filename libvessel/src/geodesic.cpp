@@ -3,7 +3,6 @@
 #include "vessel/errors.h"
 #include "vessel/operators.h"
 #include "detail/serial_openmp.h"
-#include "detail/sub_timer.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -190,7 +189,6 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
                                 std::to_string(mesh.n_vertices()) +
                                 " vertices); pass a triangle mesh");
     Impl& d = *impl_;
-    detail::SubTimer sub;
     const int n = static_cast<int>(mesh.n_vertices());
     d.n_vertices = n;
 
@@ -223,9 +221,7 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
     }
     d.component = vertex_components(mesh, d.n_components);
 
-    sub.lap("  heat.faces_components");
     const SparseMatrix L = cotan_laplacian(mesh);
-    sub.lap("  heat.laplacian");
     const Eigen::VectorXd M = lumped_mass(mesh);
     const double h = mean_edge_length(mesh);
     const double t = options.time_factor * h * h;
@@ -262,7 +258,6 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
         make_identity_rows(dirichlet, d.is_boundary);
     }
 
-    sub.lap("  heat.matrices");
     {
         Common common;
         // AMD only: CHOLMOD's default may also try METIS, which is much slower to order meshes
@@ -289,7 +284,6 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
         cholmod_factor* L;
         const char* what;
     };
-    sub.lap("  heat.analyze");
     std::vector<Task> tasks{{&P, d.poisson.get(), "Poisson system (cotan Laplacian)"},
                             {&d.heat, d.heat_neumann.get(), "heat system (M + tL)"}};
     if (use_dirichlet)
@@ -313,7 +307,6 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
     for (const auto& error : errors)
         if (error)
             std::rethrow_exception(error);
-    sub.lap("  heat.factorize2");
 }
 
 HeatGeodesics::~HeatGeodesics() = default;

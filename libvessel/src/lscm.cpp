@@ -4,7 +4,6 @@
 #include "vessel/operators.h"
 #include "detail/paired_cholmod.h"
 #include "detail/serial_openmp.h"
-#include "detail/sub_timer.h"
 
 #include <Eigen/CholmodSupport>
 
@@ -135,7 +134,6 @@ double conformal_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
 {
     const int n = static_cast<int>(mesh.n_vertices());
-    detail::SubTimer sub;
     if (mesh.n_faces() == 0)
         throw InvalidInputError("lscm: the mesh has no faces; pass a triangulated disk");
     std::vector<int> pinned;
@@ -188,20 +186,16 @@ Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins)
     // orders the vertex graph (PairedCholmod), a quarter of the entries. METIS would cut the
     // fill on large maps but costs more than it saves in this single factorization (carotid-300k
     // with METIS: slower in alternated runs).
-    sub.lap("  lscm.assemble");
     detail::PairedCholmod solver;
     {
         const detail::SerialOpenMp serial;
         solver.analyze_pairs(A, std::numeric_limits<int>::max());
-        sub.lap("  lscm.analyze");
         if (solver.info() == Eigen::Success)
             solver.factorize(A);
-        sub.lap("  lscm.factorize");
     }
     Eigen::VectorXd x;
     if (solver.info() == Eigen::Success)
         x = solver.solve(rhs);
-    sub.lap("  lscm.solve");
     if (solver.info() != Eigen::Success || !x.allFinite())
         x = solve_regularised(A, rhs);  // numerically singular: never fail the run here
     for (int i = 0; i < n; ++i)

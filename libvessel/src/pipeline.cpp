@@ -11,7 +11,6 @@
 #include "detail/disk_flatten.h"
 #include "detail/refine_map.h"
 #include "detail/stage_clock.h"
-#include "detail/sub_timer.h"
 
 #include <chrono>
 #include <cmath>
@@ -129,10 +128,8 @@ struct DirectionStage
 DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
 {
     StageClock clock(options);
-    detail::SubTimer sub;
     DirectionStage stage;
     stage.loops = boundary_loops(mesh);
-    sub.lap("Z.loops");
     if (stage.loops.size() < 2)
         throw InvalidInputError("flatten: the mesh has " + std::to_string(stage.loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
@@ -141,24 +138,17 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     std::future<HarmonicLongitudinal> harmonic = std::async(
         std::launch::async, [&mesh, &stage] { return HarmonicLongitudinal(mesh, stage.loops); });
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
-    sub.lap("Z.curvature");
     const HeatGeodesics heat(mesh, options.geodesic);
-    sub.lap("Z.heat_construct");
     stage.G = heat.distance(stage.loops[0].vertices);
-    sub.lap("Z.heat_distance");
     stage.H = harmonic.get().solve(stage.G);
-    sub.lap("Z.harmonic");
     stage.z = vessel_direction_guided(mesh, curvature, stage.G, stage.H, options.direction);
-    sub.lap("Z.direction");
     const Eigen::VectorXd kmax = curvature.k_max.cwiseAbs();
     stage.winding = winding_rate(mesh, stage.z, kmax);
-    sub.lap("Z.winding");
     store<double>(mesh, prop::geodesic, [&](int i) { return stage.G[i]; });
     store<double>(mesh, prop::longitudinal, [&](int i) { return stage.H[i]; });
     store<double>(mesh, prop::kmax, [&](int i) { return kmax[i]; });
     store<OpenMesh::Vec3d>(mesh, prop::direction,
                            [&](int i) { return to_openmesh(stage.z.row(i).transpose()); });
-    sub.lap("Z.store");
     stage.seconds = clock.lap("Z");
     return stage;
 }
@@ -227,9 +217,9 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     // F: initial map, then refinement with the inlet pinned.
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
-    // Where ARAP surely runs (the paper's refinement; no restart can skip it), its
-    // factorization, which depends on the cut mesh and the inlet but not on the initial map, is
-    // made on the second core while the initial map is solved.
+    // Where ARAP surely runs (no restart can skip it: the paper's refinement, or overlaps
+    // kept), its factorization, which depends on the cut mesh and the inlet but not on the
+    // initial map, is made on the second core while the initial map is solved (same bits).
     std::future<std::shared_ptr<const ArapFactor>> arap_factor;
     if (options.refinement != Refinement::None && options.arap.max_iterations > 0 &&
         options.arap.solver == ArapSolver::LocalGlobal && !options.arap.prefactored &&
@@ -237,7 +227,6 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
         arap_factor = std::async(std::launch::async, [&mesh, &placed] {
             return arap_prefactor(mesh, placed.inlet);
         });
-    detail::SubTimer fsub;
     bool at_layout = options.initialization == Initialization::LayoutLscm;
     switch (options.initialization)
     {
@@ -251,7 +240,6 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
             result.uv = tutte_embedding(mesh);
             break;
     }
-    fsub.lap("F.init");
     FlattenOptions prefactored;  // options with the factor, when made ahead
     const FlattenOptions& refine_options = arap_factor.valid() ? prefactored : options;
     if (arap_factor.valid())
@@ -259,18 +247,20 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
         prefactored = options;
         prefactored.arap.prefactored = arap_factor.get();
     }
-    fsub.lap("F.wait_arap_factor");
     Pins pins = placed.inlet;
     if (!at_layout)  // keep the initial map's own placement of the inlet
         for (auto& pin : pins)
             pin.uv = result.uv.row(pin.vertex.idx()).transpose();
     const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
+    // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
+    // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
+    // ARAP never removed a crossing of the LSCM map (9 of 9 stayed crossed), so this skips
+    // only work whose result was thrown away (docs/benchmarks.md).
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     if (detail::refine_map(mesh, pins, refine_options, crossing,
                            crosses_at_once ? crossing : "", result, &input, &placed))
         at_layout = false;
-    fsub.lap("F.refine");
     if (!at_layout)
         put_inlet_at_bottom(placed.inlet, result.uv);
     store<OpenMesh::Vec2d>(
