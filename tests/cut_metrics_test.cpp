@@ -70,6 +70,14 @@ TEST_CASE("cut_metrics: harmonic longitudinal coordinate of a cylinder is linear
 
     CHECK_THROWS_AS(harmonic_longitudinal(mesh, {loops[0]}, G), InvalidInputError);
     CHECK_THROWS_AS(harmonic_longitudinal(mesh, loops, G.head(3)), InvalidInputError);
+
+    // In two steps (factor, then solve): the same bits, and the factor serves other distances.
+    const HarmonicLongitudinal two_step(mesh, loops);
+    CHECK(two_step.solve(G) == h);
+    const Eigen::VectorXd doubled = 2.0 * G;
+    CHECK(two_step.solve(doubled) == harmonic_longitudinal(mesh, loops, doubled));
+    CHECK_THROWS_AS(two_step.solve(G.head(3)), InvalidInputError);
+    CHECK_THROWS_AS(HarmonicLongitudinal(mesh, {loops[0]}), InvalidInputError);
 }
 
 TEST_CASE("cut_metrics: a cut along the cylinder is aligned, a cut around it is not")

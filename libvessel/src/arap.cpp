@@ -8,8 +8,10 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <string>
 
@@ -107,34 +109,96 @@ void check_uv(const Mesh& mesh, const Eigen::MatrixX2d& uv, const char* caller)
             ": uv has non-finite entries; start from a valid map such as lscm()");
 }
 
-// Validates the pins and writes their targets into uv; returns one flag per vertex.
-std::vector<bool> apply_pins(const Mesh& mesh, const Pins& pins, Eigen::MatrixX2d& uv)
+// Validates the pins; returns one flag per vertex.
+std::vector<bool> pinned_vertices(const Mesh& mesh, const Pins& pins, const char* caller)
 {
-    const int n = static_cast<int>(mesh.n_vertices());
     if (pins.empty())
-        throw InvalidInputError(
-            "arap: no pins; pin at least one vertex (e.g. the inlet loop) to "
-            "fix the translation");
-    pin_index(mesh, pins, "arap");  // validates
-    std::vector<bool> is_pinned(n, false);
+        throw InvalidInputError(std::string(caller) +
+                                ": no pins; pin at least one vertex (e.g. the inlet loop) to "
+                                "fix the translation");
+    pin_index(mesh, pins, caller);  // validates
+    std::vector<bool> is_pinned(mesh.n_vertices(), false);
     for (const auto& pin : pins)
-    {
         is_pinned[pin.vertex.idx()] = true;
-        uv.row(pin.vertex.idx()) = pin.uv.transpose();
-    }
     return is_pinned;
 }
 
-ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFace>& faces,
-                              Eigen::MatrixX2d& uv, const std::vector<bool>& is_pinned,
+using ArapCholmod = Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+
+}  // namespace
+
+// Global step: minimising sum_t sum_k cot_k / 2 ||u_j - u_l - R_t (x_j - x_l)||^2 (which equals
+// the documented energy) over the free u gives K_ff u_f = b(R) - K_fp u_p with K the cotan
+// Laplacian (weights cot a + cot b). K does not depend on R, on the map or on the pins' targets,
+// only on the mesh and on which vertices are pinned: factor it once (possibly ahead, on another
+// thread: arap_prefactor()).
+class ArapFactor
+{
+public:
+    ArapFactor(const Mesh& mesh, const std::vector<bool>& is_pinned,
+               std::vector<detail::ArapFace> faces)
+        : faces_(std::move(faces)), is_pinned_(is_pinned), dof_(mesh.n_vertices(), -1)
+    {
+        for (auto v : mesh.vertices())
+            if (!is_pinned_[v.idx()] && !mesh.is_isolated(v))
+                dof_[v.idx()] = n_free_++;
+        if (n_free_ == 0)
+            return;
+        std::vector<Eigen::Triplet<double>> triplets;
+        triplets.reserve(9 * faces_.size());
+        for (const auto& face : faces_)
+            for (int k = 0; k < 3; ++k)
+            {
+                const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
+                const double w = face.cot[k];
+                const int fj = dof_[j], fl = dof_[l];
+                if (fj >= 0)
+                {
+                    triplets.emplace_back(fj, fj, w);
+                    if (fl >= 0)
+                        triplets.emplace_back(std::max(fj, fl), std::min(fj, fl), -w);
+                }
+                if (fl >= 0)
+                    triplets.emplace_back(fl, fl, w);
+            }
+        Eigen::SparseMatrix<double> K(n_free_, n_free_);
+        K.setFromTriplets(triplets.begin(), triplets.end());
+        // Simplicial rather than supernodal: one factorization, then a solve per iteration,
+        // and the supernodal solve's BLAS call per supernode costs more than its arithmetic
+        // here (paper method, F median of 9 / 3 alternated runs: carotid-44k 0.355 -> 0.268 s,
+        // 100k 0.94 -> 0.82 s, 300k 3.30 -> 3.08 s; converting the supernodal factor to
+        // simplicial for the solves landed in between: 0.311 s at 44k).
+        const detail::SerialOpenMp serial;
+        solver_.compute(K);
+        if (solver_.info() != Eigen::Success)
+            throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
+                              std::to_string(n_free_) +
+                              " free vertices); every connected component needs a pin");
+    }
+
+    const std::vector<detail::ArapFace>& faces() const { return faces_; }
+    const std::vector<bool>& is_pinned() const { return is_pinned_; }
+    const std::vector<int>& dof() const { return dof_; }
+    int n_free() const { return n_free_; }
+    const ArapCholmod& solver() const { return solver_; }
+
+private:
+    std::vector<detail::ArapFace> faces_;
+    std::vector<bool> is_pinned_;
+    std::vector<int> dof_;
+    int n_free_ = 0;
+    ArapCholmod solver_;
+};
+
+namespace {
+
+ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                               const ArapOptions& options)
 {
-    const int n = static_cast<int>(mesh.n_vertices());
-    std::vector<int> dof(n, -1);
-    int n_free = 0;
-    for (auto v : mesh.vertices())
-        if (!is_pinned[v.idx()] && !mesh.is_isolated(v))
-            dof[v.idx()] = n_free++;
+    const std::vector<detail::ArapFace>& faces = system.faces();
+    const std::vector<int>& dof = system.dof();
+    const int n = static_cast<int>(uv.rows());
+    const int n_free = system.n_free();
 
     ArapSummary summary;
     summary.initial_energy = summary.final_energy = detail::arap_energy(faces, uv);
@@ -144,12 +208,7 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
         summary.report = "LocalGlobal: every vertex is pinned";
         return summary;
     }
-
-    // Global step: minimising sum_t sum_k cot_k / 2 ||u_j - u_l - R_t (x_j - x_l)||^2 (which
-    // equals the documented energy) over the free u gives K_ff u_f = b(R) - K_fp u_p with K the
-    // cotan Laplacian (weights cot a + cot b). K does not depend on R: factor it once.
-    std::vector<Eigen::Triplet<double>> triplets;
-    triplets.reserve(9 * faces.size());
+    // The pinned neighbours' share of the right-hand side: K_fp u_p.
     Eigen::MatrixX2d b_pinned = Eigen::MatrixX2d::Zero(n_free, 2);
     for (const auto& face : faces)
         for (int k = 0; k < 3; ++k)
@@ -157,37 +216,11 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
             const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
             const double w = face.cot[k];
             const int fj = dof[j], fl = dof[l];
-            if (fj >= 0)
-            {
-                triplets.emplace_back(fj, fj, w);
-                if (fl >= 0)
-                    triplets.emplace_back(std::max(fj, fl), std::min(fj, fl), -w);
-                else
-                    b_pinned.row(fj) += w * uv.row(l);
-            }
-            if (fl >= 0)
-            {
-                triplets.emplace_back(fl, fl, w);
-                if (fj < 0)
-                    b_pinned.row(fl) += w * uv.row(j);
-            }
+            if (fj >= 0 && fl < 0)
+                b_pinned.row(fj) += w * uv.row(l);
+            if (fl >= 0 && fj < 0)
+                b_pinned.row(fl) += w * uv.row(j);
         }
-    Eigen::SparseMatrix<double> K(n_free, n_free);
-    K.setFromTriplets(triplets.begin(), triplets.end());
-    // Simplicial rather than supernodal: one factorization, then a solve per iteration, and
-    // the supernodal solve's BLAS call per supernode costs more than its arithmetic here (paper
-    // method, F median of 9 / 3 alternated runs: carotid-44k 0.355 -> 0.268 s, 100k 0.94 ->
-    // 0.82 s, 300k 3.30 -> 3.08 s; converting the supernodal factor to simplicial for the
-    // solves landed in between: 0.311 s at 44k).
-    Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
-    {
-        const detail::SerialOpenMp serial;
-        solver.compute(K);
-    }
-    if (solver.info() != Eigen::Success)
-        throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
-                          std::to_string(n_free) +
-                          " free vertices); every connected component needs a pin");
 
     // Local step: the closest rotation per face. It also yields the energy of the current map,
     // so each sweep evaluates the Jacobians once, and each face's right-hand-side terms
@@ -213,7 +246,7 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
         return partial[0] + partial[1];
     };
     double energy = local_step();
-    Eigen::MatrixX2d b(n_free, 2);
+    Eigen::MatrixX2d b(n_free, 2), x(n_free, 2);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
         b = b_pinned;
@@ -229,14 +262,13 @@ ArapSummary arap_local_global(const Mesh& mesh, const std::vector<detail::ArapFa
                     b.row(dof[l]) -= rotated[t][k];
             }
         }
-        const Eigen::MatrixX2d x = solver.solve(b);
-        if (solver.info() != Eigen::Success || !x.allFinite())
+        x = system.solver().solve(b);
+        if (system.solver().info() != Eigen::Success || !x.allFinite())
             throw SolverError("arap: CHOLMOD solve failed in local/global iteration " +
                               std::to_string(it));
         for (int i = 0; i < n; ++i)
             if (dof[i] >= 0)
                 uv.row(i) = x.row(dof[i]);
-
         const double previous = energy;
         energy = local_step();
         summary.iterations = it;
@@ -286,6 +318,14 @@ double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     return detail::arap_energy(detail::arap_faces(mesh, "arap_energy"), uv);
 }
 
+std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins)
+{
+    if (mesh.n_faces() == 0)
+        throw InvalidInputError("arap_prefactor: the mesh has no faces; pass a triangulated disk");
+    return std::make_shared<const ArapFactor>(mesh, pinned_vertices(mesh, pins, "arap_prefactor"),
+                                              detail::arap_faces(mesh, "arap_prefactor"));
+}
+
 ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                  const ArapOptions& options)
 {
@@ -293,13 +333,24 @@ ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
     check_uv(mesh, uv, "arap");
     if (mesh.n_faces() == 0)
         throw InvalidInputError("arap: the mesh has no faces; pass a triangulated disk");
+    const std::vector<bool> is_pinned = pinned_vertices(mesh, pins, "arap");
+    if (options.prefactored && options.prefactored->is_pinned() != is_pinned)
+        throw InvalidInputError("arap: ArapOptions::prefactored was made for other pins or "
+                                "another mesh; make it with arap_prefactor() of this mesh and "
+                                "these pins, or leave it null");
     // Work on a copy so that a throwing solver leaves the caller's map untouched.
     Eigen::MatrixX2d work = uv;
-    const std::vector<bool> is_pinned = apply_pins(mesh, pins, work);
-    const std::vector<detail::ArapFace> faces = detail::arap_faces(mesh, "arap");
-    ArapSummary summary = options.solver == ArapSolver::Ceres
-                              ? detail::arap_ceres(mesh, faces, work, is_pinned, options)
-                              : arap_local_global(mesh, faces, work, is_pinned, options);
+    for (const auto& pin : pins)
+        work.row(pin.vertex.idx()) = pin.uv.transpose();
+    ArapSummary summary;
+    if (options.solver == ArapSolver::Ceres)
+        summary = detail::arap_ceres(mesh, detail::arap_faces(mesh, "arap"), work, is_pinned,
+                                     options);
+    else if (options.prefactored)
+        summary = arap_local_global(*options.prefactored, work, options);
+    else
+        summary = arap_local_global(ArapFactor(mesh, is_pinned, detail::arap_faces(mesh, "arap")),
+                                    work, options);
     uv = work;
     return summary;
 }

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -73,66 +74,102 @@ PathAlignment path_alignment(const Mesh& mesh, const CutPath& path,
     return result;
 }
 
-Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
-                                      const Eigen::VectorXd& geodesic)
+struct HarmonicLongitudinal::Impl
 {
-    const auto n = static_cast<Eigen::Index>(mesh.n_vertices());
+    std::vector<BoundaryLoop> loops;
+    std::vector<Eigen::Index> unknown;  // per vertex: its unknown, or -1 on a loop
+    Eigen::SparseMatrix<double> L;      // cotan Laplacian, for the loops' right-hand side
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+};
+
+HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
+                                           const std::vector<BoundaryLoop>& loops)
+    : impl_(std::make_unique<Impl>())
+{
     if (loops.size() < 2)
         throw InvalidInputError("harmonic_longitudinal: " + std::to_string(loops.size()) +
                                 " boundary loop(s); an inlet and at least one outlet are needed");
+    Impl& d = *impl_;
+    const auto n = static_cast<Eigen::Index>(mesh.n_vertices());
+    d.loops = loops;
+    std::vector<char> fixed(n, 0);
+    for (const auto& loop : loops)
+        for (auto v : loop.vertices)
+            fixed[v.idx()] = 1;
+    d.unknown.assign(n, -1);
+    Eigen::Index n_free = 0;
+    for (Eigen::Index i = 0; i < n; ++i)
+        if (!fixed[i])
+            d.unknown[i] = n_free++;
+    d.L = cotan_laplacian(mesh);
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(static_cast<std::size_t>(d.L.nonZeros()));
+    for (Eigen::Index col = 0; col < d.L.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(d.L, col); it; ++it)
+        {
+            const Eigen::Index r = d.unknown[it.row()];
+            if (r >= 0 && d.unknown[col] >= 0)
+                entries.emplace_back(r, d.unknown[col], it.value());
+        }
+    Eigen::SparseMatrix<double> A(n_free, n_free);
+    A.setFromTriplets(entries.begin(), entries.end());
+    {
+        const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
+        d.solver.compute(A);
+    }
+    if (d.solver.info() != Eigen::Success)
+        throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
+                          "factorized; every connected part of the mesh needs a boundary loop");
+}
+
+HarmonicLongitudinal::~HarmonicLongitudinal() = default;
+HarmonicLongitudinal::HarmonicLongitudinal(HarmonicLongitudinal&&) noexcept = default;
+HarmonicLongitudinal& HarmonicLongitudinal::operator=(HarmonicLongitudinal&&) noexcept = default;
+
+Eigen::VectorXd HarmonicLongitudinal::solve(const Eigen::VectorXd& geodesic) const
+{
+    if (!impl_)
+        throw InvalidInputError("HarmonicLongitudinal::solve: this solver was moved from; "
+                                "construct a new one");
+    const Impl& d = *impl_;
+    const auto n = static_cast<Eigen::Index>(d.unknown.size());
     if (geodesic.size() != n)
         throw InvalidInputError("harmonic_longitudinal: " + std::to_string(geodesic.size()) +
                                 " distances for " + std::to_string(n) + " vertices");
     // Dirichlet values on the loops; the other vertices are unknowns.
     Eigen::VectorXd value = Eigen::VectorXd::Zero(n);
-    std::vector<char> fixed(n, 0);
-    for (std::size_t l = 0; l < loops.size(); ++l)
+    for (std::size_t l = 0; l < d.loops.size(); ++l)
     {
         double mean = 0.0;
-        for (auto v : loops[l].vertices)
+        for (auto v : d.loops[l].vertices)
             mean += geodesic[v.idx()];
-        mean = l == 0 ? 0.0 : mean / static_cast<double>(loops[l].vertices.size());
-        for (auto v : loops[l].vertices)
-        {
+        mean = l == 0 ? 0.0 : mean / static_cast<double>(d.loops[l].vertices.size());
+        for (auto v : d.loops[l].vertices)
             value[v.idx()] = mean;
-            fixed[v.idx()] = 1;
-        }
     }
-    std::vector<Eigen::Index> unknown(n, -1);
-    Eigen::Index n_free = 0;
-    for (Eigen::Index i = 0; i < n; ++i)
-        if (!fixed[i])
-            unknown[i] = n_free++;
-    const Eigen::SparseMatrix<double> L = cotan_laplacian(mesh);
-    std::vector<Eigen::Triplet<double>> entries;
-    entries.reserve(static_cast<std::size_t>(L.nonZeros()));
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_free);
-    for (Eigen::Index col = 0; col < L.outerSize(); ++col)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(L, col); it; ++it)
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(d.solver.rows());
+    for (Eigen::Index col = 0; col < d.L.outerSize(); ++col)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(d.L, col); it; ++it)
         {
-            const Eigen::Index r = unknown[it.row()];
-            if (r < 0)
-                continue;
-            if (unknown[col] >= 0)
-                entries.emplace_back(r, unknown[col], it.value());
-            else
+            const Eigen::Index r = d.unknown[it.row()];
+            if (r >= 0 && d.unknown[col] < 0)
                 rhs[r] -= it.value() * value[col];
         }
-    Eigen::SparseMatrix<double> A(n_free, n_free);
-    A.setFromTriplets(entries.begin(), entries.end());
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
-    {
-        const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
-        solver.compute(A);
-    }
-    if (solver.info() != Eigen::Success)
-        throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "
-                          "factorized; every connected part of the mesh needs a boundary loop");
-    const Eigen::VectorXd x = solver.solve(rhs);
+    const Eigen::VectorXd x = d.solver.solve(rhs);
     for (Eigen::Index i = 0; i < n; ++i)
-        if (unknown[i] >= 0)
-            value[i] = x[unknown[i]];
+        if (d.unknown[i] >= 0)
+            value[i] = x[d.unknown[i]];
     return value;
+}
+
+Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                                      const Eigen::VectorXd& geodesic)
+{
+    const auto n = static_cast<Eigen::Index>(mesh.n_vertices());
+    if (loops.size() >= 2 && geodesic.size() != n)  // before paying for the factorization
+        throw InvalidInputError("harmonic_longitudinal: " + std::to_string(geodesic.size()) +
+                                " distances for " + std::to_string(n) + " vertices");
+    return HarmonicLongitudinal(mesh, loops).solve(geodesic);
 }
 
 double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance)

@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 
 namespace vessel {
 
@@ -212,6 +213,18 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     result.timings.L = clock.lap("L");
 
     // F: initial map, then refinement with the inlet pinned.
+    const bool may_restart =
+        options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
+    // Where ARAP surely runs (no restart can skip it: the paper's refinement, or overlaps
+    // kept), its factorization, which depends on the cut mesh and the inlet but not on the
+    // initial map, is made on the second core while the initial map is solved (same bits).
+    std::future<std::shared_ptr<const ArapFactor>> arap_factor;
+    if (options.refinement != Refinement::None && options.arap.max_iterations > 0 &&
+        options.arap.solver == ArapSolver::LocalGlobal && !options.arap.prefactored &&
+        !may_restart)
+        arap_factor = std::async(std::launch::async, [&mesh, &placed] {
+            return arap_prefactor(mesh, placed.inlet);
+        });
     bool at_layout = options.initialization == Initialization::LayoutLscm;
     switch (options.initialization)
     {
@@ -225,12 +238,17 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
             result.uv = tutte_embedding(mesh);
             break;
     }
+    FlattenOptions prefactored;  // options with the factor, when made ahead
+    const FlattenOptions& refine_options = arap_factor.valid() ? prefactored : options;
+    if (arap_factor.valid())
+    {
+        prefactored = options;
+        prefactored.arap.prefactored = arap_factor.get();
+    }
     Pins pins = placed.inlet;
     if (!at_layout)  // keep the initial map's own placement of the inlet
         for (auto& pin : pins)
             pin.uv = result.uv.row(pin.vertex.idx()).transpose();
-    const bool may_restart =
-        options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
     const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
     // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
     // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
@@ -239,8 +257,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
-    if (detail::refine_map(mesh, pins, options, crossing, crosses_at_once ? crossing : "",
-                           result, &input, &placed))
+    if (detail::refine_map(mesh, pins, refine_options, crossing,
+                           crosses_at_once ? crossing : "", result, &input, &placed))
     {
         at_layout = false;
         detail::retry_look(mesh, pins, initial, options, result, input, placed);

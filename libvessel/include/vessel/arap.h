@@ -3,6 +3,7 @@
 #include "vessel/pins.h"
 
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace vessel {
@@ -13,6 +14,8 @@ enum class ArapSolver
     Ceres,        //!< Ceres nonlinear least squares over (u, v) and one rotation angle per face
     LocalGlobal,  //!< Liu et al. 2008 local/global iterations on a prefactored Cholesky
 };
+
+class ArapFactor;
 
 struct ArapOptions
 {
@@ -25,6 +28,10 @@ struct ArapOptions
     //! stop there (the summary then reports not converged). With the Ceres solver each call
     //! costs one energy evaluation. Null (the default) = no calls.
     std::function<bool(int iteration, double energy)> on_iteration;
+    //! The local/global solver's factorization, made ahead by arap_prefactor() of the same mesh
+    //! and pin vertices (e.g. on another thread while the initial map is solved; the pipeline
+    //! does so). Null (the default) = arap() factors it itself. Ignored by ArapSolver::Ceres.
+    std::shared_ptr<const ArapFactor> prefactored;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -43,12 +50,20 @@ struct ArapSummary
 //! \param uv |V| x 2, row `v.idx()`.
 double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 
+//! \brief The local/global solver's prefactored Cholesky of the cotan Laplacian of \p mesh with
+//! the vertices of \p pins held (their targets do not matter), for ArapOptions::prefactored.
+//! Reads \p mesh only, so it may run beside other readers of it.
+//! \throw InvalidInputError if the pins are invalid or a face is degenerate.
+//! \throw SolverError if CHOLMOD cannot factor the Laplacian.
+std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins);
+
 //! \brief Refine a disk parameterization with the as-rigid-as-possible energy
 //! \cite liu_2008_local; pinned vertices stay at their targets.
 //! \param mesh Disk-topology triangle mesh (not modified).
 //! \param uv |V| x 2 initial (u, v), row `v.idx()`, updated in place; should have no flips.
 //! \param pins Vertices held fixed (at least one; the pipeline pins the inlet loop).
-//! \throw InvalidInputError if sizes disagree or options are invalid.
+//! \throw InvalidInputError if sizes disagree, options are invalid or
+//! ArapOptions::prefactored was made for other pin vertices.
 //! \throw SolverError if the solver reports an unusable solution.
 ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                  const ArapOptions& options = {});

@@ -3,6 +3,8 @@
 #include "vessel/boundary.h"
 #include "vessel/cut_plan.h"
 
+#include <memory>
+
 namespace vessel {
 
 //! How well cuts follow the vessel: the project's own measure (../shared/tools/flatcheck.py
@@ -48,6 +50,29 @@ PathAlignment path_alignment(const Mesh& mesh, const CutPath& path,
 //! SolverError if the factorization fails (e.g. a component without a loop).
 Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                                       const Eigen::VectorXd& geodesic);
+
+//! harmonic_longitudinal() in two steps: the factorization, which needs only the loops, and the
+//! solve, which needs the geodesic distance; so the factorization can run beside the
+//! distance's own (the pipeline does). solve() gives the same values as harmonic_longitudinal().
+class HarmonicLongitudinal
+{
+public:
+    //! \param loops boundary_loops(mesh); loops[0] is the inlet. Reads \p mesh only.
+    //! \throw InvalidInputError if there are fewer than two loops; SolverError as
+    //! harmonic_longitudinal().
+    HarmonicLongitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops);
+    ~HarmonicLongitudinal();
+    HarmonicLongitudinal(HarmonicLongitudinal&&) noexcept;
+    HarmonicLongitudinal& operator=(HarmonicLongitudinal&&) noexcept;
+
+    //! \param geodesic |V| distances from the inlet. \return |V| values, `v.idx()`.
+    //! \throw InvalidInputError if the size disagrees.
+    Eigen::VectorXd solve(const Eigen::VectorXd& geodesic) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
 
 //! \brief How far cut \p index of \p plan runs beside the cuts made before it: over its edges
 //! whose two ends both lie within \p distance (edge-path distance d over the surface) of a vertex
