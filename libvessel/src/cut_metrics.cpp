@@ -188,9 +188,10 @@ double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, d
         for (auto h : path.halfedges)
             seeds.push_back(mesh.to_vertex_handle(h));
     }
-    std::vector<double> dist(mesh.n_vertices(), std::numeric_limits<double>::infinity());
-    std::vector<int> via(mesh.n_vertices(), -1);
-    detail::grow_edge_distance(mesh, seeds, dist, via, [](int) { return true; }, distance);
+    detail::EdgeDistance field;
+    field.reset(mesh.n_vertices());
+    field.grow(mesh, seeds, detail::mesh_neighbours(mesh), [](int) { return true; }, distance);
+    const std::vector<double>& dist = field.dist;
     // Within `distance`, an edge counts by the part of its length that does not bring the cut
     // closer to the tree: a head-on approach scores ~0, a run at a constant offset its length.
     double length = 0.0;

@@ -4,7 +4,7 @@
 #include "vessel/cut_winding.h"
 #include "vessel/errors.h"
 #include "vessel/streamline.h"
-#include "detail/quad_heap.h"
+#include "detail/edge_distance.h"
 
 #include <Eigen/Geometry>
 
@@ -147,12 +147,9 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
     }
 }
 
-// Distance along edges to the cut tree (0 on it) and the next vertex toward it, grown
-// (Dijkstra) from \p seeds, keeping shorter distances already there; loop vertices (loop_of
-// >= 0) are neither seeds nor passed through. The same field as detail::grow_edge_distance():
-// the arcs are visited in voh_range() order and the heap settles vertices by (distance, index),
-// as its std::priority_queue of pairs does, so equal distances pick the same `via`. It runs on
-// the graph's arcs with a 4-ary heap with decrease-key whose arrays are reused by every grow.
+// Distance along edges to the cut tree (0 on it) and the next vertex toward it
+// (detail::EdgeDistance on the graph's arcs, which keep voh_range() order, with reused arrays);
+// loop vertices (loop_of >= 0) are neither seeds nor passed through.
 //
 // The grows are deferred (defer()) until a reader says how far it reads (cover()). Only
 // distances up to bound() are kept (farther vertices stay unreached): a vertex within it gets
@@ -162,18 +159,12 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
 class TreeDistance
 {
 public:
-    std::vector<double> dist;
-    std::vector<int> via;  // neighbour one step closer to the tree, -1 on it or unreached
-
     // \p bound: the first bound; \p step: the bound once a reader needs more, none if it needs
     // more than that (at most two replays, not one per outlet that reads a little further);
     // 0: just what the reader needs.
     void reset(std::size_t nv, double bound, double step)
     {
-        dist.assign(nv, std::numeric_limits<double>::infinity());
-        via.assign(nv, -1);
-        slot_.assign(nv, -1);
-        heap_.clear();
+        field_.reset(nv);
         grown_.clear();
         applied_ = 0;
         points_.clear();
@@ -182,6 +173,9 @@ public:
     }
 
     double bound() const { return bound_; }
+    const std::vector<double>& dist() const { return field_.dist; }
+    // Neighbour one step closer to the tree, -1 on it or unreached.
+    const std::vector<int>& via() const { return field_.via; }
 
     // Adds \p seeds to the tree without growing the field yet.
     void defer(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
@@ -203,74 +197,29 @@ public:
             bound_ = !(step_ > 0.0)     ? radius
                      : radius <= step_ ? step_
                                        : std::numeric_limits<double>::infinity();
-            std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
-            std::fill(via.begin(), via.end(), -1);
+            field_.reset(field_.dist.size());
             applied_ = 0;
         }
+        const auto arcs = [&graph](int v, auto&& visit) {
+            const auto [first, last] = graph.arcs(v);
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+                visit(a->to);
+        };
+        const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
         for (; applied_ < grown_.size(); ++applied_)
-            run(graph, grown_[applied_], loop_of);
+            field_.grow(graph.mesh(), grown_[applied_], arcs, off_loops, bound_);
     }
 
     // The points of the tree's vertices (the seeds off the loops), deferred ones included.
     const std::vector<Eigen::Vector3d>& points() const { return points_; }
 
 private:
-    void run(const CutGraph& graph, const std::vector<VertexHandle>& seeds,
-             const std::vector<int>& loop_of)
-    {
-        const Mesh& mesh = graph.mesh();
-        for (auto s : seeds)
-            if (loop_of[s.idx()] < 0)
-            {
-                via[s.idx()] = -1;
-                lower(s.idx(), 0.0);
-            }
-        while (!heap_.empty())
-        {
-            const auto [d, v] = pop_min();
-            const auto& p = mesh.point(VertexHandle(v));
-            const auto [first, last] = graph.arcs(v);
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-            {
-                const int w = a->to;
-                // d + length >= d >= dist[w] would fail the test below: skip the length.
-                if (dist[w] <= d || loop_of[w] >= 0)
-                    continue;
-                const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
-                if (nd <= bound_ && nd < dist[w])
-                {
-                    via[w] = v;
-                    lower(w, nd);
-                }
-            }
-        }
-    }
-
-private:
-    // By (distance, index), as std::pair compares.
-    struct Before
-    {
-        bool operator()(const detail::HeapItem& a, const detail::HeapItem& b) const
-        {
-            return a < b;
-        }
-    };
-
-    void lower(int v, double d)
-    {
-        dist[v] = d;
-        detail::heap_lower(heap_, slot_, v, d, Before{});
-    }
-
-    detail::HeapItem pop_min() { return detail::heap_pop(heap_, slot_, Before{}); }
-
+    detail::EdgeDistance field_;
     double bound_ = std::numeric_limits<double>::infinity();
     double step_ = 0.0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
     std::size_t applied_ = 0;                       // grows run into the field so far
     std::vector<Eigen::Vector3d> points_;           // see points()
-    std::vector<int> slot_;  // place in heap_, -1 if not there
-    std::vector<detail::HeapItem> heap_;
 };
 
 // CutRoute::Streamline for one cut: trace \p field from \p start until a face touches
@@ -304,9 +253,9 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
                 near[i] = std::numeric_limits<double>::infinity();
                 corner[i] = -1;
                 for (auto v : mesh.fv_range(line.faces[i]))
-                    if (tree->dist[v.idx()] < near[i])
+                    if (tree->dist()[v.idx()] < near[i])
                     {
-                        near[i] = tree->dist[v.idx()];
+                        near[i] = tree->dist()[v.idx()];
                         corner[i] = v.idx();
                     }
                 nearest = std::min(nearest, near[i]);
@@ -330,7 +279,7 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
         n_faces = 0;
         while (near[n_faces] > nearest + slack)
             ++n_faces;
-        for (int v = corner[n_faces]; v >= 0; v = tree->via[v])
+        for (int v = corner[n_faces]; v >= 0; v = tree->via()[v])
             seeds.push_back(VertexHandle(v));
         ++n_faces;
     }
@@ -495,7 +444,7 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
         const VertexHandle v = mesh.to_vertex_handle(path.halfedges[i]);
-        const double d = tree.dist[v.idx()];
+        const double d = tree.dist()[v.idx()];
         if (!(d <= reach) || !(left[i] > d + excess))
             continue;
         std::vector<HalfedgeHandle> halfedges(path.halfedges.begin(),
@@ -504,7 +453,7 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
         for (std::size_t k = 0; k < halfedges.size(); ++k)
             kept[mesh.to_vertex_handle(halfedges[k]).idx()] = k + 1;
         std::size_t prefix = halfedges.size();
-        for (int u = v.idx(), w = tree.via[u]; w >= 0; u = w, w = tree.via[u])
+        for (int u = v.idx(), w = tree.via()[u]; w >= 0; u = w, w = tree.via()[u])
         {
             // A bridge through an earlier vertex of the path: cut back there instead, so the
             // cut stays simple.

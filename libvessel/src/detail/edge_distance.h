@@ -1,56 +1,93 @@
 #pragma once
 
-// Multi-source Dijkstra along a mesh's edges (3D edge lengths), used by beside_length()
-// (cut_metrics.cpp). The cut planner's distance to the cut tree (cut_plan.cpp, TreeDistance)
-// computes the same field on its CutGraph's arcs with the 4-ary heap of detail/quad_heap.h
-// and reused arrays, settling vertices in the same order; a change to one is a change to both.
+// Multi-source Dijkstra along a mesh's edges (3D edge lengths): the cut planner's distance to
+// the cut tree (cut_plan.cpp, TreeDistance, on its CutGraph's arcs) and beside_length()
+// (cut_metrics.cpp, on the mesh's halfedges) both grow this one field.
 
+#include "detail/quad_heap.h"
 #include "vessel/mesh.h"
 
-#include <functional>
 #include <limits>
-#include <queue>
-#include <utility>
 #include <vector>
 
 namespace vessel::detail {
 
-// Lowers \p dist (one entry per vertex) from \p seeds, which get 0, and records in \p via the
-// neighbour one step closer to a seed (-1 on a seed). A vertex is a seed or is entered only if
-// \p enter(index) allows it, and only while its distance stays <= \p bound. Shorter distances
-// already in \p dist are kept, so repeated calls grow one field as seeds are added.
-template <class Enter>
-void grow_edge_distance(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
-                        std::vector<double>& dist, std::vector<int>& via, Enter enter,
-                        double bound = std::numeric_limits<double>::infinity())
+// Distance along edges to a growing set of seeds (0 on them) and the neighbour one step closer
+// (`via`, -1 on a seed or unreached). Vertices settle by (distance, index) from a 4-ary heap
+// with decrease-key whose arrays are kept between grows, so equal distances pick the same `via`
+// whatever the neighbour order's source, as long as it visits neighbours in the same order.
+class EdgeDistance
 {
-    using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-    for (auto v : seeds)
-        if (enter(v.idx()))
-        {
-            dist[v.idx()] = 0.0;
-            via[v.idx()] = -1;
-            heap.push({0.0, v.idx()});
-        }
-    while (!heap.empty())
+public:
+    std::vector<double> dist;
+    std::vector<int> via;
+
+    //! Every vertex of a mesh with \p n_vertices unreached.
+    void reset(std::size_t n_vertices)
     {
-        const auto [d, v] = heap.top();
-        heap.pop();
-        if (d > dist[v])
-            continue;
-        for (auto h : mesh.voh_range(VertexHandle(v)))
-        {
-            const int w = h.to().idx();
-            const double nd = d + mesh.calc_edge_length(h);
-            if (nd <= bound && nd < dist[w] && enter(w))
+        dist.assign(n_vertices, std::numeric_limits<double>::infinity());
+        via.assign(n_vertices, -1);
+        slot_.assign(n_vertices, -1);
+        heap_.clear();
+    }
+
+    // Lowers the field from \p seeds (0). A vertex is a seed or is entered only if
+    // \p enter(index) allows it, and only while its distance stays <= \p bound; shorter
+    // distances already there are kept, so repeated grows build one field as seeds are added.
+    // \p neighbours(v, visit) calls visit(w) for each neighbour w of vertex v (see
+    // mesh_neighbours()).
+    template <class Neighbours, class Enter>
+    void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds, Neighbours neighbours,
+              Enter enter, double bound = std::numeric_limits<double>::infinity())
+    {
+        for (auto s : seeds)
+            if (enter(s.idx()))
             {
-                dist[w] = nd;
-                via[w] = v;
-                heap.push({nd, w});
+                via[s.idx()] = -1;
+                lower(s.idx(), 0.0);
             }
+        while (!heap_.empty())
+        {
+            const auto [d, v] = heap_pop(heap_, slot_, Before{});
+            const auto& p = mesh.point(VertexHandle(v));
+            neighbours(v, [&](int w) {
+                // d + length >= d >= dist[w] would fail the test below: skip the length.
+                if (dist[w] <= d || !enter(w))
+                    return;
+                const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
+                if (nd <= bound && nd < dist[w])
+                {
+                    via[w] = v;
+                    lower(w, nd);
+                }
+            });
         }
     }
+
+private:
+    // By (distance, index), as std::pair compares.
+    struct Before
+    {
+        bool operator()(const HeapItem& a, const HeapItem& b) const { return a < b; }
+    };
+
+    void lower(int v, double d)
+    {
+        dist[v] = d;
+        heap_lower(heap_, slot_, v, d, Before{});
+    }
+
+    std::vector<int> slot_;  // place in heap_, -1 if not there
+    std::vector<HeapItem> heap_;
+};
+
+// EdgeDistance's neighbours over the mesh's outgoing halfedges, in voh_range() order.
+inline auto mesh_neighbours(const Mesh& mesh)
+{
+    return [&mesh](int v, auto&& visit) {
+        for (auto h : mesh.voh_range(VertexHandle(v)))
+            visit(h.to().idx());
+    };
 }
 
 }  // namespace vessel::detail

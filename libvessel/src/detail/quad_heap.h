@@ -1,7 +1,7 @@
 #pragma once
 
-// The 4-ary min-heap with decrease-key of the cut graph's Dijkstra (cut_graph.cpp) and the cut
-// planner's distance to the cut tree (cut_plan.cpp).
+// The 4-ary min-heap with decrease-key of the cut graph's Dijkstra (cut_graph.cpp) and of the
+// edge distance (detail/edge_distance.h: the cut planner's distance to the cut tree).
 
 #include <algorithm>
 #include <utility>
