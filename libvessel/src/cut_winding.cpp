@@ -35,37 +35,35 @@ struct WindingMeter::Ring
     std::vector<VertexHandle> vertices;
 };
 
-WindingMeter::WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
-                           const WindingOptions& options)
-    : mesh_(mesh), u_(longitudinal), options_(options)
+WindingMeter::WindingMeter(const Mesh& mesh, const CutGraph* graph,
+                           const Eigen::VectorXd& longitudinal, const WindingOptions& options)
+    : mesh_(mesh), graph_(graph), u_(longitudinal), options_(options)
 {
     options_.validate();
     if (static_cast<std::size_t>(longitudinal.size()) != mesh.n_vertices())
         throw InvalidInputError("WindingMeter: " + std::to_string(longitudinal.size()) +
                                 " longitudinal values for " + std::to_string(mesh.n_vertices()) +
                                 " vertices; pass one per vertex, indexed by v.idx()");
-    half_width_ = options_.band * mean_edge_length(mesh);
     stamp_.assign(mesh.n_vertices(), -1);
     direction_.assign(mesh.n_vertices(),
                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
 
+WindingMeter::WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
+                           const WindingOptions& options)
+    : WindingMeter(mesh, nullptr, longitudinal, options)
+{
+    half_width_ = options_.band * mean_edge_length(mesh);
+}
+
 WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
                            double mean_edge, const WindingOptions& options)
-    : mesh_(graph.mesh()), graph_(&graph), u_(longitudinal), options_(options)
+    : WindingMeter(graph.mesh(), &graph, longitudinal, options)
 {
-    options_.validate();
-    if (static_cast<std::size_t>(longitudinal.size()) != mesh_.n_vertices())
-        throw InvalidInputError("WindingMeter: " + std::to_string(longitudinal.size()) +
-                                " longitudinal values for " + std::to_string(mesh_.n_vertices()) +
-                                " vertices; pass one per vertex, indexed by v.idx()");
     if (!(mean_edge >= 0.0) || !std::isfinite(mean_edge))
         throw InvalidInputError("WindingMeter: mean edge length " + std::to_string(mean_edge) +
                                 " must be finite and >= 0; pass mean_edge_length(graph.mesh())");
     half_width_ = options_.band * mean_edge;
-    stamp_.assign(mesh_.n_vertices(), -1);
-    direction_.assign(mesh_.n_vertices(),
-                      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
 
 namespace {

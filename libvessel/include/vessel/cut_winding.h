@@ -73,6 +73,10 @@ public:
 
 private:
     struct Ring;
+    // Checks the options and the field's size, and sizes the scratch; the public constructors
+    // then set the band's half width.
+    WindingMeter(const Mesh& mesh, const CutGraph* graph, const Eigen::VectorXd& longitudinal,
+                 const WindingOptions& options);
     bool ring_at(VertexHandle p, Ring& ring) const;
 
     const Mesh& mesh_;
