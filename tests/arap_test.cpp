@@ -49,6 +49,19 @@ ArapOptions tight(ArapSolver solver)
     return options;
 }
 
+// A bumped 70 x 70 grid (9800 triangles: from 8192 on, the local step, the right-hand side's
+// gather and the u and v solves may run on two threads), its LSCM map and two pins for ARAP.
+struct BumpedGridStart
+{
+    Mesh mesh = test::bumped_grid(2.0, 70, 0.6);
+    Eigen::MatrixX2d start;
+    Pins pins = {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(1), {0.02, 0.0}}};
+    BumpedGridStart()
+    {
+        start = lscm(mesh, {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(70), {1.5, 0.3}}});
+    }
+};
+
 }  // namespace
 
 TEST_CASE("arap: energy is zero for rigid maps and 2 (s - 1)^2 area for scalings")
@@ -170,12 +183,10 @@ TEST_CASE("arap: on_iteration sees every iteration's energy and can stop the sol
 
 TEST_CASE("arap: a factorization made ahead gives the same map; one for other pins is refused")
 {
-    // 2 x 70 x 70 = 9800 triangles: enough for the local step and the right-hand side's
-    // gather to run on two threads.
-    const Mesh mesh = test::bumped_grid(2.0, 70, 0.6);
-    const Pins lscm_pins = {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(70), {1.5, 0.3}}};
-    const Eigen::MatrixX2d start = lscm(mesh, lscm_pins);
-    const Pins pins = {{VertexHandle(0), {0.0, 0.0}}, {VertexHandle(1), {0.02, 0.0}}};
+    const BumpedGridStart grid;
+    const Mesh& mesh = grid.mesh;
+    const Eigen::MatrixX2d& start = grid.start;
+    const Pins& pins = grid.pins;
     ArapOptions options;
     options.max_iterations = 20;
     Eigen::MatrixX2d own = start;
@@ -203,6 +214,23 @@ TEST_CASE("arap: a factorization made ahead gives the same map; one for other pi
     CHECK_THROWS_AS(arap(mesh, other, fewer, options), InvalidInputError);
     CHECK(other == start);
     CHECK_THROWS_AS(arap_prefactor(mesh, {}), InvalidInputError);
+}
+
+TEST_CASE("arap: the local/global solver gives the same bits on one thread as on two")
+{
+    const BumpedGridStart grid;
+    ArapOptions options;
+    options.max_iterations = 20;
+    Eigen::MatrixX2d two = grid.start, one = grid.start;
+    const ArapSummary a = arap(grid.mesh, two, grid.pins, options);
+    options.threads = 1;
+    const ArapSummary b = arap(grid.mesh, one, grid.pins, options);
+    CHECK(a.iterations == 20);
+    CHECK(b.iterations == a.iterations);
+    CHECK(b.final_energy == a.final_energy);
+    CHECK(one == two);
+    CHECK(a.final_energy < 0.5 * a.initial_energy);
+    CHECK(test::count_flips(grid.mesh, two) == 0);
 }
 
 TEST_CASE("arap: invalid input is rejected")

@@ -1,6 +1,7 @@
 #include "vessel/arap.h"
 
 #include "detail/arap_ceres.h"
+#include "detail/cholmod_common.h"
 #include "detail/face_jacobian.h"
 #include "detail/serial_openmp.h"
 #include "vessel/errors.h"
@@ -123,7 +124,7 @@ std::vector<bool> pinned_vertices(const Mesh& mesh, const Pins& pins, const char
     return is_pinned;
 }
 
-using ArapCholmod = Eigen::CholmodSimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+using detail::CholmodCommon;
 
 }  // namespace
 
@@ -144,6 +145,7 @@ public:
                 dof_[v.idx()] = n_free_++;
         if (n_free_ == 0)
             return;
+        make_gather();
         std::vector<Eigen::Triplet<double>> triplets;
         triplets.reserve(9 * faces_.size());
         for (const auto& face : faces_)
@@ -167,30 +169,142 @@ public:
         // and the supernodal solve's BLAS call per supernode costs more than its arithmetic
         // here (paper method, F median of 9 / 3 alternated runs: carotid-44k 0.355 -> 0.268 s,
         // 100k 0.94 -> 0.82 s, 300k 3.30 -> 3.08 s; converting the supernodal factor to
-        // simplicial for the solves landed in between: 0.311 s at 44k).
+        // simplicial for the solves landed in between: 0.311 s at 44k). CHOLMOD's default
+        // ordering choice (AMD here), as Eigen's CholmodSimplicialLLT makes it.
+        common_.c.supernodal = CHOLMOD_SIMPLICIAL;
+        common_.c.final_asis = 0;
+        common_.c.final_ll = 1;
+        const Eigen::SparseMatrix<double>& lower = K;
+        cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
         const detail::SerialOpenMp serial;
-        solver_.compute(K);
-        if (solver_.info() != Eigen::Success)
+        factor_ = cholmod_analyze(&view, &common_.c);
+        if (factor_ == nullptr || !cholmod_factorize(&view, factor_, &common_.c) ||
+            common_.c.status != CHOLMOD_OK || factor_->minor != factor_->n)
             throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
                               std::to_string(n_free_) +
                               " free vertices); every connected component needs a pin");
     }
+    ~ArapFactor() { cholmod_free_factor(&factor_, &common_.c); }
+    ArapFactor(const ArapFactor&) = delete;
+    ArapFactor& operator=(const ArapFactor&) = delete;
 
     const std::vector<detail::ArapFace>& faces() const { return faces_; }
     const std::vector<bool>& is_pinned() const { return is_pinned_; }
     const std::vector<int>& dof() const { return dof_; }
     int n_free() const { return n_free_; }
-    const ArapCholmod& solver() const { return solver_; }
+    const cholmod_factor* factor() const { return factor_; }
+
+    //! The terms of free vertex \p i's row of the global step's right-hand side, in face order:
+    //! each is 2 (3 t + k) for + term k of face t, one more for its - term.
+    const int* gather_begin(int i) const { return gather_.data() + gather_start_[i]; }
+    const int* gather_end(int i) const { return gather_.data() + gather_start_[i + 1]; }
 
 private:
+    // Face t's term k, cot_k R_t (x_j - x_l), is added to row j and subtracted from row l. Listing
+    // each row's terms (in face order) lets two threads sum disjoint rows, with the additions
+    // in the order of one thread's sweep over the faces.
+    void make_gather()
+    {
+        gather_start_.assign(n_free_ + 1, 0);
+        for (const auto& face : faces_)
+            for (int k = 0; k < 3; ++k)
+                for (const int vertex : {face.v[(k + 1) % 3], face.v[(k + 2) % 3]})
+                    if (dof_[vertex] >= 0)
+                        ++gather_start_[dof_[vertex] + 1];
+        for (int i = 0; i < n_free_; ++i)
+            gather_start_[i + 1] += gather_start_[i];
+        gather_.resize(gather_start_[n_free_]);
+        std::vector<int> next(gather_start_.begin(), gather_start_.end() - 1);
+        for (std::size_t t = 0; t < faces_.size(); ++t)
+            for (int k = 0; k < 3; ++k)
+            {
+                const int term = 2 * static_cast<int>(3 * t + k);
+                const int fj = dof_[faces_[t].v[(k + 1) % 3]], fl = dof_[faces_[t].v[(k + 2) % 3]];
+                if (fj >= 0)
+                    gather_[next[fj]++] = term;
+                if (fl >= 0)
+                    gather_[next[fl]++] = term + 1;
+            }
+    }
+
     std::vector<detail::ArapFace> faces_;
     std::vector<bool> is_pinned_;
     std::vector<int> dof_;
     int n_free_ = 0;
-    ArapCholmod solver_;
+    std::vector<int> gather_start_;
+    std::vector<int> gather_;
+    CholmodCommon common_;
+    cholmod_factor* factor_ = nullptr;
 };
 
 namespace {
+
+// The global step's two solves K x_u = b_u, K x_v = b_v with CHOLMOD workspace kept across
+// iterations (cholmod_solve2). Each solve streams the whole factor from memory and is bound by
+// it: on one thread both columns go in one sweep, on two threads each column has its own, at
+// once (carotid-300k, 150k free vertices: one two-column solve 21.5 ms, two one-column solves in
+// parallel 16.5 ms).
+class ColumnSolver
+{
+public:
+    ColumnSolver(const ArapFactor& system, int threads) : system_(system), threads_(threads) {}
+    ~ColumnSolver()
+    {
+        for (auto& work : work_)
+        {
+            cholmod_free_dense(&work.X, &work.common.c);
+            cholmod_free_dense(&work.Y, &work.common.c);
+            cholmod_free_dense(&work.E, &work.common.c);
+        }
+    }
+    ColumnSolver(const ColumnSolver&) = delete;
+    ColumnSolver& operator=(const ColumnSolver&) = delete;
+
+    //! x = K^-1 b; false if CHOLMOD failed.
+    bool solve(Eigen::MatrixX2d& b, Eigen::MatrixX2d& x)
+    {
+        if (threads_ <= 1)
+            return solve_columns(0, 2, b, x);
+        bool ok[2] = {false, false};
+        detail::parallel_chunks(2, 2, [&](std::size_t begin, std::size_t, int) {
+            ok[begin] = solve_columns(static_cast<int>(begin), 1, b, x);
+        });
+        return ok[0] && ok[1];
+    }
+
+private:
+    struct Work
+    {
+        CholmodCommon common;
+        cholmod_dense* X = nullptr;
+        cholmod_dense* Y = nullptr;
+        cholmod_dense* E = nullptr;
+    };
+
+    // Columns first .. first + count - 1 of b into x, with work_[first].
+    bool solve_columns(int first, int count, Eigen::MatrixX2d& b, Eigen::MatrixX2d& x)
+    {
+        Work& work = work_[first];
+        cholmod_dense B{};
+        B.nrow = B.d = static_cast<std::size_t>(b.rows());
+        B.ncol = static_cast<std::size_t>(count);
+        B.nzmax = B.nrow * B.ncol;
+        B.x = b.col(first).data();
+        B.xtype = CHOLMOD_REAL;
+        B.dtype = CHOLMOD_DOUBLE;
+        if (!cholmod_solve2(CHOLMOD_A, const_cast<cholmod_factor*>(system_.factor()), &B, nullptr,
+                            &work.X, nullptr, &work.Y, &work.E, &work.common.c) ||
+            work.common.c.status != CHOLMOD_OK)
+            return false;
+        x.middleCols(first, count) = Eigen::Map<const Eigen::MatrixXd>(
+            static_cast<const double*>(work.X->x), b.rows(), count);
+        return true;
+    }
+
+    const ArapFactor& system_;
+    int threads_;
+    Work work_[2];
+};
 
 ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                               const ArapOptions& options)
@@ -226,11 +340,21 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
     // so each sweep evaluates the Jacobians once, and each face's right-hand-side terms
     // cot_k R_t (x_j - x_l) for the next global step. Per face, so on two threads for large
     // meshes; the terms are summed into b in face order, as on one thread.
-    const int threads = detail::face_threads(faces.size());
-    std::vector<std::array<Eigen::RowVector2d, 3>> rotated(faces.size());
+    // The energy is summed in `chunks` partial sums whether or not they run on as many threads,
+    // so that every thread count gives the same bits.
+    const int chunks = detail::face_threads(faces.size());
+    const int threads = std::min(options.threads, chunks);
+    const auto over_chunks = [&](std::size_t count, const auto& body) {
+        if (threads == chunks)
+            detail::parallel_chunks(count, chunks, body);
+        else
+            for (int t = 0; t < chunks; ++t)
+                body(count * t / chunks, count * (t + 1) / chunks, t);
+    };
+    std::vector<Eigen::RowVector2d> rotated(3 * faces.size());
     const auto local_step = [&] {
         std::array<double, 2> partial{0.0, 0.0};
-        detail::parallel_chunks(faces.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+        over_chunks(faces.size(), [&](std::size_t begin, std::size_t end, int t) {
             double e = 0.0;
             Eigen::Matrix2d R;
             for (std::size_t f = begin; f < end; ++f)
@@ -238,32 +362,37 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                 const auto& face = faces[f];
                 e += detail::face_energy(face, uv, R);
                 for (int k = 0; k < 3; ++k)
-                    rotated[f][k] = face.cot[k] *
-                                    (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
+                    rotated[3 * f + k] = face.cot[k] *
+                                         (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
             }
             partial[t] = e;
         });
         return partial[0] + partial[1];
     };
+    // b = b_pinned + the rotated terms, row by row (each row's terms in face order, so the sums
+    // are those of one sweep over the faces), on disjoint rows per thread.
+    const auto gather = [&](Eigen::MatrixX2d& b) {
+        detail::parallel_chunks(static_cast<std::size_t>(n_free), threads,
+                                [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t i = begin; i < end; ++i)
+            {
+                Eigen::RowVector2d sum = b_pinned.row(i);
+                for (const int* term = system.gather_begin(i); term != system.gather_end(i); ++term)
+                    if (*term & 1)
+                        sum -= rotated[*term >> 1];
+                    else
+                        sum += rotated[*term >> 1];
+                b.row(i) = sum;
+            }
+        });
+    };
+    ColumnSolver column_solver(system, threads);
     double energy = local_step();
     Eigen::MatrixX2d b(n_free, 2), x(n_free, 2);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
-        b = b_pinned;
-        for (std::size_t t = 0; t < faces.size(); ++t)
-        {
-            const auto& face = faces[t];
-            for (int k = 0; k < 3; ++k)
-            {
-                const int j = face.v[(k + 1) % 3], l = face.v[(k + 2) % 3];
-                if (dof[j] >= 0)
-                    b.row(dof[j]) += rotated[t][k];
-                if (dof[l] >= 0)
-                    b.row(dof[l]) -= rotated[t][k];
-            }
-        }
-        x = system.solver().solve(b);
-        if (system.solver().info() != Eigen::Success || !x.allFinite())
+        gather(b);
+        if (!column_solver.solve(b, x) || !x.allFinite())
             throw SolverError("arap: CHOLMOD solve failed in local/global iteration " +
                               std::to_string(it));
         for (int i = 0; i < n; ++i)

@@ -2,6 +2,7 @@
 
 #include "vessel/errors.h"
 #include "vessel/operators.h"
+#include "detail/cholmod_common.h"
 #include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
@@ -26,14 +27,7 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 // Eigen's CholmodSupernodalLLT cannot share one symbolic analysis between several matrices, so
 // the factors are driven through CHOLMOD's own API (on Eigen's zero-copy viewAsCholmod views).
 // Each thread and each query uses its own Common, so const queries are thread-safe.
-struct Common
-{
-    cholmod_common c;
-    Common() { cholmod_start(&c); }
-    ~Common() { cholmod_finish(&c); }
-    Common(const Common&) = delete;
-    Common& operator=(const Common&) = delete;
-};
+using Common = detail::CholmodCommon;
 
 struct FactorDeleter
 {

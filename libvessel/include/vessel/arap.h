@@ -22,7 +22,10 @@ struct ArapOptions
     ArapSolver solver = ArapSolver::LocalGlobal;  //!< the faster to the same energy (docs/benchmarks.md)
     int max_iterations = 50;   //!< Ceres iterations, or local/global sweeps
     double tolerance = 1e-6;   //!< stop when the relative energy decrease falls below this
-    int threads = 2;           //!< threads Ceres may use for residual evaluation
+    //! Threads Ceres may use for residual evaluation; the local/global solver's local step,
+    //! right-hand side and u/v solves use up to two (from 8192 faces), with the same bits as
+    //! one thread.
+    int threads = 2;
     //! Called after every iteration with its number (1, 2, ...) and the arap_energy() of the
     //! current map, e.g. for progress output or energy-against-time studies; return false to
     //! stop there (the summary then reports not converged). With the Ceres solver each call
