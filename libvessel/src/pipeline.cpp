@@ -135,10 +135,15 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     if (stage.loops.size() < 2)
         throw InvalidInputError("flatten: the mesh has " + std::to_string(stage.loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
+    // The harmonic coordinate's factorization needs only the loops: it runs on its own thread
+    // beside the curvature fits and the heat method's factorizations, which leave the second
+    // core idle part of the time (single-threaded symbolic analyses and solves).
+    std::future<HarmonicLongitudinal> harmonic = std::async(
+        std::launch::async, [&mesh, &stage] { return HarmonicLongitudinal(mesh, stage.loops); });
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
     const HeatGeodesics heat(mesh, options.geodesic);
     stage.G = heat.distance(stage.loops[0].vertices);
-    stage.H = harmonic_longitudinal(mesh, stage.loops, stage.G);
+    stage.H = harmonic.get().solve(stage.G);
     stage.z = vessel_direction_guided(mesh, curvature, stage.G, stage.H, options.direction);
     const Eigen::VectorXd kmax = curvature.k_max.cwiseAbs();
     stage.winding = winding_rate(mesh, stage.z, kmax);
