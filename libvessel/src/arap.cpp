@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -241,9 +242,12 @@ namespace {
 
 // The global step's two solves K x_u = b_u, K x_v = b_v with CHOLMOD workspace kept across
 // iterations (cholmod_solve2). Each solve streams the whole factor from memory and is bound by
-// it: on one thread both columns go in one sweep, on two threads each column has its own, at
-// once (carotid-300k, 150k free vertices: one two-column solve 21.5 ms, two one-column solves in
-// parallel 16.5 ms).
+// it: both columns in one sweep, or each column in its own sweep on its own core, at once. The
+// faster way depends on whether the second core is free: on an idle machine the two sweeps
+// (carotid-300k, 150k free vertices: 16.5 ms against 21.5 ms for one sweep), with another
+// process on the second core the one sweep (ARAP iterations 30 ms against 42 ms). Both give the
+// same bits, so the solver times each way as it goes, takes the faster, and tries the other one
+// again every kProbe-th solve.
 class ColumnSolver
 {
 public:
@@ -265,10 +269,17 @@ public:
     {
         if (threads_ <= 1)
             return solve_columns(0, 2, b, x);
-        bool ok[2] = {false, false};
-        detail::parallel_chunks(2, 2, [&](std::size_t begin, std::size_t, int) {
-            ok[begin] = solve_columns(static_cast<int>(begin), 1, b, x);
-        });
+        const Way way = next_way();
+        const auto start = std::chrono::steady_clock::now();
+        bool ok[2] = {true, true};
+        if (way == Way::OneSweep)
+            ok[0] = solve_columns(0, 2, b, x);
+        else
+            detail::parallel_chunks(2, 2, [&](std::size_t begin, std::size_t, int) {
+                ok[begin] = solve_columns(static_cast<int>(begin), 1, b, x);
+            });
+        seconds_[static_cast<int>(way)] =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         return ok[0] && ok[1];
     }
 
@@ -301,9 +312,32 @@ private:
         return true;
     }
 
+    enum class Way
+    {
+        OneSweep = 0,
+        TwoSweeps = 1
+    };
+    static constexpr int kProbe = 8;
+
+    // Each way once, then the faster of their last times, and the other one every kProbe-th.
+    Way next_way()
+    {
+        ++solves_;
+        if (seconds_[1] < 0.0)
+            return Way::TwoSweeps;
+        if (seconds_[0] < 0.0)
+            return Way::OneSweep;
+        const Way faster = seconds_[1] <= seconds_[0] ? Way::TwoSweeps : Way::OneSweep;
+        if (solves_ % kProbe != 0)
+            return faster;
+        return faster == Way::TwoSweeps ? Way::OneSweep : Way::TwoSweeps;
+    }
+
     const ArapFactor& system_;
     int threads_;
     Work work_[2];
+    double seconds_[2] = {-1.0, -1.0};  // the last time of each Way, -1 before the first
+    int solves_ = 0;
 };
 
 ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
