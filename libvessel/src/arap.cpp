@@ -181,9 +181,12 @@ public:
         factor_ = cholmod_analyze(&view, &common_.c);
         if (factor_ == nullptr || !cholmod_factorize(&view, factor_, &common_.c) ||
             common_.c.status != CHOLMOD_OK || factor_->minor != factor_->n)
+        {
+            cholmod_free_factor(&factor_, &common_.c);  // no destructor after a throw here
             throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
                               std::to_string(n_free_) +
                               " free vertices); every connected component needs a pin");
+        }
     }
     ~ArapFactor() { cholmod_free_factor(&factor_, &common_.c); }
     ArapFactor(const ArapFactor&) = delete;
@@ -303,6 +306,7 @@ private:
         B.x = b.col(first).data();
         B.xtype = CHOLMOD_REAL;
         B.dtype = CHOLMOD_DOUBLE;
+        // cholmod_solve2 takes the factor non-const but only reads it (an LL' factor, sys A).
         if (!cholmod_solve2(CHOLMOD_A, const_cast<cholmod_factor*>(system_.factor()), &B, nullptr,
                             &work.X, nullptr, &work.Y, &work.E, &work.common.c) ||
             work.common.c.status != CHOLMOD_OK)
