@@ -218,23 +218,27 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
     std::sort(corners.begin(), corners.end(),
               [](const Corner& x, const Corner& y) { return x.key < y.key; });
 
-    // Calls visit(first, count, edge name) for the corners of every undirected edge.
+    // Calls visit(first, count) for the corners of every undirected edge.
     const auto for_each_edge = [&](const auto& visit) {
         for (std::size_t i = 0; i < corners.size();)
         {
             std::size_t j = i;
             while (j < corners.size() && corners[j].key == corners[i].key)
                 ++j;
-            const std::uint64_t a = corners[i].key / n, b = corners[i].key % n;
-            visit(i, j - i, "(" + std::to_string(a) + ", " + std::to_string(b) + ")");
+            visit(i, j - i);
             i = j;
         }
     };
+    // The name of the edge of corner i, for messages (made only when refusing).
+    const auto edge_name = [&](std::size_t i) {
+        return "(" + std::to_string(corners[i].key / n) + ", " +
+               std::to_string(corners[i].key % n) + ")";
+    };
     // Faces per edge first: an edge with three faces also looks mis-oriented, and the
     // non-manifold edge is the defect to report.
-    for_each_edge([&](std::size_t i, std::size_t count, const std::string& edge) {
+    for_each_edge([&](std::size_t i, std::size_t count) {
         if (count > 2)
-            refuse("non-manifold edge " + edge + " (from " +
+            refuse("non-manifold edge " + edge_name(i) + " (from " +
                    position(raw.points[corners[i].key / n]) + " to " +
                    position(raw.points[corners[i].key % n]) + ") is shared by " +
                    plural(count, "face") +
@@ -246,7 +250,7 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
 
     UnionFind faces(T.size());
     UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
-    for_each_edge([&](std::size_t i, std::size_t count, const std::string& edge) {
+    for_each_edge([&](std::size_t i, std::size_t count) {
         if (count != 2)
             return;
         const Corner& c0 = corners[i];
@@ -255,7 +259,7 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
             refuse("inconsistent orientation: faces " +
                    std::to_string(tri.source_face[c0.triangle]) + " and " +
                    std::to_string(tri.source_face[c1.triangle]) + " run the same way along edge " +
-                   edge +
+                   edge_name(i) +
                    "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
                    "coherently')");
         faces.unite(c0.triangle, c1.triangle);
@@ -279,7 +283,7 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
         }
 
     std::vector<int> border;
-    for_each_edge([&](std::size_t i, std::size_t count, const std::string&) {
+    for_each_edge([&](std::size_t i, std::size_t count) {
         if (count == 1)
             border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
                                          T[corners[i].triangle][(corners[i].local + 1) % 3]});
