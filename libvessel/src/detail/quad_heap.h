@@ -57,10 +57,9 @@ HeapItem heap_pop(std::vector<HeapItem>& heap, std::vector<int>& slot, Less less
             break;
         int best = first;
         const int end = std::min(first + 4, n);
-        // Without branches (which child is least is a coin toss the predictor loses); the
-        // first of equal children wins, as a scan with `less` would pick.
         for (int c = first + 1; c < end; ++c)
-            best += (c - best) & -static_cast<int>(less(heap[c], heap[best]));
+            if (less(heap[c], heap[best]))
+                best = c;
         if (!less(heap[best], last))
             break;
         heap[i] = heap[best];
