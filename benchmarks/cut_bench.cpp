@@ -1,7 +1,9 @@
 // vessel-cut-bench: the cut stages alone, GC (travel costs) and VC (cut paths), on the valid
 // real trees and the carotid phantoms, beside the CGAL peer's GC (boost adjacency_list) and VC
 // (boost Dijkstra per outlet). Google Benchmark reports wall and CPU time per iteration; stage Z
-// runs once per mesh outside the timing. See docs/benchmarks.md.
+// runs once per mesh outside the timing, as the peer's does. Z/winding/ times the one Z product
+// the cut planner reads that the peer has no counterpart of (winding_rate(), in flatten()'s Z).
+// See docs/benchmarks.md.
 #include "cgal_peer.h"
 
 #include "vessel/boundary.h"
@@ -34,9 +36,16 @@ struct Ours
     vessel::PrincipalCurvature curvature;
     Eigen::MatrixX3d z;
     Eigen::VectorXd H;  // harmonic_longitudinal(), as stage Z of flatten() computes it
+    Eigen::MatrixX3d winding;  // winding_rate(), as stage Z of flatten() computes it
     vessel::HalfedgeWeights weights;
     std::unique_ptr<vessel::CutGraph> graph;
 };
+
+// The cut planner's winding field, as stage Z of flatten() computes it.
+Eigen::MatrixX3d winding(const Ours& o)
+{
+    return vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs());
+}
 
 std::shared_ptr<Ours> stage_z(vessel::Mesh mesh)
 {
@@ -48,6 +57,7 @@ std::shared_ptr<Ours> stage_z(vessel::Mesh mesh)
     const Eigen::VectorXd G = heat.distance(ours->loops[0].vertices);
     ours->z = vessel::align_to_root(ours->mesh, ours->curvature.min_direction, G);
     ours->H = vessel::harmonic_longitudinal(ours->mesh, ours->loops, G);
+    ours->winding = winding(*ours);
     return ours;
 }
 
@@ -59,25 +69,20 @@ std::unique_ptr<vessel::CutGraph> ours_gc(Ours& o)
 }
 
 // VC with the paper's cheapest-path route (flatten()'s default, CutRoute::Aligned, also
-// traces a stream field): the winding field, then one path per outlet.
+// traces a stream field): one path per outlet.
 vessel::CutPlan ours_vc(Ours& o)
 {
     vessel::CutPlanOptions shortest;
     shortest.route = vessel::CutRoute::ShortestPath;
-    return vessel::plan_cuts(*o.graph, o.loops,
-                             vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs()),
-                             shortest);
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, shortest);
 }
 
 // VC as flatten() runs it with its default options (CutRoute::Aligned, CutJoin::Approach): the
-// winding field (kept here, as in ours_vc, though flatten() computes it in stage Z), the
 // harmonic stream field, then the cheapest and the traced path per outlet.
 vessel::CutPlan default_vc(Ours& o)
 {
-    return vessel::plan_cuts(*o.graph, o.loops,
-                             vessel::winding_rate(o.mesh, o.z, o.curvature.k_max.cwiseAbs()),
-                             vessel::CutPlanOptions{}, vessel::descent_direction(o.mesh, o.H),
-                             o.H);
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, vessel::CutPlanOptions{},
+                             vessel::descent_direction(o.mesh, o.H), o.H);
 }
 
 // FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal
@@ -136,6 +141,11 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
             state.counters["path_checksum"] = checksum(plan);
         })->Unit(benchmark::kMillisecond);
     }
+    benchmark::RegisterBenchmark(("Z/winding/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
+        for (auto _ : state)
+            benchmark::DoNotOptimize(winding(o));
+    })->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("VC/peer/" + name).c_str(), [=](benchmark::State& state) {
         auto& p = get_peer();
         std::size_t seam = 0;

@@ -131,6 +131,9 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
     while (!heap_.empty())
     {
         const int v = pop_min();
+        // The likely next vertex's arcs load while v's are relaxed.
+        if (!heap_.empty())
+            __builtin_prefetch(arcs_.data() + first_[heap_.front().second]);
         state_[v] |= kSettled;
         if (query.is_target[v])
         {
@@ -148,7 +151,12 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
             if (nd < dist_[w])
             {
                 if (dist_[w] == kInfinity)
+                {
                     touched_.push_back(w);
+                    // w's arcs are read when it settles, soon if it is close: fetch them now
+                    // (on large meshes the arc array is far beyond the caches).
+                    __builtin_prefetch(arcs_.data() + first_[w]);
+                }
                 relax(w, nd, a->halfedge);
             }
         }

@@ -210,11 +210,42 @@ public:
             field_.grow(graph.mesh(), grown_[applied_], arcs, off_loops, bound_);
     }
 
+    // The field cover(\p radius) would give, exact (distance and via) at every vertex that can
+    // lie on a shortest route of at most \p radius from the tree to a point of \p box: all
+    // grows replayed into a scratch field in order, a vertex entered only while its distance
+    // plus its straight distance to \p box stays within \p radius (+ \p tolerance for
+    // rounding). Such a vertex's predecessors pass the same test (the straight distance to the
+    // box drops by at most an edge's length), and the pops left are in the same (distance,
+    // index) order, so they pick the same `via`; a vertex it does not reach lies farther
+    // than \p radius, or on no such route. The tree's own field is left as it is.
+    const detail::EdgeDistance& near_box(const CutGraph& graph, const std::vector<int>& loop_of,
+                                         double radius, const Eigen::AlignedBox3d& box,
+                                         double tolerance)
+    {
+        const Mesh& mesh = graph.mesh();
+        scratch_.reset(field_.dist.size());
+        const auto arcs = [&graph](int v, auto&& visit) {
+            const auto [first, last] = graph.arcs(v);
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+                visit(a->to);
+        };
+        const double limit = radius + tolerance;
+        const auto to_box = [&](int v) {
+            return box.exteriorDistance(to_eigen(mesh.point(VertexHandle(v))));
+        };
+        const auto enter = [&](int v) { return loop_of[v] < 0 && to_box(v) <= limit; };
+        const auto bound_at = [&](int v) { return std::min(radius, limit - to_box(v)); };
+        for (const auto& seeds : grown_)
+            scratch_.grow_within(mesh, seeds, arcs, enter, bound_at);
+        return scratch_;
+    }
+
     // The points of the tree's vertices (the seeds off the loops), deferred ones included.
     const std::vector<Eigen::Vector3d>& points() const { return points_; }
 
 private:
     detail::EdgeDistance field_;
+    detail::EdgeDistance scratch_;  // near_box()
     double bound_ = std::numeric_limits<double>::infinity();
     double step_ = 0.0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
@@ -377,8 +408,10 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
 //
 // The tree distance is read only as far as a vertex could pass: at vertex i, up to
 // min(reach, left - excess), and not at all where the straight distance to the nearest tree
-// vertex (which the edge-path distance cannot undercut) already exceeds that. \p tree covers
-// the largest such read (TreeDistance::cover()); when there is none the path is kept as is.
+// vertex (which the edge-path distance cannot undercut) already exceeds that. When there is
+// such a read, \p tree grows a scratch copy of its field only on the routes that can reach the
+// reading vertices within the largest read (TreeDistance::near_box()); when there is none the
+// path is kept as is.
 GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& tree,
                    const std::vector<int>& loop_of, double reach, double excess)
 {
@@ -399,6 +432,7 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
             box.extend(to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i]))));
     if (box.isEmpty())
         return path;
+    const Eigen::AlignedBox3d path_box = box;  // the vertices that may read
     box.min().array() -= cell;
     box.max().array() += cell;
     const bool grid = cell > 0.0 && (box.sizes() / cell).maxCoeff() < 1e5;
@@ -440,11 +474,13 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
     }
     if (radius < 0.0)
         return path;
-    tree.cover(graph, loop_of, radius);
+    // Every read lies within the radius and inside path_box: only the tree distance on the
+    // routes that can reach the box within the radius is grown (TreeDistance::near_box()).
+    const detail::EdgeDistance& field = tree.near_box(graph, loop_of, radius, path_box, margin);
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
         const VertexHandle v = mesh.to_vertex_handle(path.halfedges[i]);
-        const double d = tree.dist()[v.idx()];
+        const double d = field.dist[v.idx()];
         if (!(d <= reach) || !(left[i] > d + excess))
             continue;
         std::vector<HalfedgeHandle> halfedges(path.halfedges.begin(),
@@ -453,7 +489,7 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
         for (std::size_t k = 0; k < halfedges.size(); ++k)
             kept[mesh.to_vertex_handle(halfedges[k]).idx()] = k + 1;
         std::size_t prefix = halfedges.size();
-        for (int u = v.idx(), w = tree.via()[u]; w >= 0; u = w, w = tree.via()[u])
+        for (int u = v.idx(), w = field.via[u]; w >= 0; u = w, w = field.via[u])
         {
             // A bridge through an earlier vertex of the path: cut back there instead, so the
             // cut stays simple.
@@ -587,12 +623,13 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // The tree distance is read by cut_back() (CutJoin::Approach) only where a path vertex could
     // pass, often nowhere, and on the streamline route up to the slack beyond a trace's nearest
     // approach (which stops within join_rings of the tree when it arrives): at least 3 x the
-    // slack. Each reader raises the bound as far as it reads.
+    // slack. cut_back() grows its own pruned copy (TreeDistance::near_box()); band_path()
+    // raises the bound as far as it reads.
     // On the streamline routes the bound starts at 3 x the slack and the largest reach, what
     // both readers need but for an unusually far approach, which lifts it. Starting at 3 x the
     // slack instead, with that as the step, saved 10% of the default VC on carotid-300k but
-    // cost 6% on pulmonary-glenn-wall-split4 (20 outlets, more replays). Without a stream field
-    // only cut_back() reads, and the bound rises just as far as it needs.
+    // cost 6% on pulmonary-glenn-wall-split4 (20 outlets, more replays); measured while
+    // cut_back() still read this field. Without a stream field the field itself is not grown.
     TreeDistance tree;
     if (streamline || approach)
     {

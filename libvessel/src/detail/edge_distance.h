@@ -40,6 +40,14 @@ public:
     void grow(const Mesh& mesh, const std::vector<VertexHandle>& seeds, Neighbours neighbours,
               Enter enter, double bound = std::numeric_limits<double>::infinity())
     {
+        grow_within(mesh, seeds, neighbours, enter, [bound](int) { return bound; });
+    }
+
+    // grow() with a bound per vertex: w is lowered to nd only while nd <= \p bound_at(w).
+    template <class Neighbours, class Enter, class Bound>
+    void grow_within(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
+                     Neighbours neighbours, Enter enter, Bound bound_at)
+    {
         for (auto s : seeds)
             if (enter(s.idx()))
             {
@@ -55,7 +63,7 @@ public:
                 if (dist[w] <= d || !enter(w))
                     return;
                 const double nd = d + (mesh.point(VertexHandle(w)) - p).norm();
-                if (nd <= bound && nd < dist[w])
+                if (nd < dist[w] && nd <= bound_at(w))
                 {
                     via[w] = v;
                     lower(w, nd);
