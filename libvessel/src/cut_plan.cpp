@@ -114,6 +114,17 @@ VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidat
     return best;
 }
 
+// Calls visit(w) for each neighbour w of vertex v over \p graph's arcs (vv_range() order), the
+// neighbours detail::EdgeDistance takes (as detail::mesh_neighbours() over the mesh).
+auto graph_neighbours(const CutGraph& graph)
+{
+    return [&graph](int v, auto&& visit) {
+        const auto [first, last] = graph.arcs(v);
+        for (const CutGraph::Arc* a = first; a != last; ++a)
+            visit(a->to);
+    };
+}
+
 // Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
 // farther), keeping smaller values already there; vertices flagged in \p skip are not entered.
 void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, int max_rings,
@@ -126,23 +137,18 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
             ring[v.idx()] = 0;
             front.push_back(v);
         }
+    const auto neighbours = graph_neighbours(graph);
     for (int r = 1; r <= max_rings && !front.empty(); ++r)
     {
         std::vector<VertexHandle> next;
         for (auto v : front)
-        {
-            // The graph's arcs, in vv_range() order.
-            const auto [first, last] = graph.arcs(v.idx());
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-            {
-                const int w = a->to;
+            neighbours(v.idx(), [&](int w) {
                 if (skip[w] < 0 && (ring[w] < 0 || ring[w] > r))
                 {
                     ring[w] = r;
                     next.push_back(VertexHandle(w));
                 }
-            }
-        }
+            });
         front.swap(next);
     }
 }
@@ -200,14 +206,9 @@ public:
             field_.reset(field_.dist.size());
             applied_ = 0;
         }
-        const auto arcs = [&graph](int v, auto&& visit) {
-            const auto [first, last] = graph.arcs(v);
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-                visit(a->to);
-        };
         const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
         for (; applied_ < grown_.size(); ++applied_)
-            field_.grow(graph.mesh(), grown_[applied_], arcs, off_loops, bound_);
+            field_.grow(graph.mesh(), grown_[applied_], graph_neighbours(graph), off_loops, bound_);
     }
 
     // The field cover(\p radius) would give, exact (distance and via) at every vertex that can
@@ -224,11 +225,6 @@ public:
     {
         const Mesh& mesh = graph.mesh();
         scratch_.reset(field_.dist.size());
-        const auto arcs = [&graph](int v, auto&& visit) {
-            const auto [first, last] = graph.arcs(v);
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-                visit(a->to);
-        };
         const double limit = radius + tolerance;
         const auto to_box = [&](int v) {
             return box.exteriorDistance(to_eigen(mesh.point(VertexHandle(v))));
@@ -236,7 +232,7 @@ public:
         const auto enter = [&](int v) { return loop_of[v] < 0 && to_box(v) <= limit; };
         const auto bound_at = [&](int v) { return std::min(radius, limit - to_box(v)); };
         for (const auto& seeds : grown_)
-            scratch_.grow_within(mesh, seeds, arcs, enter, bound_at);
+            scratch_.grow_within(mesh, seeds, graph_neighbours(graph), enter, bound_at);
         return scratch_;
     }
 
