@@ -114,17 +114,6 @@ VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidat
     return best;
 }
 
-// Calls visit(w) for each neighbour w of vertex v over \p graph's arcs (vv_range() order), the
-// neighbours detail::EdgeDistance takes (as detail::mesh_neighbours() over the mesh).
-auto graph_neighbours(const CutGraph& graph)
-{
-    return [&graph](int v, auto&& visit) {
-        const auto [first, last] = graph.arcs(v);
-        for (const CutGraph::Arc* a = first; a != last; ++a)
-            visit(a->to);
-    };
-}
-
 // Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
 // farther), keeping smaller values already there; vertices flagged in \p skip are not entered.
 void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, int max_rings,
@@ -137,7 +126,7 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
             ring[v.idx()] = 0;
             front.push_back(v);
         }
-    const auto neighbours = graph_neighbours(graph);
+    const auto neighbours = detail::graph_neighbours(graph);
     for (int r = 1; r <= max_rings && !front.empty(); ++r)
     {
         std::vector<VertexHandle> next;
@@ -208,7 +197,7 @@ public:
         }
         const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
         for (; applied_ < grown_.size(); ++applied_)
-            field_.grow(graph.mesh(), grown_[applied_], graph_neighbours(graph), off_loops, bound_);
+            field_.grow(graph.mesh(), grown_[applied_], detail::graph_neighbours(graph), off_loops, bound_);
     }
 
     // The field cover(\p radius) would give, exact (distance and via) at every vertex that can
@@ -232,7 +221,7 @@ public:
         const auto enter = [&](int v) { return loop_of[v] < 0 && to_box(v) <= limit; };
         const auto bound_at = [&](int v) { return std::min(radius, limit - to_box(v)); };
         for (const auto& seeds : grown_)
-            scratch_.grow_within(mesh, seeds, graph_neighbours(graph), enter, bound_at);
+            scratch_.grow_within(mesh, seeds, detail::graph_neighbours(graph), enter, bound_at);
         return scratch_;
     }
 

@@ -1,6 +1,7 @@
 #include "vessel/cut_winding.h"
 
 #include "vessel/errors.h"
+#include "detail/edge_distance.h"
 
 #include <Eigen/Geometry>
 
@@ -120,14 +121,9 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
     // give the same ring in the same order (and the same sums below).
     for (std::size_t head = 0; head < ring.vertices.size(); ++head)
         if (graph_)
-        {
-            const auto [first, last] = graph_->arcs(ring.vertices[head].idx());
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-                enter(a->to);
-        }
+            detail::graph_neighbours(*graph_)(ring.vertices[head].idx(), enter);
         else
-            for (auto w : mesh_.vv_range(ring.vertices[head]))
-                enter(w.idx());
+            detail::mesh_neighbours(mesh_)(ring.vertices[head].idx(), enter);
     const auto n = static_cast<double>(ring.vertices.size());
     if (ring.vertices.size() < static_cast<std::size_t>(options_.min_ring_vertices))
         return false;

@@ -2,9 +2,11 @@
 
 // Multi-source Dijkstra along a mesh's edges (3D edge lengths): the cut planner's distance to
 // the cut tree (cut_plan.cpp, TreeDistance, on its CutGraph's arcs) and beside_length()
-// (cut_metrics.cpp, on the mesh's halfedges) both grow this one field.
+// (cut_metrics.cpp, on the mesh's halfedges) both grow this one field. mesh_neighbours() and
+// graph_neighbours() give the neighbour walk over either (the winding meter's rings too).
 
 #include "detail/quad_heap.h"
+#include "vessel/cut_graph.h"
 #include "vessel/mesh.h"
 
 #include <limits>
@@ -95,6 +97,17 @@ inline auto mesh_neighbours(const Mesh& mesh)
     return [&mesh](int v, auto&& visit) {
         for (auto h : mesh.voh_range(VertexHandle(v)))
             visit(h.to().idx());
+    };
+}
+
+// The same neighbours in the same order over a CutGraph's arcs (which keep voh_range() order):
+// visit(w) for each neighbour w of vertex v.
+inline auto graph_neighbours(const CutGraph& graph)
+{
+    return [&graph](int v, auto&& visit) {
+        const auto [first, last] = graph.arcs(v);
+        for (const CutGraph::Arc* a = first; a != last; ++a)
+            visit(a->to);
     };
 }
 
