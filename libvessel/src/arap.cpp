@@ -4,6 +4,7 @@
 #include "detail/cholmod_common.h"
 #include "detail/face_jacobian.h"
 #include "detail/serial_openmp.h"
+#include "detail/subtree_solver.h"
 #include "vessel/errors.h"
 
 #include <Eigen/CholmodSupport>
@@ -11,9 +12,9 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -171,32 +172,34 @@ public:
         // here (paper method, F median of 9 / 3 alternated runs: carotid-44k 0.355 -> 0.268 s,
         // 100k 0.94 -> 0.82 s, 300k 3.30 -> 3.08 s; converting the supernodal factor to
         // simplicial for the solves landed in between: 0.311 s at 44k). CHOLMOD's default
-        // ordering choice (AMD here), as Eigen's CholmodSimplicialLLT makes it.
-        common_.c.supernodal = CHOLMOD_SIMPLICIAL;
-        common_.c.final_asis = 0;
-        common_.c.final_ll = 1;
+        // ordering choice (AMD here), as Eigen's CholmodSimplicialLLT makes it. The solves
+        // run on a copy split for two threads (detail::SubtreeSolver); CHOLMOD's factor is
+        // freed once copied.
+        CholmodCommon common;
+        common.c.supernodal = CHOLMOD_SIMPLICIAL;
+        common.c.final_asis = 0;
+        common.c.final_ll = 1;
         const Eigen::SparseMatrix<double>& lower = K;
         cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
         const detail::SerialOpenMp serial;
-        factor_ = cholmod_analyze(&view, &common_.c);
-        if (factor_ == nullptr || !cholmod_factorize(&view, factor_, &common_.c) ||
-            common_.c.status != CHOLMOD_OK || factor_->minor != factor_->n)
-        {
-            cholmod_free_factor(&factor_, &common_.c);  // no destructor after a throw here
+        cholmod_factor* factor = cholmod_analyze(&view, &common.c);
+        const bool factored = factor != nullptr && cholmod_factorize(&view, factor, &common.c) &&
+                              common.c.status == CHOLMOD_OK && factor->minor == factor->n;
+        if (factored)
+            solver_.emplace(*factor);
+        cholmod_free_factor(&factor, &common.c);
+        if (!factored)
             throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
                               std::to_string(n_free_) +
                               " free vertices); every connected component needs a pin");
-        }
     }
-    ~ArapFactor() { cholmod_free_factor(&factor_, &common_.c); }
-    ArapFactor(const ArapFactor&) = delete;
-    ArapFactor& operator=(const ArapFactor&) = delete;
 
     const std::vector<detail::ArapFace>& faces() const { return faces_; }
     const std::vector<bool>& is_pinned() const { return is_pinned_; }
     const std::vector<int>& dof() const { return dof_; }
     int n_free() const { return n_free_; }
-    const cholmod_factor* factor() const { return factor_; }
+    //! The factor's solves; only when n_free() > 0.
+    const detail::SubtreeSolver& solver() const { return *solver_; }
 
     //! The terms of free vertex \p i's row of the global step's right-hand side, in face order:
     //! each is 2 (3 t + k) for + term k of face t, one more for its - term.
@@ -237,112 +240,10 @@ private:
     int n_free_ = 0;
     std::vector<int> gather_start_;
     std::vector<int> gather_;
-    CholmodCommon common_;
-    cholmod_factor* factor_ = nullptr;
+    std::optional<detail::SubtreeSolver> solver_;
 };
 
 namespace {
-
-// The global step's two solves K x_u = b_u, K x_v = b_v with CHOLMOD workspace kept across
-// iterations (cholmod_solve2). Each solve streams the whole factor from memory and is bound by
-// it: both columns in one sweep, or each column in its own sweep on its own core, at once. The
-// faster way depends on whether the second core is free: on an idle machine the two sweeps
-// (carotid-300k, 150k free vertices: 16.5 ms against 21.5 ms for one sweep), with another
-// process on the second core the one sweep (ARAP iterations 30 ms against 42 ms). Both give the
-// same bits, so the solver times each way as it goes, takes the faster, and tries the other one
-// again every kProbe-th solve.
-class ColumnSolver
-{
-public:
-    ColumnSolver(const ArapFactor& system, int threads) : system_(system), threads_(threads) {}
-    ~ColumnSolver()
-    {
-        for (auto& work : work_)
-        {
-            cholmod_free_dense(&work.X, &work.common.c);
-            cholmod_free_dense(&work.Y, &work.common.c);
-            cholmod_free_dense(&work.E, &work.common.c);
-        }
-    }
-    ColumnSolver(const ColumnSolver&) = delete;
-    ColumnSolver& operator=(const ColumnSolver&) = delete;
-
-    //! x = K^-1 b; false if CHOLMOD failed.
-    bool solve(Eigen::MatrixX2d& b, Eigen::MatrixX2d& x)
-    {
-        if (threads_ <= 1)
-            return solve_columns(0, 2, b, x);
-        const Way way = next_way();
-        const auto start = std::chrono::steady_clock::now();
-        bool ok[2] = {true, true};
-        if (way == Way::OneSweep)
-            ok[0] = solve_columns(0, 2, b, x);
-        else
-            detail::parallel_chunks(2, 2, [&](std::size_t begin, std::size_t, int) {
-                ok[begin] = solve_columns(static_cast<int>(begin), 1, b, x);
-            });
-        seconds_[static_cast<int>(way)] =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        return ok[0] && ok[1];
-    }
-
-private:
-    struct Work
-    {
-        CholmodCommon common;
-        cholmod_dense* X = nullptr;
-        cholmod_dense* Y = nullptr;
-        cholmod_dense* E = nullptr;
-    };
-
-    // Columns first .. first + count - 1 of b into x, with work_[first].
-    bool solve_columns(int first, int count, Eigen::MatrixX2d& b, Eigen::MatrixX2d& x)
-    {
-        Work& work = work_[first];
-        cholmod_dense B{};
-        B.nrow = B.d = static_cast<std::size_t>(b.rows());
-        B.ncol = static_cast<std::size_t>(count);
-        B.nzmax = B.nrow * B.ncol;
-        B.x = b.col(first).data();
-        B.xtype = CHOLMOD_REAL;
-        B.dtype = CHOLMOD_DOUBLE;
-        // cholmod_solve2 takes the factor non-const but only reads it (an LL' factor, sys A).
-        if (!cholmod_solve2(CHOLMOD_A, const_cast<cholmod_factor*>(system_.factor()), &B, nullptr,
-                            &work.X, nullptr, &work.Y, &work.E, &work.common.c) ||
-            work.common.c.status != CHOLMOD_OK)
-            return false;
-        x.middleCols(first, count) = Eigen::Map<const Eigen::MatrixXd>(
-            static_cast<const double*>(work.X->x), b.rows(), count);
-        return true;
-    }
-
-    enum class Way
-    {
-        OneSweep = 0,
-        TwoSweeps = 1
-    };
-    static constexpr int kProbe = 8;
-
-    // Each way once, then the faster of their last times, and the other one every kProbe-th.
-    Way next_way()
-    {
-        ++solves_;
-        if (seconds_[1] < 0.0)
-            return Way::TwoSweeps;
-        if (seconds_[0] < 0.0)
-            return Way::OneSweep;
-        const Way faster = seconds_[1] <= seconds_[0] ? Way::TwoSweeps : Way::OneSweep;
-        if (solves_ % kProbe != 0)
-            return faster;
-        return faster == Way::TwoSweeps ? Way::OneSweep : Way::TwoSweeps;
-    }
-
-    const ArapFactor& system_;
-    int threads_;
-    Work work_[2];
-    double seconds_[2] = {-1.0, -1.0};  // the last time of each Way, -1 before the first
-    int solves_ = 0;
-};
 
 ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                               const ArapOptions& options)
@@ -424,14 +325,15 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
             }
         });
     };
-    ColumnSolver column_solver(system, threads);
+    detail::SubtreeSolver::Workspace solve_work;
     double energy = local_step();
     Eigen::MatrixX2d b(n_free, 2), x(n_free, 2);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
         gather(b);
-        if (!column_solver.solve(b, x) || !x.allFinite())
-            throw SolverError("arap: CHOLMOD solve failed in local/global iteration " +
+        system.solver().solve(b, x, threads, solve_work);
+        if (!x.allFinite())
+            throw SolverError("arap: the global step's solve is not finite in local/global iteration " +
                               std::to_string(it));
         for (int i = 0; i < n; ++i)
             if (dof[i] >= 0)

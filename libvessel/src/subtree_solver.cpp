@@ -1,0 +1,299 @@
+#include "detail/subtree_solver.h"
+
+#include "vessel/errors.h"
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+#include <thread>
+
+namespace vessel::detail {
+
+namespace {
+
+// The split stops once the lighter set has this share of the heavier one's nonzeros ...
+constexpr double kBalance = 0.97;
+// ... or when the top would pass this share of all nonzeros (then the best split seen is kept).
+constexpr double kMaxTopShare = 0.3;
+
+struct Split
+{
+    std::vector<int> roots[2];  // subtree roots of each set
+};
+
+// Splits the forest given by `parent` (parent[j] > j, or -1) into two sets of whole subtrees of
+// about equal weight: expand the heaviest subtree of the frontier into the top (its root) and its
+// children, and deal the frontier to the two sets heaviest first, each to the lighter set.
+Split split_forest(const std::vector<int>& parent, const std::vector<double>& subtree_weight)
+{
+    const int n = static_cast<int>(parent.size());
+    std::vector<int> child_start(n + 1, 0), children(n);
+    for (int j = 0; j < n; ++j)
+        if (parent[j] >= 0)
+            ++child_start[parent[j] + 1];
+    std::partial_sum(child_start.begin(), child_start.end(), child_start.begin());
+    {
+        std::vector<int> next(child_start.begin(), child_start.end() - 1);
+        for (int j = 0; j < n; ++j)
+            if (parent[j] >= 0)
+                children[next[parent[j]]++] = j;
+    }
+    const double total = std::accumulate(subtree_weight.begin(), subtree_weight.end(), 0.0,
+                                         [&, j = 0](double sum, double w) mutable {
+                                             return parent[j++] < 0 ? sum + w : sum;
+                                         });
+    const auto heavier = [&](int a, int b) {
+        return subtree_weight[a] > subtree_weight[b] ||
+               (subtree_weight[a] == subtree_weight[b] && a < b);
+    };
+    std::vector<int> frontier;
+    for (int j = 0; j < n; ++j)
+        if (parent[j] < 0)
+            frontier.push_back(j);
+    Split best;
+    double best_lighter = -1.0, top = 0.0;
+    while (!frontier.empty())
+    {
+        std::sort(frontier.begin(), frontier.end(), heavier);
+        Split split;
+        double weight[2] = {0.0, 0.0};
+        for (const int root : frontier)
+        {
+            const int s = weight[0] <= weight[1] ? 0 : 1;
+            weight[s] += subtree_weight[root];
+            split.roots[s].push_back(root);
+        }
+        const double lighter = std::min(weight[0], weight[1]);
+        if (lighter > best_lighter)
+        {
+            best_lighter = lighter;
+            best = std::move(split);
+        }
+        if (lighter >= kBalance * std::max(weight[0], weight[1]))
+            break;
+        const int expanded = frontier.front();
+        top += subtree_weight[expanded];
+        for (int c = child_start[expanded]; c < child_start[expanded + 1]; ++c)
+            top -= subtree_weight[children[c]];
+        if (top > kMaxTopShare * total)
+            break;
+        frontier.erase(frontier.begin());
+        frontier.insert(frontier.end(), children.begin() + child_start[expanded],
+                        children.begin() + child_start[expanded + 1]);
+    }
+    return best;
+}
+
+template <class Body>
+void on_two_threads(int threads, const Body& body)
+{
+    if (threads <= 1)
+    {
+        body(0);
+        body(1);
+        return;
+    }
+    std::thread second([&] { body(1); });
+    body(0);
+    second.join();
+}
+
+}  // namespace
+
+SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
+{
+    if (L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT ||
+        L.dtype != CHOLMOD_DOUBLE)
+        throw SolverError("SubtreeSolver: needs a real simplicial LL' factor with int indices "
+                          "(CHOLMOD's simplicial factorization with final_ll set)");
+    n_ = static_cast<int>(L.n);
+    const int* p = static_cast<const int*>(L.p);
+    const int* i = static_cast<const int*>(L.i);
+    const int* nz = static_cast<const int*>(L.nz);
+    const double* x = static_cast<const double*>(L.x);
+    const int* perm = static_cast<const int*>(L.Perm);
+
+    // Elimination tree: a column's parent is its first row below the diagonal.
+    std::vector<int> parent(n_, -1);
+    std::vector<double> subtree_weight(n_);
+    for (int j = 0; j < n_; ++j)
+    {
+        if (nz[j] < 1 || i[p[j]] != j)
+            throw SolverError("SubtreeSolver: column " + std::to_string(j) +
+                              " of the factor does not start with its diagonal");
+        for (int k = p[j] + 1; k < p[j] + nz[j]; ++k)
+            if (parent[j] < 0 || i[k] < parent[j])
+                parent[j] = i[k];
+        subtree_weight[j] += nz[j];
+        if (parent[j] >= 0)
+            subtree_weight[parent[j]] += subtree_weight[j];
+    }
+    const Split split = split_forest(parent, subtree_weight);
+
+    // Owner of each column: the set whose subtree holds it, else the top (2). Parents come
+    // after their children, so one pass from the last column settles every subtree.
+    std::vector<int> owner(n_, 2);
+    for (int s = 0; s < 2; ++s)
+        for (const int root : split.roots[s])
+            owner[root] = s;
+    for (int j = n_ - 1; j >= 0; --j)
+        if (owner[j] == 2 && parent[j] >= 0 && owner[parent[j]] < 2)
+            owner[j] = owner[parent[j]];
+    std::vector<int> label(n_), column_of(n_);
+    int next = 0;
+    for (int s = 0; s < 3; ++s)
+    {
+        for (int j = 0; j < n_; ++j)
+            if (owner[j] == s)
+            {
+                label[j] = next;
+                column_of[next++] = j;
+            }
+        if (s < 2)
+            set_end_[s] = next;
+    }
+
+    perm_.resize(n_);
+    start_.resize(n_ + 1);
+    top_start_.resize(n_);
+    long total = 0;
+    for (int j = 0; j < n_; ++j)
+        total += nz[j];
+    rows_.reserve(total);
+    values_.reserve(total);
+    for (int c = 0; c < n_; ++c)
+    {
+        const int j = column_of[c];
+        perm_[c] = perm ? perm[j] : j;
+        start_[c] = static_cast<long>(rows_.size());
+        rows_.push_back(c);
+        values_.push_back(x[p[j]]);
+        for (int pass = 0; pass < 2; ++pass)  // rows above the top, then the top's
+        {
+            if (pass == 1)
+                top_start_[c] = static_cast<long>(rows_.size());
+            for (int k = p[j] + 1; k < p[j] + nz[j]; ++k)
+                if ((label[i[k]] >= top_begin()) == (pass == 1))
+                {
+                    rows_.push_back(label[i[k]]);
+                    values_.push_back(x[k]);
+                }
+        }
+    }
+    start_[n_] = static_cast<long>(rows_.size());
+}
+
+double SubtreeSolver::set_share(int set) const
+{
+    if (rows_.empty())
+        return 0.0;
+    return static_cast<double>(start_[set_end_[set]] - start_[set_begin(set)]) /
+           static_cast<double>(rows_.size());
+}
+
+void SubtreeSolver::forward_set(int set, double* x, double* buffer) const
+{
+    const int top = top_begin();
+    for (int c = set_begin(set); c < set_end_[set]; ++c)
+    {
+        const double d = values_[start_[c]];
+        const double y0 = x[2 * c] / d, y1 = x[2 * c + 1] / d;
+        x[2 * c] = y0;
+        x[2 * c + 1] = y1;
+        for (long k = start_[c] + 1; k < top_start_[c]; ++k)
+        {
+            const int r = rows_[k];
+            x[2 * r] -= values_[k] * y0;
+            x[2 * r + 1] -= values_[k] * y1;
+        }
+        for (long k = top_start_[c]; k < start_[c + 1]; ++k)
+        {
+            const int r = rows_[k] - top;
+            buffer[2 * r] -= values_[k] * y0;
+            buffer[2 * r + 1] -= values_[k] * y1;
+        }
+    }
+}
+
+// The top's columns for one right-hand side, on a contiguous copy x of its rows.
+void SubtreeSolver::forward_top(double* x) const
+{
+    const int top = top_begin();
+    for (int c = top; c < n_; ++c)
+    {
+        const double y = x[c - top] / values_[start_[c]];
+        x[c - top] = y;
+        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
+            x[rows_[k] - top] -= values_[k] * y;
+    }
+}
+
+void SubtreeSolver::backward_top(double* x) const
+{
+    const int top = top_begin();
+    for (int c = n_ - 1; c >= top; --c)
+    {
+        double sum = x[c - top];
+        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
+            sum -= values_[k] * x[rows_[k] - top];
+        x[c - top] = sum / values_[start_[c]];
+    }
+}
+
+void SubtreeSolver::backward_set(int set, double* x) const
+{
+    for (int c = set_end_[set] - 1; c >= set_begin(set); --c)
+    {
+        double sum0 = x[2 * c], sum1 = x[2 * c + 1];
+        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
+        {
+            const int r = rows_[k];
+            sum0 -= values_[k] * x[2 * r];
+            sum1 -= values_[k] * x[2 * r + 1];
+        }
+        const double d = values_[start_[c]];
+        x[2 * c] = sum0 / d;
+        x[2 * c + 1] = sum1 / d;
+    }
+}
+
+void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int threads,
+                          Workspace& work) const
+{
+    const int top = top_begin(), n_top = n_ - top;
+    work.x.resize(2 * static_cast<std::size_t>(n_));
+    work.buffer.assign(4 * static_cast<std::size_t>(n_top), 0.0);
+    double* xs = work.x.data();
+    for (int c = 0; c < n_; ++c)
+    {
+        xs[2 * c] = b(perm_[c], 0);
+        xs[2 * c + 1] = b(perm_[c], 1);
+    }
+    // L y = P b: the two sets, then the top (its rows collect both sets' updates, in set order).
+    on_two_threads(threads, [&](int set) {
+        forward_set(set, xs, work.buffer.data() + 2 * static_cast<std::size_t>(set) * n_top);
+    });
+    // Each right-hand side's top rows, contiguous: the two threads write apart.
+    std::vector<double> top_rows(2 * static_cast<std::size_t>(n_top));
+    for (int r = 0; r < n_top; ++r)
+        for (int k = 0; k < 2; ++k)
+            top_rows[k * n_top + r] = xs[2 * (top + r) + k] + work.buffer[2 * r + k] +
+                                      work.buffer[2 * (n_top + r) + k];
+    // L' z = y: the top, then the two sets.
+    on_two_threads(threads, [&](int k) {
+        forward_top(top_rows.data() + k * n_top);
+        backward_top(top_rows.data() + k * n_top);
+    });
+    for (int r = 0; r < n_top; ++r)
+        for (int k = 0; k < 2; ++k)
+            xs[2 * (top + r) + k] = top_rows[k * n_top + r];
+    on_two_threads(threads, [&](int set) { backward_set(set, xs); });
+    x.resize(n_, 2);
+    for (int c = 0; c < n_; ++c)
+    {
+        x(perm_[c], 0) = xs[2 * c];
+        x(perm_[c], 1) = xs[2 * c + 1];
+    }
+}
+
+}  // namespace vessel::detail
