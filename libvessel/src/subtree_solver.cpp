@@ -102,29 +102,65 @@ void on_two_threads(int threads, const Body& body)
 
 SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
 {
-    if (L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT ||
-        L.dtype != CHOLMOD_DOUBLE)
-        throw SolverError("SubtreeSolver: needs a real simplicial LL' factor with int indices "
-                          "(CHOLMOD's simplicial factorization with final_ll set)");
+    if (!L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT ||
+        L.dtype != CHOLMOD_DOUBLE || L.minor != L.n)
+        throw SolverError("SubtreeSolver: needs a complete real LL' factor with int indices "
+                          "(CHOLMOD's supernodal factorization, or simplicial with final_ll)");
     n_ = static_cast<int>(L.n);
-    const int* p = static_cast<const int*>(L.p);
-    const int* i = static_cast<const int*>(L.i);
-    const int* nz = static_cast<const int*>(L.nz);
     const double* x = static_cast<const double*>(L.x);
     const int* perm = static_cast<const int*>(L.Perm);
 
-    // Elimination tree: a column's parent is its first row below the diagonal.
+    // Each column's rows and values from its diagonal down, contiguous in either layout.
+    struct Column
+    {
+        const int* rows;
+        const double* values;
+        int count;
+    };
+    std::vector<Column> columns(n_);
+    if (L.is_super)
+    {
+        // Supernode s: columns super[s] .. super[s + 1] - 1 share the row list s[pi[s] ..],
+        // values column-major with a leading dimension of that list's length.
+        const int* super = static_cast<const int*>(L.super);
+        const int* pi = static_cast<const int*>(L.pi);
+        const int* px = static_cast<const int*>(L.px);
+        const int* rows = static_cast<const int*>(L.s);
+        for (std::size_t node = 0; node < L.nsuper; ++node)
+        {
+            const int height = pi[node + 1] - pi[node];
+            for (int j = super[node]; j < super[node + 1]; ++j)
+            {
+                const int offset = j - super[node];
+                columns[j] = {rows + pi[node] + offset,
+                              x + px[node] + static_cast<long>(offset) * height + offset,
+                              height - offset};
+            }
+        }
+    }
+    else
+    {
+        const int* p = static_cast<const int*>(L.p);
+        const int* nz = static_cast<const int*>(L.nz);
+        for (int j = 0; j < n_; ++j)
+            columns[j] = {static_cast<const int*>(L.i) + p[j], x + p[j], nz[j]};
+    }
+
+    // Elimination tree of the stored pattern (with a supernodal factor's explicit zeros): a
+    // column's parent is its first row below the diagonal, and every row of the column is an
+    // ancestor.
     std::vector<int> parent(n_, -1);
     std::vector<double> subtree_weight(n_);
     for (int j = 0; j < n_; ++j)
     {
-        if (nz[j] < 1 || i[p[j]] != j)
+        const Column& column = columns[j];
+        if (column.count < 1 || column.rows[0] != j)
             throw SolverError("SubtreeSolver: column " + std::to_string(j) +
                               " of the factor does not start with its diagonal");
-        for (int k = p[j] + 1; k < p[j] + nz[j]; ++k)
-            if (parent[j] < 0 || i[k] < parent[j])
-                parent[j] = i[k];
-        subtree_weight[j] += nz[j];
+        for (int k = 1; k < column.count; ++k)
+            if (parent[j] < 0 || column.rows[k] < parent[j])
+                parent[j] = column.rows[k];
+        subtree_weight[j] += column.count;
         if (parent[j] >= 0)
             subtree_weight[parent[j]] += subtree_weight[j];
     }
@@ -157,26 +193,30 @@ SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
     start_.resize(n_ + 1);
     top_start_.resize(n_);
     long total = 0;
-    for (int j = 0; j < n_; ++j)
-        total += nz[j];
+    for (const Column& column : columns)
+        total += 1 + std::count_if(column.values + 1, column.values + column.count,
+                                   [](double value) { return value != 0.0; });
     rows_.reserve(total);
     values_.reserve(total);
     for (int c = 0; c < n_; ++c)
     {
         const int j = column_of[c];
+        const Column& column = columns[j];
         perm_[c] = perm ? perm[j] : j;
         start_[c] = static_cast<long>(rows_.size());
         rows_.push_back(c);
-        values_.push_back(x[p[j]]);
-        for (int pass = 0; pass < 2; ++pass)  // rows above the top, then the top's
+        values_.push_back(column.values[0]);
+        // Rows above the top, then the top's; exact zeros (a supernode's padding) are left out,
+        // as subtracting them would change nothing.
+        for (int pass = 0; pass < 2; ++pass)
         {
             if (pass == 1)
                 top_start_[c] = static_cast<long>(rows_.size());
-            for (int k = p[j] + 1; k < p[j] + nz[j]; ++k)
-                if ((label[i[k]] >= top_begin()) == (pass == 1))
+            for (int k = 1; k < column.count; ++k)
+                if (column.values[k] != 0.0 && (label[column.rows[k]] >= top_begin()) == (pass == 1))
                 {
-                    rows_.push_back(label[i[k]]);
-                    values_.push_back(x[k]);
+                    rows_.push_back(label[column.rows[k]]);
+                    values_.push_back(column.values[k]);
                 }
         }
     }

@@ -25,8 +25,8 @@ namespace vessel::detail {
 class SubtreeSolver
 {
 public:
-    //! Copies \p L, a simplicial LL' factor from cholmod_factorize() (packed or not), which the
-    //! caller may free afterwards.
+    //! Copies \p L, an LL' factor from cholmod_factorize() (supernodal, or simplicial with
+    //! final_ll), which the caller may free afterwards.
     explicit SubtreeSolver(const cholmod_factor& L);
 
     //! Scratch for one solve at a time: give each concurrent caller its own.
