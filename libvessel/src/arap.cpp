@@ -180,8 +180,16 @@ public:
         cholmod_factor* factor = cholmod_analyze(&view, &common.c);
         const bool factored = factor != nullptr && cholmod_factorize(&view, factor, &common.c) &&
                               common.c.status == CHOLMOD_OK && factor->minor == factor->n;
-        if (factored)
-            solver_.emplace(*factor);
+        try
+        {
+            if (factored)
+                solver_.emplace(*factor);
+        }
+        catch (...)
+        {
+            cholmod_free_factor(&factor, &common.c);  // no destructor after a throw here
+            throw;
+        }
         cholmod_free_factor(&factor, &common.c);
         if (!factored)
             throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +

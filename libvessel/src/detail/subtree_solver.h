@@ -34,6 +34,7 @@ public:
     {
         std::vector<double> x;       // interleaved (u, v) per column
         std::vector<double> buffer;  // each set's updates of the top's rows, interleaved
+        std::vector<double> top_rows;  // the top's rows, u then v
     };
 
     int size() const { return n_; }
