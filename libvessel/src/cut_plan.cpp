@@ -159,7 +159,8 @@ public:
     // 0: just what the reader needs.
     void reset(std::size_t nv, double bound, double step)
     {
-        field_.reset(nv);
+        nv_ = nv;
+        field_.reset(0);  // sized at the first cover(): cut_back() alone never grows it
         grown_.clear();
         applied_ = 0;
         points_.clear();
@@ -187,12 +188,13 @@ public:
     // none beyond it).
     void cover(const CutGraph& graph, const std::vector<int>& loop_of, double radius)
     {
-        if (radius > bound_)
+        if (radius > bound_ || field_.dist.size() != nv_)
         {
-            bound_ = !(step_ > 0.0)     ? radius
-                     : radius <= step_ ? step_
-                                       : std::numeric_limits<double>::infinity();
-            field_.reset(field_.dist.size());
+            if (radius > bound_)
+                bound_ = !(step_ > 0.0)     ? radius
+                         : radius <= step_ ? step_
+                                           : std::numeric_limits<double>::infinity();
+            field_.reset(nv_);
             applied_ = 0;
         }
         const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
@@ -213,7 +215,7 @@ public:
                                          double tolerance)
     {
         const Mesh& mesh = graph.mesh();
-        scratch_.reset(field_.dist.size());
+        scratch_.clear(nv_);
         const double limit = radius + tolerance;
         const auto to_box = [&](int v) {
             return box.exteriorDistance(to_eigen(mesh.point(VertexHandle(v))));
@@ -231,6 +233,7 @@ public:
 private:
     detail::EdgeDistance field_;
     detail::EdgeDistance scratch_;  // near_box()
+    std::size_t nv_ = 0;
     double bound_ = std::numeric_limits<double>::infinity();
     double step_ = 0.0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
@@ -245,7 +248,9 @@ private:
 // approach to the tree, and the band also covers the shortest bridge from there to the tree.
 // Empty when the trace does not arrive or the band holds no route. \p loop_of as in
 // TreeDistance, to raise \p tree's bound when the approach lies beyond it.
-std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
+// \p winding_rate: plan_cuts()'s, read by the band's search.
+std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
+                                   const Eigen::MatrixX3d& winding_rate,
                                    const Eigen::MatrixX3d& field, VertexHandle start,
                                    const std::vector<char>& stop_at, int band_rings,
                                    TreeDistance* tree, const std::vector<int>& loop_of,
@@ -321,18 +326,15 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
-    // The band borrows the query's |V| x 3 winding field instead of copying it.
-    band.winding_rate.swap(query.winding_rate);
     std::optional<GraphPath> path;
     try
     {
-        path = graph.shortest_path(band);
+        path = graph.shortest_path(band, winding_rate);
     }
     catch (const InvalidInputError&)
     {
         // no target inside the band
     }
-    band.winding_rate.swap(query.winding_rate);
     return path;
 }
 
@@ -578,7 +580,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // Query l: targets are the inlet (l = 1) or the interior vertices of earlier cuts (l > 1);
     // blocked are the vertices of every loop but l that are not targets.
     PathQuery query;
-    query.winding_rate = winding_rate;
+    // The |V| x 3 winding field is passed to each search by reference, not copied in.
     query.tie_tolerance = options.tie_tolerance;
     query.is_target.assign(nv, 0);
     query.is_blocked.assign(nv, 0);
@@ -670,7 +672,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                                                                 options.viewpoint)}
                             : loops[l].vertices;
 
-        GraphPath found = graph.shortest_path(query);
+        GraphPath found = graph.shortest_path(query, winding_rate);
         if (l >= 2 && approach)
         {
             const double radius = loops[l].arc_length / (2.0 * M_PI);
@@ -695,7 +697,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 for (std::size_t v = 0; v < nv; ++v)
                     stop_at[v] = join[v] >= 0;
             std::optional<GraphPath> along =
-                band_path(graph, query, stream_field,
+                band_path(graph, query, winding_rate, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, loop_of, slack);
             if (along && compare && !keep_traced(mesh, found, *along, stream_field,
