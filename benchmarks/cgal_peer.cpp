@@ -5,7 +5,9 @@
 //       method (Heat_method_3) distance from the inlet, sign of the direction toward the inlet
 //   GC  a directed boost::adjacency_list with the same cost 1 - <unit edge, z> per halfedge
 //   VC  boost::dijkstra_shortest_paths per outlet, largest first, from a zero-cost node joined to
-//       the outlet loop to the inlet or an earlier cut, never through another loop
+//       the outlet loop to the inlet (first cut) or a vertex already on a cut (later cuts, the
+//       method's rule; PeerJoin::TreeOrInlet also lets them end on the inlet), never through
+//       another loop
 //   AC  Seam_mesh with the path edges as seams, and its longest border
 //   L   (no counterpart: CGAL's parameterizers place the border themselves)
 //   F   ARAP_parameterizer_3 (which starts from its own LSCM); LSCM_parameterizer_3 alone is

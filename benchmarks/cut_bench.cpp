@@ -3,6 +3,8 @@
 // (boost Dijkstra per outlet). Google Benchmark reports wall and CPU time per iteration; stage Z
 // runs once per mesh outside the timing, as the peer's does. Z/winding/ times the one Z product
 // the cut planner reads that the peer has no counterpart of (winding_rate(), in flatten()'s Z).
+// VC/peer/ follows the method's rule as ours; VC/peer-inlet/ the peer's former, easier rule
+// (later cuts may end on the inlet); VC/check/ (no timing) compares the two sides' paths.
 // See docs/benchmarks.md.
 #include "cgal_peer.h"
 
