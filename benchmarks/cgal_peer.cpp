@@ -5,7 +5,9 @@
 //       method (Heat_method_3) distance from the inlet, sign of the direction toward the inlet
 //   GC  a directed boost::adjacency_list with the same cost 1 - <unit edge, z> per halfedge
 //   VC  boost::dijkstra_shortest_paths per outlet, largest first, from a zero-cost node joined to
-//       the outlet loop to the inlet or an earlier cut, never through another loop
+//       the outlet loop to the inlet (first cut) or a vertex already on a cut (later cuts, the
+//       method's rule; PeerJoin::TreeOrInlet also lets them end on the inlet), never through
+//       another loop
 //   AC  Seam_mesh with the path edges as seams, and its longest border
 //   L   (no counterpart: CGAL's parameterizers place the border themselves)
 //   F   ARAP_parameterizer_3 (which starts from its own LSCM); LSCM_parameterizer_3 alone is
@@ -193,9 +195,9 @@ Frames stage_z(SM& sm, const PeerSettings& settings)
     return frames;
 }
 
-// GC: arcs of every interior halfedge with 1 - <unit edge, z_from>, plus one extra node per loop
-// joined to its vertices at zero cost.
-Graph stage_gc(const SM& sm, const Frames& frames)
+// GC: arcs of every interior halfedge with 1 - <unit edge, z_from> (or \p cost(from, to) when
+// given), plus one extra node per loop joined to its vertices at zero cost.
+Graph stage_gc(const SM& sm, const Frames& frames, const PeerCost& cost = nullptr)
 {
     const std::size_t n = sm.number_of_vertices();
     std::vector<std::pair<std::size_t, std::size_t>> arcs;
@@ -209,7 +211,8 @@ Graph stage_gc(const SM& sm, const Frames& frames)
         const SM_vertex s = sm.source(h), t = sm.target(h);
         const Vector_3 d = sm.point(t) - sm.point(s);
         arcs.emplace_back(s, t);
-        weights.push_back(std::max(0.0, 1.0 - (d * frames.z[s]) / std::sqrt(d.squared_length())));
+        weights.push_back(cost ? cost(s, t)
+                               : std::max(0.0, 1.0 - (d * frames.z[s]) / std::sqrt(d.squared_length())));
     }
     for (std::size_t k = 0; k < frames.loops.size(); ++k)
         for (SM_vertex v : frames.loops[k].vertices)
@@ -228,17 +231,20 @@ struct Reached
 struct StopAtTarget : boost::default_dijkstra_visitor
 {
     const std::vector<char>* is_target = nullptr;
+    std::size_t* examined = nullptr;
     template <class Vertex, class G>
     void examine_vertex(Vertex u, const G&) const
     {
+        ++*examined;
         if (u < is_target->size() && (*is_target)[u])
             throw Reached{u};
     }
 };
 
-// VC: one path per outlet, largest first; returns the seam edges as vertex pairs.
-std::vector<std::pair<SM_vertex, SM_vertex>> stage_vc(const SM& sm, const Frames& frames,
-                                                      const Graph& graph)
+// VC: one path per outlet, largest first. Targets: the inlet for the first; for the later ones
+// the interior vertices already on a cut (PeerJoin::Tree, the method's rule, as the library) or
+// those and the inlet (PeerJoin::TreeOrInlet). Never through a loop that is not a target.
+PeerPaths stage_vc(const SM& sm, const Frames& frames, const Graph& graph, PeerJoin join)
 {
     const std::size_t n = sm.number_of_vertices();
     std::vector<int> loop_of(n, -1);
@@ -252,10 +258,13 @@ std::vector<std::pair<SM_vertex, SM_vertex>> stage_vc(const SM& sm, const Frames
     std::vector<double> distance(nodes);
     std::vector<std::size_t> predecessor(nodes);
     const auto weight = boost::get(boost::edge_weight, graph);
-    std::vector<std::pair<SM_vertex, SM_vertex>> seam;
+    PeerPaths out;
     for (std::size_t k = 1; k < frames.loops.size(); ++k)
     {
-        // Never enter another loop, except at the end (the inlet).
+        if (k == 2 && join == PeerJoin::Tree)
+            for (SM_vertex v : frames.loops[0].vertices)
+                is_target[v] = 0;  // later cuts end on a cut; the inlet is now blocked
+        // Never enter another loop, except at a target.
         const auto allowed = boost::make_function_property_map<Graph::edge_descriptor, double>(
             [&](const Graph::edge_descriptor& e) {
                 const std::size_t t = boost::target(e, graph);
@@ -265,6 +274,7 @@ std::vector<std::pair<SM_vertex, SM_vertex>> stage_vc(const SM& sm, const Frames
             });
         StopAtTarget stop;
         stop.is_target = &is_target;
+        stop.examined = &out.settled;
         std::size_t end = nodes;
         try
         {
@@ -280,16 +290,18 @@ std::vector<std::pair<SM_vertex, SM_vertex>> stage_vc(const SM& sm, const Frames
         }
         if (end == nodes)
             throw std::runtime_error("outlet " + std::to_string(k) + " cannot reach the cut tree");
+        std::vector<std::size_t> path{end};
         for (std::size_t u = end; predecessor[u] != n + k; u = predecessor[u])
         {
             const std::size_t p = predecessor[u];
-            seam.emplace_back(SM_vertex(static_cast<SM::size_type>(p)),
-                              SM_vertex(static_cast<SM::size_type>(u)));
+            path.push_back(p);
             if (loop_of[p] < 0)
                 is_target[p] = 1;  // later outlets may end on this cut
         }
+        std::reverse(path.begin(), path.end());
+        out.paths.push_back(std::move(path));
     }
-    return seam;
+    return out;
 }
 
 // Builds the cut mesh of \p seam as a vessel::Mesh (one vertex per seam-mesh vertex) with its uv,
@@ -367,7 +379,7 @@ nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& setti
 
             stage = "VC";
             start = Clock::now();
-            const auto seam_pairs = stage_vc(sm, frames, graph);
+            const PeerPaths cuts = stage_vc(sm, frames, graph, settings.join);
             done(2);
 
             stage = "AC";
@@ -376,13 +388,17 @@ nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& setti
             auto seam_vertices = sm.add_property_map<SM_vertex, bool>("v:on_seam", false).first;
             Seam seam(sm, seam_edges, seam_vertices);
             int rejected = 0;
-            for (const auto& [a, b] : seam_pairs)
-                rejected += seam.add_seam(a, b) ? 0 : 1;
+            for (const auto& path : cuts.paths)
+                for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                    rejected += seam.add_seam(SM_vertex(static_cast<SM::size_type>(path[i])),
+                                              SM_vertex(static_cast<SM::size_type>(path[i + 1])))
+                                    ? 0
+                                    : 1;
             const auto bhd = PMP::longest_border(seam).first;
             done(3);
             if (run == 0)
             {
-                out["seam_edges"] = seam_pairs.size();
+                out["seam_edges"] = cuts.seam_edges();
                 out["cut_paths"] = frames.loops.size() - 1;
             }
             if (rejected > 0)
@@ -453,8 +469,22 @@ PeerCutStages::PeerCutStages(const vessel::Mesh& mesh, const PeerSettings& setti
 
 PeerCutStages::~PeerCutStages() = default;
 
-void PeerCutStages::build_graph() { impl_->graph = stage_gc(impl_->sm, impl_->frames); }
+void PeerCutStages::build_graph(const PeerCost& cost)
+{
+    impl_->graph = stage_gc(impl_->sm, impl_->frames, cost);
+}
 
-std::size_t PeerCutStages::cut_paths() { return stage_vc(impl_->sm, impl_->frames, impl_->graph).size(); }
+PeerPaths PeerCutStages::cut_paths(PeerJoin join)
+{
+    return stage_vc(impl_->sm, impl_->frames, impl_->graph, join);
+}
+
+std::size_t PeerPaths::seam_edges() const
+{
+    std::size_t edges = 0;
+    for (const auto& path : paths)
+        edges += path.size() - 1;
+    return edges;
+}
 
 }  // namespace vessel_bench

@@ -3,6 +3,8 @@
 // (boost Dijkstra per outlet). Google Benchmark reports wall and CPU time per iteration; stage Z
 // runs once per mesh outside the timing, as the peer's does. Z/winding/ times the one Z product
 // the cut planner reads that the peer has no counterpart of (winding_rate(), in flatten()'s Z).
+// VC/peer/ follows the method's rule as ours; VC/peer-inlet/ the peer's former, easier rule
+// (later cuts may end on the inlet); VC/check/ (no timing) compares the two sides' paths.
 // See docs/benchmarks.md.
 #include "cgal_peer.h"
 
@@ -22,6 +24,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -96,6 +99,71 @@ double checksum(const vessel::CutPlan& plan)
     return static_cast<double>(hash & ((1ull << 48) - 1));
 }
 
+// The cuts of both sides as (from, to) vertex pairs, one set per side.
+std::set<std::pair<std::size_t, std::size_t>> pairs_of(const vessel::Mesh& mesh,
+                                                       const vessel::CutPlan& plan)
+{
+    std::set<std::pair<std::size_t, std::size_t>> out;
+    for (const auto& path : plan.paths)
+        for (auto h : path.halfedges)
+            out.emplace(mesh.from_vertex_handle(h).idx(), mesh.to_vertex_handle(h).idx());
+    return out;
+}
+
+std::set<std::pair<std::size_t, std::size_t>> pairs_of(const vessel_bench::PeerPaths& cuts)
+{
+    std::set<std::pair<std::size_t, std::size_t>> out;
+    for (const auto& path : cuts.paths)
+        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+            out.emplace(path[i], path[i + 1]);
+    return out;
+}
+
+// Counters of VC/check/: whether the peer's search solves ours.
+// - equal_paths / outlets: the peer's boost Dijkstra on OUR travel costs against plan_cuts()
+//   with the method's bare rule (CutJoin::Cheapest, no tie tolerance, no winding): outlets
+//   whose vertex paths are equal. Differences can only come from exact ties.
+// - jaccard_ours: the peer on its own costs (its own z) against VC/ours, seam edges shared
+//   over seam edges in either.
+// - settled_same_cost, settled_inlet_same_cost: vertices the peer settles on our costs, with
+//   the method's rule and with the inlet as a later target.
+void same_cuts(Ours& o, vessel_bench::PeerCutStages& p, benchmark::State& state)
+{
+    const auto overlap = [](const auto& a, const auto& b) {
+        std::size_t common = 0;
+        for (const auto& e : a)
+            common += b.count(e);
+        return static_cast<double>(common) / static_cast<double>(a.size() + b.size() - common);
+    };
+    p.build_graph();
+    state.counters["jaccard_ours"] = overlap(pairs_of(o.mesh, ours_vc(o)), pairs_of(p.cut_paths()));
+    p.build_graph([&](std::size_t from, std::size_t to) {
+        const auto h = o.mesh.find_halfedge(vessel::VertexHandle(static_cast<int>(from)),
+                                            vessel::VertexHandle(static_cast<int>(to)));
+        return o.weights[h.idx()];
+    });
+    vessel::CutPlanOptions bare;
+    bare.route = vessel::CutRoute::ShortestPath;
+    bare.join = vessel::CutJoin::Cheapest;
+    bare.tie_tolerance = 0.0;
+    const vessel::CutPlan ours = vessel::plan_cuts(*o.graph, o.loops, Eigen::MatrixX3d(), bare);
+    const vessel_bench::PeerPaths peer = p.cut_paths();
+    std::size_t equal = 0;
+    for (std::size_t k = 0; k < ours.paths.size() && k < peer.paths.size(); ++k)
+    {
+        std::vector<std::size_t> mine{
+            static_cast<std::size_t>(o.mesh.from_vertex_handle(ours.paths[k].halfedges.front()).idx())};
+        for (auto h : ours.paths[k].halfedges)
+            mine.push_back(static_cast<std::size_t>(o.mesh.to_vertex_handle(h).idx()));
+        equal += mine == peer.paths[k] ? 1 : 0;
+    }
+    state.counters["equal_paths"] = static_cast<double>(equal);
+    state.counters["outlets"] = static_cast<double>(ours.paths.size());
+    state.counters["settled_same_cost"] = static_cast<double>(peer.settled);
+    state.counters["settled_inlet_same_cost"] =
+        static_cast<double>(p.cut_paths(vessel_bench::PeerJoin::TreeOrInlet).settled);
+}
+
 void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load)
 {
     // Set up lazily, at the first benchmark of the mesh, so a filter skips the work.
@@ -146,13 +214,27 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
         for (auto _ : state)
             benchmark::DoNotOptimize(winding(o));
     })->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("VC/peer/" + name).c_str(), [=](benchmark::State& state) {
+    for (const auto& [label, join] : {std::pair{"VC/peer/", vessel_bench::PeerJoin::Tree},
+                                      {"VC/peer-inlet/", vessel_bench::PeerJoin::TreeOrInlet}})
+    {
+        const auto rule = join;
+        benchmark::RegisterBenchmark((label + name).c_str(), [=](benchmark::State& state) {
+            auto& p = get_peer();
+            vessel_bench::PeerPaths cuts;
+            for (auto _ : state)
+                cuts = p.cut_paths(rule);
+            state.counters["seam_edges"] = static_cast<double>(cuts.seam_edges());
+            state.counters["settled"] = static_cast<double>(cuts.settled);
+        })->Unit(benchmark::kMillisecond);
+    }
+    // Not a timing: do both sides solve the same problem? See same_cuts().
+    benchmark::RegisterBenchmark(("VC/check/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
         auto& p = get_peer();
-        std::size_t seam = 0;
         for (auto _ : state)
-            seam = p.cut_paths();
-        state.counters["seam_edges"] = static_cast<double>(seam);
-    })->Unit(benchmark::kMillisecond);
+            same_cuts(o, p, state);
+        p.build_graph();  // back to the peer's own costs
+    })->Iterations(1)->Unit(benchmark::kMillisecond);
 }
 
 }  // namespace

@@ -88,3 +88,38 @@ TEST_CASE("cut_graph: costs are non-negative, E_c is zero along z, and bad costs
     const AnyCost negative = [](const Mesh&, SmartHalfedgeHandle) { return -1.0; };
     CHECK_THROWS_AS(evaluate_cost(grid, negative), InvalidInputError);
 }
+
+TEST_CASE("cut_graph: a winding field passed by reference gives the path of the same field in the query")
+{
+    const int n = 8;
+    const Mesh grid = plane_grid(8.0, n);
+    const HalfedgeWeights w = evaluate_cost(grid, LengthCost{1.0});
+    // Against the grid's diagonals every staircase from corner to corner costs the same: the
+    // winding field picks one.
+    Eigen::MatrixX3d rate(static_cast<Eigen::Index>(grid.n_vertices()), 3);
+    for (Eigen::Index v = 0; v < rate.rows(); ++v)
+        rate.row(v) << 1.0, -0.5, 0.0;
+    PathQuery q;
+    q.sources = {grid_vertex(n, n, 0)};
+    q.is_target.assign(grid.n_vertices(), 0);
+    q.is_target[grid_vertex(n, 0, n).idx()] = 1;
+    q.tie_tolerance = 0.1;
+    CutGraph graph(grid, w);
+    const GraphPath by_reference = graph.shortest_path(q, rate);
+    PathQuery copied = q;
+    copied.winding_rate = rate;
+    const GraphPath in_query = graph.shortest_path(copied);
+    CHECK(by_reference.halfedges == in_query.halfedges);
+    CHECK(by_reference.winding_rad == in_query.winding_rad);
+    CHECK(by_reference.cost == doctest::Approx(2.0 * n));
+    // The field steers the walk: the path without it winds at least as far along the field.
+    const GraphPath plain = graph.shortest_path(q);
+    double plain_winding = 0.0;
+    for (auto h : plain.halfedges)
+    {
+        const auto d = grid.point(grid.to_vertex_handle(h)) - grid.point(grid.from_vertex_handle(h));
+        plain_winding += rate.row(grid.from_vertex_handle(h).idx()).dot(Eigen::Vector3d(d[0], d[1], d[2]));
+    }
+    CHECK(std::abs(by_reference.winding_rad) <= std::abs(plain_winding) + 1e-12);
+    CHECK_THROWS_AS(graph.shortest_path(q, Eigen::MatrixX3d::Zero(3, 3)), InvalidInputError);
+}

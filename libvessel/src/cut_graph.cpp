@@ -22,7 +22,7 @@ void check_weights(const Mesh& mesh, const HalfedgeWeights& weights)
                                 " halfedges; evaluate the cost on this mesh");
 }
 
-void check_query(const Mesh& mesh, const PathQuery& query)
+void check_query(const Mesh& mesh, const PathQuery& query, const Eigen::MatrixX3d& winding_rate)
 {
     const std::size_t nv = mesh.n_vertices();
     if (query.sources.empty())
@@ -31,7 +31,7 @@ void check_query(const Mesh& mesh, const PathQuery& query)
         throw InvalidInputError("shortest_path: is_target needs one flag per vertex");
     if (!query.is_blocked.empty() && query.is_blocked.size() != nv)
         throw InvalidInputError("shortest_path: is_blocked needs one flag per vertex (or none)");
-    if (query.winding_rate.rows() != 0 && static_cast<std::size_t>(query.winding_rate.rows()) != nv)
+    if (winding_rate.rows() != 0 && static_cast<std::size_t>(winding_rate.rows()) != nv)
         throw InvalidInputError("shortest_path: winding_rate needs one row per vertex (or none)");
     for (auto v : query.sources)
         if (!mesh.is_valid_handle(v))
@@ -108,7 +108,12 @@ int CutGraph::pop_min()
 
 GraphPath CutGraph::shortest_path(const PathQuery& query)
 {
-    check_query(mesh_, query);
+    return shortest_path(query, query.winding_rate);
+}
+
+GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d& winding_rate)
+{
+    check_query(mesh_, query, winding_rate);
     for (int v : touched_)
     {
         dist_[v] = kInfinity;
@@ -170,7 +175,7 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
     // every step may take any settled predecessor whose route is within the slack of optimal,
     // choosing the one that keeps the accumulated winding closest to zero. Each step strictly
     // lowers the distance, so the walk ends at a source.
-    const bool control = query.winding_rate.rows() != 0 && query.tie_tolerance > 0.0;
+    const bool control = winding_rate.rows() != 0 && query.tie_tolerance > 0.0;
     const double slack = control ? query.tie_tolerance * mean_weight_ : 0.0;
     GraphPath path;
     int v = target;
@@ -179,7 +184,7 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
         int chosen = parent_[v];
         if (control)
         {
-            double best = std::abs(path.winding_rad + winding_step(mesh_, query.winding_rate,
+            double best = std::abs(path.winding_rad + winding_step(mesh_, winding_rate,
                                                                    HalfedgeHandle(chosen)));
             for (auto h : mesh_.vih_range(VertexHandle(v)))
             {
@@ -188,7 +193,7 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
                     dist_[u] + weights_[h.idx()] > dist_[v] + slack)
                     continue;
                 const double w = std::abs(path.winding_rad +
-                                          winding_step(mesh_, query.winding_rate, h));
+                                          winding_step(mesh_, winding_rate, h));
                 if (w < best - 1e-12)
                 {
                     best = w;
@@ -199,8 +204,8 @@ GraphPath CutGraph::shortest_path(const PathQuery& query)
         const HalfedgeHandle h(chosen);
         path.halfedges.push_back(h);
         path.cost += weights_[chosen];
-        if (query.winding_rate.rows() != 0)
-            path.winding_rad += winding_step(mesh_, query.winding_rate, h);
+        if (winding_rate.rows() != 0)
+            path.winding_rad += winding_step(mesh_, winding_rate, h);
         v = mesh_.from_vertex_handle(h).idx();
     }
     std::reverse(path.halfedges.begin(), path.halfedges.end());

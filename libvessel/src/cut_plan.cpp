@@ -151,6 +151,18 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
 // the same distance and `via` as an unbounded grow, because Dijkstra settles everything within
 // the bound before anything beyond it, and every grow runs with the same bound. A reader that
 // needs farther values raises the bound, which replays every grow (cover()).
+// A part of a path that reads the tree distance (cut_back()): the box of its vertices and the
+// largest read among them.
+struct ReadZone
+{
+    Eigen::AlignedBox3d box;
+    double read = 0.0;
+};
+
+// cut_back() splits its reading vertices into this many zones at most: a closer bound than
+// their one box, for a few box distances per vertex visited.
+constexpr std::size_t kReadZones = 8;
+
 class TreeDistance
 {
 public:
@@ -159,7 +171,8 @@ public:
     // 0: just what the reader needs.
     void reset(std::size_t nv, double bound, double step)
     {
-        field_.reset(nv);
+        nv_ = nv;
+        field_.reset(0);  // sized at the first cover(): cut_back() alone never grows it
         grown_.clear();
         applied_ = 0;
         points_.clear();
@@ -187,12 +200,13 @@ public:
     // none beyond it).
     void cover(const CutGraph& graph, const std::vector<int>& loop_of, double radius)
     {
-        if (radius > bound_)
+        if (radius > bound_ || field_.dist.size() != nv_)
         {
-            bound_ = !(step_ > 0.0)     ? radius
-                     : radius <= step_ ? step_
-                                       : std::numeric_limits<double>::infinity();
-            field_.reset(field_.dist.size());
+            if (radius > bound_)
+                bound_ = !(step_ > 0.0)     ? radius
+                         : radius <= step_ ? step_
+                                           : std::numeric_limits<double>::infinity();
+            field_.reset(nv_);
             applied_ = 0;
         }
         const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
@@ -200,26 +214,40 @@ public:
             field_.grow(graph.mesh(), grown_[applied_], detail::graph_neighbours(graph), off_loops, bound_);
     }
 
-    // The field cover(\p radius) would give, exact (distance and via) at every vertex that can
-    // lie on a shortest route of at most \p radius from the tree to a point of \p box: all
-    // grows replayed into a scratch field in order, a vertex entered only while its distance
-    // plus its straight distance to \p box stays within \p radius (+ \p tolerance for
-    // rounding). Such a vertex's predecessors pass the same test (the straight distance to the
+    // The field cover() would give, exact (distance and via) at every vertex that can lie on a
+    // shortest route from the tree to a point of a zone's box no longer than the zone's read:
+    // all grows replayed into a scratch field in order, a vertex entered only while its
+    // distance stays within its bound, the largest over the zones of
+    // min(read, read + tolerance - straight distance to the zone's box) (\p tolerance for
+    // rounding). Such a vertex's predecessors pass the same test (the straight distance to a
     // box drops by at most an edge's length), and the pops left are in the same (distance,
-    // index) order, so they pick the same `via`; a vertex it does not reach lies farther
-    // than \p radius, or on no such route. The tree's own field is left as it is.
-    const detail::EdgeDistance& near_box(const CutGraph& graph, const std::vector<int>& loop_of,
-                                         double radius, const Eigen::AlignedBox3d& box,
-                                         double tolerance)
+    // index) order, so they pick the same `via`; a vertex it does not reach lies farther than
+    // every zone's read, or on no such route. The tree's own field is left as it is.
+    const detail::EdgeDistance& near_zones(const CutGraph& graph, const std::vector<int>& loop_of,
+                                           const std::vector<ReadZone>& zones, double tolerance)
     {
         const Mesh& mesh = graph.mesh();
-        scratch_.reset(field_.dist.size());
-        const double limit = radius + tolerance;
-        const auto to_box = [&](int v) {
-            return box.exteriorDistance(to_eigen(mesh.point(VertexHandle(v))));
+        scratch_.clear(nv_);
+        // Each vertex's bound once (memo_, NaN = not yet), as it is asked for at every visit.
+        if (memo_.size() != nv_)
+            memo_.assign(nv_, std::numeric_limits<double>::quiet_NaN());
+        for (int v : memoised_)
+            memo_[v] = std::numeric_limits<double>::quiet_NaN();
+        memoised_.clear();
+        const auto bound_at = [&](int v) {
+            double& bound = memo_[v];
+            if (std::isnan(bound))
+            {
+                const Eigen::Vector3d p = to_eigen(mesh.point(VertexHandle(v)));
+                bound = -std::numeric_limits<double>::infinity();
+                for (const auto& zone : zones)
+                    bound = std::max(bound, std::min(zone.read, zone.read + tolerance -
+                                                                    zone.box.exteriorDistance(p)));
+                memoised_.push_back(v);
+            }
+            return bound;
         };
-        const auto enter = [&](int v) { return loop_of[v] < 0 && to_box(v) <= limit; };
-        const auto bound_at = [&](int v) { return std::min(radius, limit - to_box(v)); };
+        const auto enter = [&](int v) { return loop_of[v] < 0 && bound_at(v) >= 0.0; };
         for (const auto& seeds : grown_)
             scratch_.grow_within(mesh, seeds, detail::graph_neighbours(graph), enter, bound_at);
         return scratch_;
@@ -230,7 +258,10 @@ public:
 
 private:
     detail::EdgeDistance field_;
-    detail::EdgeDistance scratch_;  // near_box()
+    detail::EdgeDistance scratch_;  // near_zones()
+    std::vector<double> memo_;      // near_zones(): each vertex's bound
+    std::vector<int> memoised_;     // the vertices with a bound in memo_
+    std::size_t nv_ = 0;
     double bound_ = std::numeric_limits<double>::infinity();
     double step_ = 0.0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
@@ -245,7 +276,9 @@ private:
 // approach to the tree, and the band also covers the shortest bridge from there to the tree.
 // Empty when the trace does not arrive or the band holds no route. \p loop_of as in
 // TreeDistance, to raise \p tree's bound when the approach lies beyond it.
-std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
+// \p winding_rate: plan_cuts()'s, read by the band's search.
+std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
+                                   const Eigen::MatrixX3d& winding_rate,
                                    const Eigen::MatrixX3d& field, VertexHandle start,
                                    const std::vector<char>& stop_at, int band_rings,
                                    TreeDistance* tree, const std::vector<int>& loop_of,
@@ -321,18 +354,15 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query,
     for (std::size_t v = 0; v < ring.size(); ++v)
         if (ring[v] < 0)
             band.is_blocked[v] = 1;
-    // The band borrows the query's |V| x 3 winding field instead of copying it.
-    band.winding_rate.swap(query.winding_rate);
     std::optional<GraphPath> path;
     try
     {
-        path = graph.shortest_path(band);
+        path = graph.shortest_path(band, winding_rate);
     }
     catch (const InvalidInputError&)
     {
         // no target inside the band
     }
-    band.winding_rate.swap(query.winding_rate);
     return path;
 }
 
@@ -395,8 +425,8 @@ std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector
 // min(reach, left - excess), and not at all where the straight distance to the nearest tree
 // vertex (which the edge-path distance cannot undercut) already exceeds that. When there is
 // such a read, \p tree grows a scratch copy of its field only on the routes that can reach the
-// reading vertices within the largest read (TreeDistance::near_box()); when there is none the
-// path is kept as is.
+// reading vertices within their zone's read (TreeDistance::near_zones()); when there is none
+// the path is kept as is.
 GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& tree,
                    const std::vector<int>& loop_of, double reach, double excess)
 {
@@ -417,7 +447,6 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
             box.extend(to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i]))));
     if (box.isEmpty())
         return path;
-    const Eigen::AlignedBox3d path_box = box;  // the vertices that may read
     box.min().array() -= cell;
     box.max().array() += cell;
     const bool grid = cell > 0.0 && (box.sizes() / cell).maxCoeff() < 1e5;
@@ -433,35 +462,51 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
     for (const auto& q : tree.points())
         if (box.contains(q))
             near[cell_of(q, 0, 0, 0)].push_back(q);
-    double radius = -1.0;  // farthest read
-    for (std::size_t i = 0; i + 1 < n && radius < 0.0; ++i)
-    {
-        // read falls along the path (left does), so the first vertex within it sets the radius.
-        const double read = std::min(reach, left[i] - excess) + margin;
-        if (read < 0.0)
-            break;
-        const Eigen::Vector3d p = to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i])));
-        for (int dx = -1; dx <= 1 && radius < 0.0; ++dx)
-            for (int dy = -1; dy <= 1 && radius < 0.0; ++dy)
-                for (int dz = -1; dz <= 1 && radius < 0.0; ++dz)
+    // Whether a tree point lies within \p read of \p p (the edge-path distance cannot be less).
+    const auto within = [&](const Eigen::Vector3d& p, double read) {
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz)
                 {
                     const auto found = near.find(cell_of(p, dx, dy, dz));
                     if (found != near.end())
                         for (const auto& q : found->second)
                             if ((p - q).squaredNorm() <= read * read)
-                            {
-                                radius = read;
-                                break;
-                            }
+                                return true;
                     if (!grid)
-                        dx = dy = dz = 1;  // one cell holds them all
+                        return false;  // one cell holds them all
                 }
+        return false;
+    };
+    // The reading vertices: those with a tree point within their read, in path order (their
+    // reads fall along the path, as left does).
+    std::vector<std::pair<Eigen::Vector3d, double>> reading;
+    for (std::size_t i = 0; i + 1 < n; ++i)
+    {
+        const double read = std::min(reach, left[i] - excess) + margin;
+        if (read < 0.0)
+            break;
+        const Eigen::Vector3d p = to_eigen(mesh.point(mesh.to_vertex_handle(path.halfedges[i])));
+        if (within(p, read))
+            reading.emplace_back(p, read);
     }
-    if (radius < 0.0)
+    if (reading.empty())
         return path;
-    // Every read lies within the radius and inside path_box: only the tree distance on the
-    // routes that can reach the box within the radius is grown (TreeDistance::near_box()).
-    const detail::EdgeDistance& field = tree.near_box(graph, loop_of, radius, path_box, margin);
+    // Every read lies in one of a few zones (consecutive reading vertices: their box and the
+    // first one's read): only the tree distance on the routes that can reach a zone within its
+    // read is grown (TreeDistance::near_zones()).
+    const std::size_t n_zones = std::min<std::size_t>(kReadZones, reading.size());
+    const std::size_t per_zone = (reading.size() + n_zones - 1) / n_zones;
+    std::vector<ReadZone> zones;
+    for (std::size_t k = 0; k < reading.size(); k += per_zone)
+    {
+        ReadZone zone;
+        zone.read = reading[k].second;
+        for (std::size_t j = k; j < std::min(reading.size(), k + per_zone); ++j)
+            zone.box.extend(reading[j].first);
+        zones.push_back(zone);
+    }
+    const detail::EdgeDistance& field = tree.near_zones(graph, loop_of, zones, margin);
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
         const VertexHandle v = mesh.to_vertex_handle(path.halfedges[i]);
@@ -578,7 +623,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // Query l: targets are the inlet (l = 1) or the interior vertices of earlier cuts (l > 1);
     // blocked are the vertices of every loop but l that are not targets.
     PathQuery query;
-    query.winding_rate = winding_rate;
+    // The |V| x 3 winding field is passed to each search by reference, not copied in.
     query.tie_tolerance = options.tie_tolerance;
     query.is_target.assign(nv, 0);
     query.is_blocked.assign(nv, 0);
@@ -608,7 +653,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // The tree distance is read by cut_back() (CutJoin::Approach) only where a path vertex could
     // pass, often nowhere, and on the streamline route up to the slack beyond a trace's nearest
     // approach (which stops within join_rings of the tree when it arrives): at least 3 x the
-    // slack. cut_back() grows its own pruned copy (TreeDistance::near_box()); band_path()
+    // slack. cut_back() grows its own pruned copy (TreeDistance::near_zones()); band_path()
     // raises the bound as far as it reads.
     // On the streamline routes the bound starts at 3 x the slack and the largest reach, what
     // both readers need but for an unusually far approach, which lifts it. Starting at 3 x the
@@ -670,7 +715,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                                                                 options.viewpoint)}
                             : loops[l].vertices;
 
-        GraphPath found = graph.shortest_path(query);
+        GraphPath found = graph.shortest_path(query, winding_rate);
         if (l >= 2 && approach)
         {
             const double radius = loops[l].arc_length / (2.0 * M_PI);
@@ -695,7 +740,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 for (std::size_t v = 0; v < nv; ++v)
                     stop_at[v] = join[v] >= 0;
             std::optional<GraphPath> along =
-                band_path(graph, query, stream_field,
+                band_path(graph, query, winding_rate, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, loop_of, slack);
             if (along && compare && !keep_traced(mesh, found, *along, stream_field,

@@ -51,6 +51,12 @@ public:
     //! \throw InvalidInputError as shortest_path().
     GraphPath shortest_path(const PathQuery& query);
 
+    //! \brief shortest_path(\p query) with \p winding_rate read in place of
+    //! `query.winding_rate` (which is ignored): a caller that keeps the |V| x 3 field
+    //! elsewhere need not copy it into every query.
+    //! \throw InvalidInputError as shortest_path().
+    GraphPath shortest_path(const PathQuery& query, const Eigen::MatrixX3d& winding_rate);
+
     const Mesh& mesh() const { return mesh_; }  //!< the mesh the graph was built on
 
     //! An arc: one halfedge of the mesh with its weight.

@@ -31,6 +31,24 @@ public:
         via.assign(n_vertices, -1);
         slot_.assign(n_vertices, -1);
         heap_.clear();
+        reached_.clear();
+    }
+
+    //! reset(\p n_vertices), but writing only the vertices reached since the last reset (a grow
+    //! leaves every slot free): for a field grown over a small part of a large mesh.
+    void clear(std::size_t n_vertices)
+    {
+        if (dist.size() != n_vertices || !heap_.empty())
+        {
+            reset(n_vertices);
+            return;
+        }
+        for (int v : reached_)
+        {
+            dist[v] = std::numeric_limits<double>::infinity();
+            via[v] = -1;
+        }
+        reached_.clear();
     }
 
     // Lowers the field from \p seeds (0). A vertex is a seed or is entered only if
@@ -83,12 +101,15 @@ private:
 
     void lower(int v, double d)
     {
+        if (dist[v] == std::numeric_limits<double>::infinity())
+            reached_.push_back(v);
         dist[v] = d;
         heap_lower(heap_, slot_, v, d, Before{});
     }
 
     std::vector<int> slot_;  // place in heap_, -1 if not there
     std::vector<HeapItem> heap_;
+    std::vector<int> reached_;  // vertices with a finite distance since the last reset
 };
 
 // EdgeDistance's neighbours over the mesh's outgoing halfedges, in voh_range() order.
