@@ -1,11 +1,11 @@
 #include "detail/subtree_solver.h"
 
+#include "detail/face_jacobian.h"
 #include "vessel/errors.h"
 
 #include <algorithm>
 #include <numeric>
 #include <string>
-#include <thread>
 
 namespace vessel::detail {
 
@@ -89,18 +89,14 @@ Split split_forest(const std::vector<int>& parent, const std::vector<double>& su
     return best;
 }
 
+// body(k) for k = 0 and 1, each on its own thread when \p threads is 2, else in that order.
 template <class Body>
-void on_two_threads(int threads, const Body& body)
+void for_both(int threads, const Body& body)
 {
-    if (threads <= 1)
-    {
-        body(0);
-        body(1);
-        return;
-    }
-    std::thread second([&] { body(1); });
-    body(0);
-    second.join();
+    parallel_chunks(2, threads, [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t k = begin; k < end; ++k)
+            body(static_cast<int>(k));
+    });
 }
 
 }  // namespace
@@ -315,7 +311,7 @@ void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int th
         xs[2 * c + 1] = b(perm_[c], 1);
     }
     // L y = P b: the two sets, then the top (its rows collect both sets' updates, in set order).
-    on_two_threads(threads, [&](int set) {
+    for_both(threads, [&](int set) {
         forward_set(set, xs, work.buffer.data() + 2 * static_cast<std::size_t>(set) * n_top);
     });
     // Each right-hand side's top rows, contiguous: the two threads write apart.
@@ -325,15 +321,16 @@ void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int th
         for (int k = 0; k < 2; ++k)
             top_rows[k * n_top + r] = xs[2 * (top + r) + k] + work.buffer[2 * r + k] +
                                       work.buffer[2 * (n_top + r) + k];
-    // L' z = y: the top, then the two sets.
-    on_two_threads(threads, [&](int k) {
+    // The top's forward and backward solves (u and v on one thread each); then L' z = y on
+    // the two sets.
+    for_both(threads, [&](int k) {
         forward_top(top_rows.data() + k * n_top);
         backward_top(top_rows.data() + k * n_top);
     });
     for (int r = 0; r < n_top; ++r)
         for (int k = 0; k < 2; ++k)
             xs[2 * (top + r) + k] = top_rows[k * n_top + r];
-    on_two_threads(threads, [&](int set) { backward_set(set, xs); });
+    for_both(threads, [&](int set) { backward_set(set, xs); });
     x.resize(n_, 2);
     for (int c = 0; c < n_; ++c)
     {
