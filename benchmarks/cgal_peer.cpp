@@ -400,6 +400,7 @@ nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& setti
             {
                 out["seam_edges"] = cuts.seam_edges();
                 out["cut_paths"] = frames.loops.size() - 1;
+                out["cut_vertex_paths"] = cuts.paths;
             }
             if (rejected > 0)
                 throw std::runtime_error(std::to_string(rejected) + " seam edges were rejected");

@@ -48,7 +48,8 @@ struct PeerSettings
 //! \brief Runs the CGAL peer pipeline on \p mesh (a valid vessel tree) `settings.runs` times.
 //! \return JSON: "samples" {Z, GC, VC, AC, F, F_lscm, Total: seconds per run}, "runs",
 //! "time_boxed", "quality" {lscm, arap: flat_quality() of the peer's uv on its seam mesh},
-//! "seam_edges", "cut_paths", "errors" (stage -> message; a failed stage ends that run).
+//! "seam_edges", "cut_paths", "cut_vertex_paths" (the first run's cuts as vertex indices of
+//! \p mesh, outlet to end), "errors" (stage -> message; a failed stage ends that run).
 nlohmann::json run_cgal_peer(const vessel::Mesh& mesh, const PeerSettings& settings);
 
 //! The peer's stage Z once (in the constructor), then its GC and VC as often as asked: what

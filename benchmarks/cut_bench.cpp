@@ -5,6 +5,8 @@
 // the cut planner reads that the peer has no counterpart of (winding_rate(), in flatten()'s Z).
 // VC/peer/ follows the method's rule as ours; VC/peer-inlet/ the peer's former, easier rule
 // (later cuts may end on the inlet); VC/check/ (no timing) compares the two sides' paths.
+// VC/bare/ (ours with the method's bare rule) and VC/peer-our-costs/ (the peer's search on our
+// travel costs) solve one problem and find the same paths: the like-for-like pair.
 // See docs/benchmarks.md.
 #include "cgal_peer.h"
 
@@ -80,6 +82,33 @@ vessel::CutPlan ours_vc(Ours& o)
     return vessel::plan_cuts(*o.graph, o.loops, o.winding, shortest);
 }
 
+// VC with the method's bare rule, the problem the peer solves: the cheapest path per outlet,
+// later cuts ending on the first cut vertex reached (CutJoin::Cheapest), no winding tie-break
+// (tie_tolerance 0, no winding field). VC/check/ finds the peer's paths on our costs equal.
+vessel::CutPlanOptions bare_rule()
+{
+    vessel::CutPlanOptions bare;
+    bare.route = vessel::CutRoute::ShortestPath;
+    bare.join = vessel::CutJoin::Cheapest;
+    bare.tie_tolerance = 0.0;
+    return bare;
+}
+
+vessel::CutPlan bare_vc(Ours& o)
+{
+    return vessel::plan_cuts(*o.graph, o.loops, Eigen::MatrixX3d(), bare_rule());
+}
+
+// The peer's travel cost replaced by ours (the weight of the halfedge from -> to).
+vessel_bench::PeerCost our_costs(const Ours& o)
+{
+    return [&o](std::size_t from, std::size_t to) {
+        const auto h = o.mesh.find_halfedge(vessel::VertexHandle(static_cast<int>(from)),
+                                            vessel::VertexHandle(static_cast<int>(to)));
+        return o.weights[h.idx()];
+    };
+}
+
 // VC as flatten() runs it with its default options (CutRoute::Aligned, CutJoin::Approach): the
 // harmonic stream field, then the cheapest and the traced path per outlet.
 vessel::CutPlan default_vc(Ours& o)
@@ -137,16 +166,8 @@ void same_cuts(Ours& o, vessel_bench::PeerCutStages& p, benchmark::State& state)
     };
     p.build_graph();
     state.counters["jaccard_ours"] = overlap(pairs_of(o.mesh, ours_vc(o)), pairs_of(p.cut_paths()));
-    p.build_graph([&](std::size_t from, std::size_t to) {
-        const auto h = o.mesh.find_halfedge(vessel::VertexHandle(static_cast<int>(from)),
-                                            vessel::VertexHandle(static_cast<int>(to)));
-        return o.weights[h.idx()];
-    });
-    vessel::CutPlanOptions bare;
-    bare.route = vessel::CutRoute::ShortestPath;
-    bare.join = vessel::CutJoin::Cheapest;
-    bare.tie_tolerance = 0.0;
-    const vessel::CutPlan ours = vessel::plan_cuts(*o.graph, o.loops, Eigen::MatrixX3d(), bare);
+    p.build_graph(our_costs(o));
+    const vessel::CutPlan ours = bare_vc(o);
     const vessel_bench::PeerPaths peer = p.cut_paths();
     std::size_t equal = 0;
     for (std::size_t k = 0; k < ours.paths.size() && k < peer.paths.size(); ++k)
@@ -197,7 +218,8 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
             p.build_graph();
     })->Unit(benchmark::kMillisecond);
     for (const auto& [label, plan_of] :
-         {std::pair{"VC/ours/", &ours_vc}, std::pair{"VC/default/", &default_vc}})
+         {std::pair{"VC/ours/", &ours_vc}, std::pair{"VC/default/", &default_vc},
+          std::pair{"VC/bare/", &bare_vc}})
     {
         const auto run = plan_of;
         benchmark::RegisterBenchmark((label + name).c_str(), [=](benchmark::State& state) {
@@ -227,6 +249,18 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
             state.counters["settled"] = static_cast<double>(cuts.settled);
         })->Unit(benchmark::kMillisecond);
     }
+    // The peer's search on our costs: the same problem as VC/bare/, the same paths (VC/check/).
+    benchmark::RegisterBenchmark(("VC/peer-our-costs/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
+        auto& p = get_peer();
+        p.build_graph(our_costs(o));
+        vessel_bench::PeerPaths cuts;
+        for (auto _ : state)
+            cuts = p.cut_paths();
+        state.counters["seam_edges"] = static_cast<double>(cuts.seam_edges());
+        state.counters["settled"] = static_cast<double>(cuts.settled);
+        p.build_graph();  // back to the peer's own costs
+    })->Unit(benchmark::kMillisecond);
     // Not a timing: do both sides solve the same problem? See same_cuts().
     benchmark::RegisterBenchmark(("VC/check/" + name).c_str(), [=](benchmark::State& state) {
         Ours& o = get_ours();

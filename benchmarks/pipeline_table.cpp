@@ -6,7 +6,11 @@
 // `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
 #include "cgal_peer.h"
 #include "vessel/arap.h"
+#include "vessel/boundary.h"
+#include "vessel/cut_metrics.h"
+#include "vessel/cut_winding.h"
 #include "vessel/errors.h"
+#include "vessel/geodesic.h"
 #include "vessel/io.h"
 #include "vessel/phantom.h"
 #include "vessel/pipeline.h"
@@ -173,6 +177,59 @@ vessel::Mesh load_case(const Case& c, int loads, std::vector<double>& read_s,
 
 // --- child side ---------------------------------------------------------------------------------
 
+// How far the cuts turn around their vessels: the library's WindingMeter on the harmonic
+// longitudinal coordinate \p H of the uncut \p mesh, for cuts given as vertex indices (outlet
+// to end). One yardstick for both pipelines' cuts (a natural cut stays near 0 degrees).
+json seam_winding_of(const vessel::Mesh& mesh, const Eigen::VectorXd& H,
+                     const std::vector<std::vector<std::size_t>>& cuts)
+{
+    const vessel::WindingMeter meter(mesh, H);
+    std::vector<vessel::PathWinding> windings;
+    long measured = 0, vertices = 0;
+    for (const auto& cut : cuts)
+    {
+        std::vector<vessel::VertexHandle> path;
+        for (std::size_t v : cut)
+            path.push_back(vessel::VertexHandle(static_cast<int>(v)));
+        windings.push_back(meter.measure(path));
+        measured += windings.back().measured;
+        vertices += windings.back().vertices;
+    }
+    const vessel::SeamWinding seam = vessel::seam_winding(windings);
+    // Vertices off a clean ring (junctions, sacs, ends, coarse tubes) add no angle.
+    return {{"max_abs_deg", seam.max_abs_deg},
+            {"mean_abs_deg", seam.mean_abs_deg},
+            {"measured_fraction", vertices > 0 ? static_cast<double>(measured) / vertices : 0.0}};
+}
+
+// The vessel cuts of \p r (not its relief cuts; the peer makes none) as vertex indices.
+std::vector<std::vector<std::size_t>> cut_vertices(const vessel::Mesh& uncut,
+                                                   const vessel::FlattenResult& r)
+{
+    std::vector<std::vector<std::size_t>> cuts;
+    for (const auto& path : r.plan.paths)
+    {
+        std::vector<std::size_t> cut{static_cast<std::size_t>(path.start.idx())};
+        for (auto h : path.halfedges)
+            cut.push_back(static_cast<std::size_t>(uncut.to_vertex_handle(h).idx()));
+        cuts.push_back(std::move(cut));
+    }
+    return cuts;
+}
+
+// Stage Z's harmonic longitudinal coordinate, as flatten() left it on the cut mesh's first |V|
+// vertices (the uncut mesh's own).
+Eigen::VectorXd longitudinal_of(const vessel::Mesh& uncut, const vessel::FlattenResult& r)
+{
+    OpenMesh::VPropHandleT<double> longitudinal;
+    if (!r.mesh.get_property_handle(longitudinal, vessel::prop::longitudinal))
+        throw std::logic_error("flatten() left no harmonic longitudinal coordinate");
+    Eigen::VectorXd H(static_cast<Eigen::Index>(uncut.n_vertices()));
+    for (auto v : uncut.vertices())
+        H[v.idx()] = r.mesh.property(longitudinal, vessel::VertexHandle(v.idx()));
+    return H;
+}
+
 json run_table_case(const Case& c, const Settings& s)
 {
     json out{{"name", c.name}, {"path", c.path}, {"kind", "real"}};
@@ -227,6 +284,9 @@ json run_table_case(const Case& c, const Settings& s)
                       {"area_ratio", q.area_ratio},
                       {"mean_abs_log_area", q.mean_abs_log_area},
                       {"mean_conformal", q.mean_conformal}};
+    if (!last.plan.paths.empty())
+        out["quality"]["seam_winding"] =
+            seam_winding_of(mesh, longitudinal_of(mesh, last), cut_vertices(mesh, last));
     out["refinement"] = {{"iterations", last.arap.iterations},
                          {"initial_energy", last.arap.initial_energy},
                          {"final_energy", last.arap.final_energy},
@@ -352,6 +412,16 @@ void run_peer_case(const Case&, const Settings& s, const vessel::Mesh& mesh, jso
     p.runs = s.runs;
     p.time_box_s = s.time_box_s;
     json r = vessel_bench::run_cgal_peer(mesh, p);
+    if (r.contains("cut_vertex_paths"))
+    {
+        // Measured on our harmonic coordinate, computed here as flatten()'s stage Z does.
+        const auto loops = vessel::boundary_loops(mesh);
+        const Eigen::VectorXd G = vessel::HeatGeodesics(mesh).distance(loops[0].vertices);
+        r["quality"]["seam_winding"] =
+            seam_winding_of(mesh, vessel::harmonic_longitudinal(mesh, loops, G),
+                            r["cut_vertex_paths"].get<std::vector<std::vector<std::size_t>>>());
+        r.erase("cut_vertex_paths");
+    }
     for (const auto& [stage, v] : r["samples"].items())
         out["stages"][stage] = stats(v.get<std::vector<double>>());
     r.erase("samples");
@@ -757,14 +827,32 @@ std::string quality_cell(const json& q, const char* key, const char* format)
     return b;
 }
 
+// "max / mean (measured %)" degrees of a quality object's seam_winding; "-" when no cut vertex
+// lies on a clean ring.
+std::string winding_cell(const json& q)
+{
+    if (!q.is_object() || !q.contains("seam_winding"))
+        return "-";
+    const json& w = q["seam_winding"];
+    const double measured = w.value("measured_fraction", 0.0);
+    if (!(measured > 0.0))
+        return "-";
+    char b[64];
+    std::snprintf(b, sizeof b, "%.0f / %.0f (%.0f%%)", w["max_abs_deg"].get<double>(),
+                  w["mean_abs_deg"].get<double>(), 100.0 * measured);
+    return b;
+}
+
 // The CGAL peer's timings, the per-stage ratios peer / ours, and both results' quality.
 void print_peer(const std::vector<json>& results, bool markdown, std::ostream& os)
 {
     Table med{{"mesh", "triangles", "runs", "Z", "GC", "VC", "AC", "L", "F (ARAP)", "Total",
                "LSCM alone", "peak RSS MB", "failed stage"}};
     Table ratio{{"mesh", "triangles", "Z", "GC", "VC", "AC", "F", "Total", "peak RSS"}};
-    Table quality{{"mesh", "ours flips", "ours area ratio", "ours mean |log A|", "peer LSCM flips",
-                   "peer ARAP flips", "peer area ratio", "peer mean |log A|"}};
+    Table quality{{"mesh", "ours flips", "ours area ratio", "ours mean |log A|",
+                   "ours cut winding max / mean deg (measured)", "peer LSCM flips",
+                   "peer ARAP flips", "peer area ratio", "peer mean |log A|",
+                   "peer cut winding max / mean deg (measured)"}};
     const char* const peer_stages[] = {"Z", "GC", "VC", "AC", "L", "F", "Total", "F_lscm"};
     for (const json& r : results)
     {
@@ -807,10 +895,12 @@ void print_peer(const std::vector<json>& results, bool markdown, std::ostream& o
         quality.push_back({name, quality_cell(ours, "flipped_triangles", "%g"),
                            quality_cell(ours, "area_ratio", "%.4f"),
                            quality_cell(ours, "mean_abs_log_area", "%.4f"),
+                           winding_cell(ours),
                            quality_cell(peer_q.value("lscm", json()), "flipped_triangles", "%g"),
                            quality_cell(peer_q.value("arap", json()), "flipped_triangles", "%g"),
                            quality_cell(peer_q.value("arap", json()), "area_ratio", "%.4f"),
-                           quality_cell(peer_q.value("arap", json()), "mean_abs_log_area", "%.4f")});
+                           quality_cell(peer_q.value("arap", json()), "mean_abs_log_area", "%.4f"),
+                           winding_cell(peer_q)});
     }
     if (med.size() == 1)
         return;

@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Smoke checks of the benchmark executables on a real mesh (ctest; no timing is judged).
+
+  check_bench.py table EXE MESH WORKDIR   vessel-bench-table, both methods, 2 runs, with the peer
+  check_bench.py cut EXE MESH_NAME        vessel-cut-bench's VC/check/ and VC/bare/ on one mesh
+
+Each check reads the executable's JSON and asserts properties of what it measured: every stage
+timed in every run, the runs' totals equal to the sums of their stages, a peak RSS, both
+pipelines' map quality and cut winding reported, the library's default map one-to-one, and the
+peer's search on our costs finding our paths. Exits non-zero with a message on the first failure.
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+STAGES = ["Z", "GC", "VC", "AC", "L", "F"]
+PEER_STAGES = ["Z", "GC", "VC", "AC", "F"]
+
+
+def fail(message):
+    sys.exit("check_bench: " + message)
+
+
+def expect(condition, message):
+    if not condition:
+        fail(message)
+
+
+def check_samples(where, stages, names, runs):
+    for name in names + ["Total"]:
+        expect(name in stages, f"{where}: stage {name} missing")
+        samples = stages[name]["samples"]
+        expect(len(samples) == runs, f"{where}: {name} has {len(samples)} samples, not {runs}")
+        expect(all(s >= 0.0 and math.isfinite(s) for s in samples),
+               f"{where}: {name} has a negative or non-finite time {samples}")
+        expect(stages[name]["min"] <= stages[name]["median"] <= stages[name]["max"],
+               f"{where}: {name} median outside min-max")
+    for k in range(runs):
+        total = stages["Total"]["samples"][k]
+        parts = sum(stages[n]["samples"][k] for n in names)
+        expect(abs(total - parts) <= 1e-9 + 1e-9 * total,
+               f"{where}: run {k + 1} Total {total} is not the sum of its stages {parts}")
+    expect(stages["Total"]["median"] > 0.0, f"{where}: zero total time")
+
+
+def check_winding(where, quality):
+    expect("seam_winding" in quality, f"{where}: no seam_winding")
+    w = quality["seam_winding"]
+    expect(0.0 <= w["mean_abs_deg"] <= w["max_abs_deg"] < 3600.0,
+           f"{where}: seam winding {w} out of range")
+    expect(0.0 <= w["measured_fraction"] <= 1.0, f"{where}: measured fraction {w}")
+
+
+def check_table(exe, mesh, workdir):
+    os.makedirs(workdir, exist_ok=True)
+    for method in ["default", "paper"]:
+        out = os.path.join(workdir, f"table-{method}.json")
+        subprocess.run([exe, "--runs", "2", "--method", method, "--peer-timeout", "120",
+                        "--json", out, mesh], check=True, stdout=subprocess.DEVNULL)
+        with open(out) as f:
+            doc = json.load(f)
+        expect(doc["runs"] == 2, f"{method}: runs {doc['runs']}")
+        expect(len(doc["results"]) == 1, f"{method}: {len(doc['results'])} results for one mesh")
+        r = doc["results"][0]
+        where = f"{method} {r['name']}"
+        expect(r["method"] == method, f"{where}: ran method {r['method']}")
+        expect("error" not in r, f"{where}: {r.get('error')}")
+        check_samples(where, r["stages"], STAGES, 2)
+        expect(r["peak_rss_mb"] > 0.0, f"{where}: no peak RSS")
+        expect(r["faces"] > 0 and r["cut_paths"] >= 1, f"{where}: faces/cuts {r['faces']}, "
+               f"{r['cut_paths']}")
+        q = r["quality"]
+        check_winding(where, q)
+        expect(0.5 < q["area_ratio"] < 2.0, f"{where}: area ratio {q['area_ratio']}")
+        if method == "default":  # the library's default map is one-to-one (issue 7)
+            expect(q["flipped_triangles"] == 0 and q["overlapping_triangles"] == 0,
+                   f"{where}: {q['flipped_triangles']} flipped, "
+                   f"{q['overlapping_triangles']} overlapping triangles")
+        p = r["peer"]
+        where = f"{method} {r['name']} (peer)"
+        expect(not p.get("errors"), f"{where}: {p.get('errors')}")
+        check_samples(where, p["stages"], PEER_STAGES, p["runs"])
+        expect(p["peak_rss_mb"] > 0.0, f"{where}: no peak RSS")
+        expect(p["cut_paths"] == r["cut_paths"],
+               f"{where}: {p['cut_paths']} cuts against ours {r['cut_paths']}")
+        check_winding(where, p["quality"])
+        expect(p["quality"]["arap"]["flipped_triangles"] >= 0, f"{where}: no ARAP quality")
+    print(f"check_bench table: {mesh}: both methods, ours and the peer, checked")
+
+
+def check_cut(exe, mesh_name):
+    escaped = mesh_name.replace(".", "\\.")
+    run = subprocess.run([exe, f"--benchmark_filter=VC/(check|bare|peer-our-costs)/{escaped}",
+                          "--benchmark_min_time=0.01", "--benchmark_format=json"],
+                         check=True, capture_output=True, text=True)
+    rows = {b["name"].split("/")[1]: b for b in json.loads(run.stdout)["benchmarks"]}
+    for kind in ["check", "bare", "peer-our-costs"]:
+        expect(kind in rows, f"VC/{kind}/{mesh_name} did not run")
+    check = rows["check"]
+    expect(check["outlets"] >= 1 and check["equal_paths"] == check["outlets"],
+           f"the peer's search on our costs found {check['equal_paths']} of "
+           f"{check['outlets']} paths equal to plan_cuts' bare rule")
+    expect(rows["bare"]["seam_edges"] == rows["peer-our-costs"]["seam_edges"],
+           f"VC/bare/ cut {rows['bare']['seam_edges']} seam edges, the peer on our costs "
+           f"{rows['peer-our-costs']['seam_edges']}")
+    print(f"check_bench cut: {mesh_name}: {check['equal_paths']}/{check['outlets']} equal paths")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 5 and sys.argv[1] == "table":
+        check_table(*sys.argv[2:])
+    elif len(sys.argv) == 4 and sys.argv[1] == "cut":
+        check_cut(*sys.argv[2:])
+    else:
+        sys.exit(__doc__)
