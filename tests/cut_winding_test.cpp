@@ -3,6 +3,7 @@
 #include "vessel/boundary.h"
 #include "vessel/cut_metrics.h"
 #include "vessel/cut_winding.h"
+#include "vessel/direction.h"
 #include "vessel/errors.h"
 #include "vessel/geodesic.h"
 #include "vessel/phantom.h"
@@ -165,32 +166,66 @@ TEST_CASE("cut_winding: on a torus piece every line along the tube measures ~0")
     CHECK(std::abs(std::abs(meter.measure(spiral).winding_deg) - 360.0) < 20.0);
 }
 
+// The three meters plan_cuts() and the report may build on one helical tube: over OpenMesh's
+// circulators, over a CutGraph's arcs, and over the arcs with the axes given (minus the
+// harmonic stream field).
+struct MeterVariants
+{
+    HelicalTubeOptions options;
+    Mesh mesh = helical_tube(options);
+    Eigen::VectorXd u = longitudinal(mesh);
+    HalfedgeWeights weights = HalfedgeWeights(mesh.n_halfedges(), 1.0);
+    CutGraph graph{mesh, weights};
+    double mean_edge = mean_edge_length(mesh);
+
+    // Calls check(a, b) with both meters' figures for a straight, a half-turn and a one-turn
+    // path up the tube.
+    template <class Check>
+    void compare(const WindingMeter& first, const WindingMeter& second, Check check) const
+    {
+        const auto angle = [&](const Eigen::Vector3d& p) {
+            return std::atan2(p.z(), std::hypot(p.x(), p.y()) - options.helix_radius);
+        };
+        for (double turns : {0.0, 0.5, 1.0})
+        {
+            CAPTURE(turns);
+            const auto path = ring_path(options.n_around, mesh, angle,
+                                        [&](double s) { return 2.0 * M_PI * turns * s; });
+            const PathWinding a = first.measure(path), b = second.measure(path);
+            CHECK(a.measured > 0);
+            CHECK(a.measured == b.measured);
+            check(a, b);
+        }
+    }
+};
+
 TEST_CASE("cut_winding: the meter over a CutGraph's arcs gives the same figures")
 {
     // plan_cuts() builds its meter on the cut graph (rings walked over the arcs, the mean edge
     // passed in); the cuts it picks by winding must be the ones the circulator meter picks.
-    HelicalTubeOptions options;
-    const Mesh mesh = helical_tube(options);
-    const Eigen::VectorXd u = longitudinal(mesh);
-    const HalfedgeWeights weights(mesh.n_halfedges(), 1.0);
-    const CutGraph graph(mesh, weights);
-    const WindingMeter by_mesh(mesh, u);
-    const WindingMeter by_graph(graph, u, mean_edge_length(mesh));
-    const auto angle = [&](const Eigen::Vector3d& p) {
-        return std::atan2(p.z(), std::hypot(p.x(), p.y()) - options.helix_radius);
-    };
-    for (double turns : {0.0, 0.5, 1.0})
-    {
-        CAPTURE(turns);
-        const auto path = ring_path(options.n_around, mesh, angle,
-                                    [&](double s) { return 2.0 * M_PI * turns * s; });
-        const PathWinding a = by_mesh.measure(path), b = by_graph.measure(path);
-        CHECK(a.measured > 0);
-        CHECK(a.measured == b.measured);
+    const MeterVariants t;
+    const WindingMeter by_mesh(t.mesh, t.u);
+    const WindingMeter by_graph(t.graph, t.u, t.mean_edge);
+    t.compare(by_mesh, by_graph, [](const PathWinding& a, const PathWinding& b) {
         CHECK(a.winding_deg == b.winding_deg);  // bit for bit: the same rings in the same order
         CHECK(a.span_deg == b.span_deg);
-    }
-    CHECK_THROWS_AS(WindingMeter(graph, u, -1.0), InvalidInputError);
+    });
+    CHECK_THROWS_AS(WindingMeter(t.graph, t.u, -1.0), InvalidInputError);
+}
+
+TEST_CASE("cut_winding: the meter given the stream field's axes agrees to rounding")
+{
+    // plan_cuts() hands its meter minus the harmonic stream field (descent_direction of u)
+    // instead of letting it recompute the gradient of u at every vertex its rings reach.
+    const MeterVariants t;
+    const WindingMeter own(t.graph, t.u, t.mean_edge);
+    const WindingMeter given(t.graph, t.u, t.mean_edge, -descent_direction(t.mesh, t.u));
+    t.compare(own, given, [](const PathWinding& a, const PathWinding& b) {
+        CHECK(std::abs(a.winding_deg - b.winding_deg) < 1e-6);
+        CHECK(std::abs(a.span_deg - b.span_deg) < 1e-6);
+    });
+    CHECK_THROWS_AS(WindingMeter(t.graph, t.u, t.mean_edge, Eigen::MatrixX3d::Zero(3, 3)),
+                    InvalidInputError);
 }
 
 TEST_CASE("cut_winding: bad input is refused with what to fix")

@@ -607,7 +607,11 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     const auto winding_meter = [&]() -> const WindingMeter* {
         if (!compare || longitudinal.size() == 0)
             return nullptr;
-        if (!meter)
+        // The harmonic stream field is the descent of `longitudinal`: minus it is the unit
+        // gradient the meter would otherwise compute at every vertex its rings reach.
+        if (!meter && options.stream_field == StreamField::Harmonic)
+            meter.emplace(graph, longitudinal, mean_edge, -stream_field);
+        else if (!meter)
             meter.emplace(graph, longitudinal, mean_edge);
         return &*meter;
     };

@@ -67,6 +67,20 @@ WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitu
     half_width_ = options_.band * mean_edge;
 }
 
+WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
+                           double mean_edge, const Eigen::MatrixX3d& axis_direction,
+                           const WindingOptions& options)
+    : WindingMeter(graph, longitudinal, mean_edge, options)
+{
+    if (static_cast<std::size_t>(axis_direction.rows()) != mesh_.n_vertices())
+        throw InvalidInputError("WindingMeter: " + std::to_string(axis_direction.rows()) +
+                                " axis directions for " + std::to_string(mesh_.n_vertices()) +
+                                " vertices; pass one row per vertex, e.g. minus "
+                                "descent_direction(mesh, longitudinal)");
+    for (std::size_t v = 0; v < direction_.size(); ++v)
+        direction_[v] = axis_direction.row(static_cast<Eigen::Index>(v)).transpose();
+}
+
 namespace {
 
 // Area-weighted gradient of the piecewise-linear u over the faces around v (unnormalized).

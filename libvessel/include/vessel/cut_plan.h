@@ -175,7 +175,9 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! \param weights evaluate_cost() of the chosen travel cost.
 //! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
 //! \param stream_field |V| x 3 field toward the root traced by CutRoute::Streamline (see
-//! StreamField); unused (may be empty) with CutRoute::ShortestPath.
+//! StreamField; with StreamField::Harmonic, descent_direction(mesh, \p longitudinal), whose
+//! negation the winding meter then reads as its axes); unused (may be empty) with
+//! CutRoute::ShortestPath.
 //! \param longitudinal |V| harmonic_longitudinal() values: CutRoute::Aligned then chooses by
 //! winding (WindingMeter); empty = by alignment only.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
