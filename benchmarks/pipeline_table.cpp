@@ -178,20 +178,18 @@ vessel::Mesh load_case(const Case& c, int loads, std::vector<double>& read_s,
 // --- child side ---------------------------------------------------------------------------------
 
 // How far the cuts turn around their vessels: the library's WindingMeter on the harmonic
-// longitudinal coordinate \p H of the uncut \p mesh, for cuts given as vertex indices (outlet
-// to end). One yardstick for both pipelines' cuts (a natural cut stays near 0 degrees).
+// longitudinal coordinate \p H of the uncut \p mesh, for cuts given as CutPaths or as vertex
+// paths (outlet to end). One yardstick for both pipelines' cuts (a natural cut stays near 0).
+template <class Path>
 json seam_winding_of(const vessel::Mesh& mesh, const Eigen::VectorXd& H,
-                     const std::vector<std::vector<std::size_t>>& cuts)
+                     const std::vector<Path>& cuts)
 {
     const vessel::WindingMeter meter(mesh, H);
     std::vector<vessel::PathWinding> windings;
     long measured = 0, vertices = 0;
     for (const auto& cut : cuts)
     {
-        std::vector<vessel::VertexHandle> path;
-        for (std::size_t v : cut)
-            path.push_back(vessel::VertexHandle(static_cast<int>(v)));
-        windings.push_back(meter.measure(path));
+        windings.push_back(meter.measure(cut));
         measured += windings.back().measured;
         vertices += windings.back().vertices;
     }
@@ -200,34 +198,6 @@ json seam_winding_of(const vessel::Mesh& mesh, const Eigen::VectorXd& H,
     return {{"max_abs_deg", seam.max_abs_deg},
             {"mean_abs_deg", seam.mean_abs_deg},
             {"measured_fraction", vertices > 0 ? static_cast<double>(measured) / vertices : 0.0}};
-}
-
-// The vessel cuts of \p r (not its relief cuts; the peer makes none) as vertex indices.
-std::vector<std::vector<std::size_t>> cut_vertices(const vessel::Mesh& uncut,
-                                                   const vessel::FlattenResult& r)
-{
-    std::vector<std::vector<std::size_t>> cuts;
-    for (const auto& path : r.plan.paths)
-    {
-        std::vector<std::size_t> cut{static_cast<std::size_t>(path.start.idx())};
-        for (auto h : path.halfedges)
-            cut.push_back(static_cast<std::size_t>(uncut.to_vertex_handle(h).idx()));
-        cuts.push_back(std::move(cut));
-    }
-    return cuts;
-}
-
-// Stage Z's harmonic longitudinal coordinate, as flatten() left it on the cut mesh's first |V|
-// vertices (the uncut mesh's own).
-Eigen::VectorXd longitudinal_of(const vessel::Mesh& uncut, const vessel::FlattenResult& r)
-{
-    OpenMesh::VPropHandleT<double> longitudinal;
-    if (!r.mesh.get_property_handle(longitudinal, vessel::prop::longitudinal))
-        throw std::logic_error("flatten() left no harmonic longitudinal coordinate");
-    Eigen::VectorXd H(static_cast<Eigen::Index>(uncut.n_vertices()));
-    for (auto v : uncut.vertices())
-        H[v.idx()] = r.mesh.property(longitudinal, vessel::VertexHandle(v.idx()));
-    return H;
 }
 
 json run_table_case(const Case& c, const Settings& s)
@@ -284,9 +254,9 @@ json run_table_case(const Case& c, const Settings& s)
                       {"area_ratio", q.area_ratio},
                       {"mean_abs_log_area", q.mean_abs_log_area},
                       {"mean_conformal", q.mean_conformal}};
-    if (!last.plan.paths.empty())
-        out["quality"]["seam_winding"] =
-            seam_winding_of(mesh, longitudinal_of(mesh, last), cut_vertices(mesh, last));
+    if (!last.plan.paths.empty())  // the vessel cuts, not relief cuts (the peer makes none)
+        out["quality"]["seam_winding"] = seam_winding_of(
+            mesh, vessel::uncut_longitudinal(last, mesh.n_vertices()), last.plan.paths);
     out["refinement"] = {{"iterations", last.arap.iterations},
                          {"initial_energy", last.arap.initial_energy},
                          {"final_energy", last.arap.final_energy},
@@ -417,9 +387,11 @@ void run_peer_case(const Case&, const Settings& s, const vessel::Mesh& mesh, jso
         // Measured on our harmonic coordinate, computed here as flatten()'s stage Z does.
         const auto loops = vessel::boundary_loops(mesh);
         const Eigen::VectorXd G = vessel::HeatGeodesics(mesh).distance(loops[0].vertices);
+        std::vector<std::vector<vessel::VertexHandle>> cuts;
+        for (const auto& path : r["cut_vertex_paths"].get<std::vector<std::vector<int>>>())
+            cuts.emplace_back(path.begin(), path.end());
         r["quality"]["seam_winding"] =
-            seam_winding_of(mesh, vessel::harmonic_longitudinal(mesh, loops, G),
-                            r["cut_vertex_paths"].get<std::vector<std::vector<std::size_t>>>());
+            seam_winding_of(mesh, vessel::harmonic_longitudinal(mesh, loops, G), cuts);
         r.erase("cut_vertex_paths");
     }
     for (const auto& [stage, v] : r["samples"].items())

@@ -1,7 +1,10 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "vessel/boundary.h"
+#include "vessel/cut_metrics.h"
 #include "vessel/errors.h"
+#include "vessel/geodesic.h"
 #include "vessel/layout.h"
 #include "vessel/overlap.h"
 #include "vessel/phantom.h"
@@ -137,6 +140,20 @@ TEST_CASE("pipeline: a carotid phantom flattens into one disk with area kept")
     CHECK(r.quality.area_ratio == doctest::Approx(1.0).epsilon(0.05));
     CHECK(r.quality.mean_abs_log_area <= 0.15);
     CHECK(r.timings.total() > 0.0);
+}
+
+TEST_CASE("pipeline: uncut_longitudinal gives stage Z's harmonic coordinate of the uncut mesh")
+{
+    const Mesh mesh = carotid_phantom();
+    const FlattenResult r = flatten(mesh);
+    const auto loops = boundary_loops(mesh);
+    const Eigen::VectorXd expected =
+        harmonic_longitudinal(mesh, loops, heat_geodesic_distance(mesh, loops[0].vertices));
+    const Eigen::VectorXd H = uncut_longitudinal(r, mesh.n_vertices());
+    REQUIRE(H.size() == expected.size());
+    CHECK((H - expected).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK_THROWS_AS(uncut_longitudinal(FlattenResult(), 0), InvalidInputError);
+    CHECK_THROWS_AS(uncut_longitudinal(r, r.mesh.n_vertices() + 1), InvalidInputError);
 }
 
 namespace {

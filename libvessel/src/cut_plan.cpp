@@ -609,10 +609,13 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             return nullptr;
         // The harmonic stream field is the descent of `longitudinal`: minus it is the unit
         // gradient the meter would otherwise compute at every vertex its rings reach.
-        if (!meter && options.stream_field == StreamField::Harmonic)
-            meter.emplace(graph, longitudinal, mean_edge, -stream_field);
-        else if (!meter)
-            meter.emplace(graph, longitudinal, mean_edge);
+        if (!meter)
+        {
+            if (options.stream_field == StreamField::Harmonic)
+                meter.emplace(graph, longitudinal, mean_edge, -stream_field);
+            else
+                meter.emplace(graph, longitudinal, mean_edge);
+        }
         return &*meter;
     };
     const bool nearest_point = options.endpoints == EndpointPolicy::NearestToPoint;

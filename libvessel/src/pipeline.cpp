@@ -344,4 +344,22 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
     return result;
 }
 
+Eigen::VectorXd uncut_longitudinal(const FlattenResult& result, std::size_t uncut_vertices)
+{
+    OpenMesh::VPropHandleT<double> longitudinal;
+    if (!result.mesh.get_property_handle(longitudinal, prop::longitudinal))
+        throw InvalidInputError(std::string("uncut_longitudinal: the mesh has no '") +
+                                prop::longitudinal + "' property; pass the result of flatten()");
+    if (result.mesh.n_vertices() < uncut_vertices)
+        throw InvalidInputError("uncut_longitudinal: the cut mesh has " +
+                                std::to_string(result.mesh.n_vertices()) + " vertices, fewer "
+                                "than the " + std::to_string(uncut_vertices) +
+                                " of the uncut mesh; pass the mesh given to flatten()'s size");
+    Eigen::VectorXd H(static_cast<Eigen::Index>(uncut_vertices));
+    for (std::size_t v = 0; v < uncut_vertices; ++v)
+        H[static_cast<Eigen::Index>(v)] =
+            result.mesh.property(longitudinal, VertexHandle(static_cast<int>(v)));
+    return H;
+}
+
 }  // namespace vessel

@@ -3,30 +3,15 @@
 #include "vessel/cut_metrics.h"
 #include "vessel/cut_winding.h"
 #include "vessel/direction.h"
-#include "vessel/properties.h"
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace vessel::cli {
 
 namespace {
-
-// Stage Z's harmonic longitudinal coordinate of the uncut surface: the first |V| vertices of
-// the cut mesh are its own.
-Eigen::VectorXd longitudinal_of(const Mesh& uncut, const FlattenResult& r)
-{
-    OpenMesh::VPropHandleT<double> longitudinal;
-    if (!r.mesh.get_property_handle(longitudinal, prop::longitudinal))
-        throw std::logic_error("flatten() left no harmonic longitudinal coordinate on the cut mesh");
-    Eigen::VectorXd H(static_cast<Eigen::Index>(uncut.n_vertices()));
-    for (auto v : uncut.vertices())
-        H[v.idx()] = r.mesh.property(longitudinal, VertexHandle(v.idx()));
-    return H;
-}
 
 // Each cut (then each relief cut) measured on the uncut surface: its alignment with the
 // harmonic longitudinal direction and its winding (cut_metrics.h, cut_winding.h).
@@ -41,7 +26,7 @@ CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
     CutFigures figures;
     if (r.plan.paths.empty())  // one open end: a disk flattened without cuts
         return figures;
-    const Eigen::VectorXd H = longitudinal_of(uncut, r);
+    const Eigen::VectorXd H = uncut_longitudinal(r, uncut.n_vertices());
     const Eigen::MatrixX3d reference = descent_direction(uncut, H);
     const WindingMeter meter(uncut, H);
     for (const auto* list : {&r.plan.paths, &r.plan.relief})

@@ -210,4 +210,13 @@ struct FlattenResult
 //! \throw InvalidInputError, TopologyError, SolverError from the stages.
 FlattenResult flatten(Mesh mesh, const FlattenOptions& options = {});
 
+//! \brief Stage Z's harmonic longitudinal coordinate (`prop::longitudinal`, see
+//! harmonic_longitudinal()) of the surface flatten() cut, for measuring its cuts there (e.g.
+//! with a WindingMeter): the first \p uncut_vertices vertices of the cut mesh are the uncut
+//! mesh's own.
+//! \return \p uncut_vertices values, `v.idx()` of the uncut mesh.
+//! \throw InvalidInputError if \p result's mesh has no such property (it did not come from
+//! flatten() of a tree with cuts) or fewer than \p uncut_vertices vertices.
+Eigen::VectorXd uncut_longitudinal(const FlattenResult& result, std::size_t uncut_vertices);
+
 }  // namespace vessel
