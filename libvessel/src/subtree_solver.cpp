@@ -89,6 +89,17 @@ Split split_forest(const std::vector<int>& parent, const std::vector<double>& su
     return best;
 }
 
+// A supernode of width w stores the triangle of its own columns column by column from the
+// diagonal down (w - k entries in column k), then the rows below in panels of kPanel columns
+// (the last may be narrower), each panel row by row.
+constexpr int kPanel = 4;
+
+// Offset of column j's diagonal in the triangle; triangle_offset(w, w) is the triangle's size.
+long triangle_offset(int j, int w)
+{
+    return static_cast<long>(j) * w - static_cast<long>(j) * (j - 1) / 2;
+}
+
 // body(k) for k = 0 and 1, each on its own thread when \p threads is 2, else in that order.
 template <class Body>
 void for_both(int threads, const Body& body)
@@ -111,226 +122,292 @@ SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
     const double* x = static_cast<const double*>(L.x);
     const int* perm = static_cast<const int*>(L.Perm);
 
-    // Each column's rows and values from its diagonal down, contiguous in either layout.
-    struct Column
+    // The factor's supernodes as they are stored: columns first .. first + width - 1 share the
+    // rows rows[0 .. height), the first `width` of them their own; values column-major with a
+    // leading dimension of `height`, the diagonal of column k at values[k * height + k].
+    struct Source
     {
+        int first, width, height;
         const int* rows;
         const double* values;
-        int count;
     };
-    std::vector<Column> columns(n_);
+    std::vector<Source> source;
     if (L.is_super)
     {
-        // Supernode s: columns super[s] .. super[s + 1] - 1 share the row list s[pi[s] ..],
-        // values column-major with a leading dimension of that list's length.
         const int* super = static_cast<const int*>(L.super);
         const int* pi = static_cast<const int*>(L.pi);
         const int* px = static_cast<const int*>(L.px);
         const int* rows = static_cast<const int*>(L.s);
+        source.reserve(L.nsuper);
         for (std::size_t node = 0; node < L.nsuper; ++node)
-        {
-            const int height = pi[node + 1] - pi[node];
-            for (int j = super[node]; j < super[node + 1]; ++j)
-            {
-                const int offset = j - super[node];
-                columns[j] = {rows + pi[node] + offset,
-                              x + px[node] + static_cast<long>(offset) * height + offset,
-                              height - offset};
-            }
-        }
+            source.push_back({super[node], super[node + 1] - super[node], pi[node + 1] - pi[node],
+                              rows + pi[node], x + px[node]});
     }
     else
     {
         const int* p = static_cast<const int*>(L.p);
         const int* nz = static_cast<const int*>(L.nz);
+        source.reserve(n_);
         for (int j = 0; j < n_; ++j)
-            columns[j] = {static_cast<const int*>(L.i) + p[j], x + p[j], nz[j]};
+            source.push_back({j, 1, nz[j], static_cast<const int*>(L.i) + p[j], x + p[j]});
     }
+    const int n_nodes = static_cast<int>(source.size());
 
-    // Elimination tree of the stored pattern (with a supernodal factor's explicit zeros): a
-    // column's parent is its first row below the diagonal, and every row of the column is an
-    // ancestor.
-    std::vector<int> parent(n_, -1);
-    std::vector<double> subtree_weight(n_);
-    for (int j = 0; j < n_; ++j)
+    // Tree of the supernodes: a node's parent holds its first row below its own columns, and
+    // every such row is an ancestor. Weights: stored entries of each subtree.
+    std::vector<int> node_of(n_, -1);
+    for (int k = 0; k < n_nodes; ++k)
     {
-        const Column& column = columns[j];
-        if (column.count < 1 || column.rows[0] != j)
-            throw SolverError("SubtreeSolver: column " + std::to_string(j) +
-                              " of the factor does not start with its diagonal");
-        for (int k = 1; k < column.count; ++k)
-            if (parent[j] < 0 || column.rows[k] < parent[j])
-                parent[j] = column.rows[k];
-        subtree_weight[j] += column.count;
-        if (parent[j] >= 0)
-            subtree_weight[parent[j]] += subtree_weight[j];
+        const Source& node = source[k];
+        for (int c = 0; c < node.width; ++c)
+            if (node.height <= c || node.rows[c] != node.first + c)
+                throw SolverError("SubtreeSolver: column " + std::to_string(node.first + c) +
+                                  " of the factor does not start with its diagonal");
+        for (int c = node.first; c < node.first + node.width; ++c)
+            node_of[c] = k;
+    }
+    std::vector<int> parent(n_nodes, -1);
+    std::vector<double> subtree_weight(n_nodes, 0.0);
+    for (int k = 0; k < n_nodes; ++k)
+    {
+        const Source& node = source[k];
+        if (node.height > node.width)
+            parent[k] = node_of[node.rows[node.width]];
+        for (int c = 0; c < node.width; ++c)
+            subtree_weight[k] += node.height - c;
+        if (parent[k] >= 0)
+            subtree_weight[parent[k]] += subtree_weight[k];
     }
     const Split split = split_forest(parent, subtree_weight);
 
-    // Owner of each column: the set whose subtree holds it, else the top (2). Parents come
-    // after their children, so one pass from the last column settles every subtree.
-    std::vector<int> owner(n_, 2);
+    // Owner of each node: the set whose subtree holds it, else the top (2). Parents come after
+    // their children, so one pass from the last node settles every subtree.
+    std::vector<int> owner(n_nodes, 2);
     for (int s = 0; s < 2; ++s)
         for (const int root : split.roots[s])
             owner[root] = s;
-    for (int j = n_ - 1; j >= 0; --j)
-        if (owner[j] == 2 && parent[j] >= 0 && owner[parent[j]] < 2)
-            owner[j] = owner[parent[j]];
-    std::vector<int> label(n_), column_of(n_);
+    for (int k = n_nodes - 1; k >= 0; --k)
+        if (owner[k] == 2 && parent[k] >= 0 && owner[parent[k]] < 2)
+            owner[k] = owner[parent[k]];
+    std::vector<int> order;  // nodes in their new order
+    order.reserve(n_nodes);
+    std::vector<int> label(n_);  // new column of each column
     int next = 0;
     for (int s = 0; s < 3; ++s)
     {
-        for (int j = 0; j < n_; ++j)
-            if (owner[j] == s)
+        for (int k = 0; k < n_nodes; ++k)
+            if (owner[k] == s)
             {
-                label[j] = next;
-                column_of[next++] = j;
+                order.push_back(k);
+                for (int c = 0; c < source[k].width; ++c)
+                    label[source[k].first + c] = next++;
             }
         if (s < 2)
-            set_end_[s] = next;
+            node_end_[s] = static_cast<int>(order.size());
     }
+    top_begin_ = next - std::accumulate(order.begin() + node_end_[1], order.end(), 0,
+                                        [&](int sum, int k) { return sum + source[k].width; });
 
     perm_.resize(n_);
-    start_.resize(n_ + 1);
-    top_start_.resize(n_);
-    long total = 0;
-    for (const Column& column : columns)
-        total += 1 + std::count_if(column.values + 1, column.values + column.count,
-                                   [](double value) { return value != 0.0; });
-    rows_.reserve(total);
-    values_.reserve(total);
-    for (int c = 0; c < n_; ++c)
+    for (int j = 0; j < n_; ++j)
+        perm_[label[j]] = perm ? perm[j] : j;
+    long total_rows = 0, total_values = 0;
+    for (const Source& node : source)
     {
-        const int j = column_of[c];
-        const Column& column = columns[j];
-        perm_[c] = perm ? perm[j] : j;
-        start_[c] = static_cast<long>(rows_.size());
-        rows_.push_back(c);
-        values_.push_back(column.values[0]);
-        // Rows above the top, then the top's; exact zeros (a supernode's padding) are left out,
-        // as subtracting them would change nothing.
-        for (int pass = 0; pass < 2; ++pass)
-        {
-            if (pass == 1)
-                top_start_[c] = static_cast<long>(rows_.size());
-            for (int k = 1; k < column.count; ++k)
-                if (column.values[k] != 0.0 && (label[column.rows[k]] >= top_begin()) == (pass == 1))
-                {
-                    rows_.push_back(label[column.rows[k]]);
-                    values_.push_back(column.values[k]);
-                }
-        }
+        total_rows += node.height;
+        total_values += static_cast<long>(node.width) * (2 * node.height - node.width + 1) / 2;
     }
-    start_[n_] = static_cast<long>(rows_.size());
+    rows_.reserve(total_rows);
+    values_.reserve(total_values);
+    nodes_.reserve(n_nodes);
+    for (const int k : order)
+    {
+        const Source& from = source[k];
+        Node node{label[from.first], from.width, from.height, from.height,
+                  static_cast<long>(rows_.size()), static_cast<long>(values_.size())};
+        // The rows below are ancestors, in increasing order: those in this node's set (below
+        // its subtree's root) before those in the top, and relabelling keeps each group's order.
+        for (int r = 0; r < from.height; ++r)
+        {
+            const int row = label[from.rows[r]];
+            rows_.push_back(row);
+            if (r >= from.width && row >= top_begin_ && node.set_rows_end == from.height)
+                node.set_rows_end = r;
+        }
+        // The triangle of its own columns, each from its diagonal down; then the rows below in
+        // panels of kPanel columns, row by row.
+        const auto at = [&](int row, int column) {
+            return from.values[static_cast<long>(column) * from.height + row];
+        };
+        for (int c = 0; c < from.width; ++c)
+            for (int r = c; r < from.width; ++r)
+                values_.push_back(at(r, c));
+        for (int c0 = 0; c0 < from.width; c0 += kPanel)
+            for (int r = from.width; r < from.height; ++r)
+                for (int c = c0; c < std::min(c0 + kPanel, from.width); ++c)
+                    values_.push_back(at(r, c));
+        max_below_ = std::max(max_below_, from.height - from.width);
+        max_width_ = std::max(max_width_, from.width);
+        nodes_.push_back(node);
+    }
 }
 
 double SubtreeSolver::set_share(int set) const
 {
-    if (rows_.empty())
+    if (values_.empty())
         return 0.0;
-    return static_cast<double>(start_[set_end_[set]] - start_[set_begin(set)]) /
-           static_cast<double>(rows_.size());
+    const long begin = nodes_[node_begin(set)].value_start;
+    const long end = node_end_[set] < static_cast<int>(nodes_.size())
+                         ? nodes_[node_end_[set]].value_start
+                         : static_cast<long>(values_.size());
+    return static_cast<double>(end - begin) / static_cast<double>(values_.size());
 }
 
-void SubtreeSolver::forward_set(int set, double* x, double* buffer) const
+template <int Lanes>
+void SubtreeSolver::forward_node(const Node& node, double* x, double* top_buffer,
+                                 double* scratch) const
 {
-    const int top = top_begin();
-    for (int c = set_begin(set); c < set_end_[set]; ++c)
+    const int w = node.width, below = node.height - w;
+    const double* V = values_.data() + node.value_start;
+    double* y = x + 2 * static_cast<long>(node.first_column);
+    // The triangle of its own columns.
+    for (int j = 0; j < w; ++j)
     {
-        const double d = values_[start_[c]];
-        const double y0 = x[2 * c] / d, y1 = x[2 * c + 1] / d;
-        x[2 * c] = y0;
-        x[2 * c + 1] = y1;
-        for (long k = start_[c] + 1; k < top_start_[c]; ++k)
+        const double* column = V + triangle_offset(j, w);  // rows j, j + 1, ... w - 1
+        for (int q = 0; q < Lanes; ++q)
         {
-            const int r = rows_[k];
-            x[2 * r] -= values_[k] * y0;
-            x[2 * r + 1] -= values_[k] * y1;
-        }
-        for (long k = top_start_[c]; k < start_[c + 1]; ++k)
-        {
-            const int r = rows_[k] - top;
-            buffer[2 * r] -= values_[k] * y0;
-            buffer[2 * r + 1] -= values_[k] * y1;
+            const double yj = y[2 * j + q] /= column[0];
+            for (int i = j + 1; i < w; ++i)
+                y[2 * i + q] -= column[i - j] * yj;
         }
     }
-}
-
-// The top's columns for one right-hand side, on a contiguous copy x of its rows.
-void SubtreeSolver::forward_top(double* x) const
-{
-    const int top = top_begin();
-    for (int c = top; c < n_; ++c)
+    // The rows below, summed over its columns in `scratch` panel by panel (one pass over
+    // `scratch` per kPanel columns), then scattered once.
+    std::fill(scratch, scratch + 2 * below, 0.0);
+    const double* panel = V + triangle_offset(w, w);
+    for (int j = 0; j < w; j += kPanel)
     {
-        const double y = x[c - top] / values_[start_[c]];
-        x[c - top] = y;
-        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
-            x[rows_[k] - top] -= values_[k] * y;
-    }
-}
-
-void SubtreeSolver::backward_top(double* x) const
-{
-    const int top = top_begin();
-    for (int c = n_ - 1; c >= top; --c)
-    {
-        double sum = x[c - top];
-        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
-            sum -= values_[k] * x[rows_[k] - top];
-        x[c - top] = sum / values_[start_[c]];
-    }
-}
-
-void SubtreeSolver::backward_set(int set, double* x) const
-{
-    for (int c = set_end_[set] - 1; c >= set_begin(set); --c)
-    {
-        double sum0 = x[2 * c], sum1 = x[2 * c + 1];
-        for (long k = start_[c] + 1; k < start_[c + 1]; ++k)
+        const double* yj = y + 2 * j;
+        if (j + kPanel <= w)
         {
-            const int r = rows_[k];
-            sum0 -= values_[k] * x[2 * r];
-            sum1 -= values_[k] * x[2 * r + 1];
+            for (int i = 0; i < below; ++i, panel += kPanel)
+                for (int q = 0; q < Lanes; ++q)
+                    scratch[2 * i + q] += panel[0] * yj[q] + panel[1] * yj[2 + q] +
+                                          panel[2] * yj[4 + q] + panel[3] * yj[6 + q];
         }
-        const double d = values_[start_[c]];
-        x[2 * c] = sum0 / d;
-        x[2 * c + 1] = sum1 / d;
+        else
+        {
+            const int r = w - j;
+            for (int i = 0; i < below; ++i, panel += r)
+                for (int c = 0; c < r; ++c)
+                    for (int q = 0; q < Lanes; ++q)
+                        scratch[2 * i + q] += panel[c] * yj[2 * c + q];
+        }
+    }
+    const int* rows = rows_.data() + node.row_start + w;
+    const int split = top_buffer ? node.set_rows_end - w : below;
+    for (int i = 0; i < split; ++i)
+        for (int q = 0; q < Lanes; ++q)
+            x[2 * static_cast<long>(rows[i]) + q] -= scratch[2 * i + q];
+    for (int i = split; i < below; ++i)
+        for (int q = 0; q < Lanes; ++q)
+            top_buffer[2 * static_cast<long>(rows[i] - top_begin_) + q] -= scratch[2 * i + q];
+}
+
+template <int Lanes>
+void SubtreeSolver::backward_node(const Node& node, double* x, double* scratch) const
+{
+    const int w = node.width, below = node.height - w;
+    const double* V = values_.data() + node.value_start;
+    double* y = x + 2 * static_cast<long>(node.first_column);
+    const int* rows = rows_.data() + node.row_start + w;
+    // The solution's rows below, gathered once, and each column's product with them (a panel
+    // per pass, each column with its own sums, so that the additions do not wait on each
+    // other), in `sums`.
+    double* sums = scratch + 2 * static_cast<long>(below);
+    for (int i = 0; i < below; ++i)
+        for (int q = 0; q < Lanes; ++q)
+            scratch[2 * i + q] = x[2 * static_cast<long>(rows[i]) + q];
+    // Panels last first and rows bottom up, so that the whole backward solve reads the factor
+    // in one descending sweep, which the hardware prefetches as well as an ascending one (in
+    // node order, but each node front to back, it ran at half the forward solve's speed).
+    const double* panels = V + triangle_offset(w, w);
+    for (int j = (w - 1) / kPanel * kPanel; j >= 0; j -= kPanel)
+    {
+        const int r = std::min(kPanel, w - j);
+        const double* panel = panels + static_cast<long>(j) * below + static_cast<long>(below - 1) * r;
+        double s[2 * kPanel] = {};
+        if (r == kPanel)
+        {
+            for (int i = below - 1; i >= 0; --i, panel -= kPanel)
+                for (int q = 0; q < Lanes; ++q)
+                {
+                    const double g = scratch[2 * i + q];
+                    s[q] += panel[0] * g;
+                    s[2 + q] += panel[1] * g;
+                    s[4 + q] += panel[2] * g;
+                    s[6 + q] += panel[3] * g;
+                }
+        }
+        else
+        {
+            for (int i = below - 1; i >= 0; --i, panel -= r)
+                for (int c = 0; c < r; ++c)
+                    for (int q = 0; q < Lanes; ++q)
+                        s[2 * c + q] += panel[c] * scratch[2 * i + q];
+        }
+        std::copy(s, s + 2 * r, sums + 2 * j);
+    }
+    // The transposed triangle of its own columns, last column first.
+    for (int j = w - 1; j >= 0; --j)
+    {
+        const double* column = V + triangle_offset(j, w);  // rows j, j + 1, ... w - 1
+        for (int q = 0; q < Lanes; ++q)
+        {
+            double sum = sums[2 * j + q];
+            for (int i = j + 1; i < w; ++i)
+                sum += column[i - j] * y[2 * i + q];
+            y[2 * j + q] = (y[2 * j + q] - sum) / column[0];
+        }
     }
 }
 
 void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int threads,
                           Workspace& work) const
 {
-    const int top = top_begin(), n_top = n_ - top;
+    const int top = top_begin_, n_top = n_ - top;
     work.x.resize(2 * static_cast<std::size_t>(n_));
     work.buffer.assign(4 * static_cast<std::size_t>(n_top), 0.0);
+    for (auto& scratch : work.scratch)
+        scratch.resize(2 * static_cast<std::size_t>(max_below_ + max_width_));
     double* xs = work.x.data();
     for (int c = 0; c < n_; ++c)
     {
         xs[2 * c] = b(perm_[c], 0);
         xs[2 * c + 1] = b(perm_[c], 1);
     }
+    const int n_nodes = static_cast<int>(nodes_.size());
     // L y = P b: the two sets, then the top (its rows collect both sets' updates, in set order).
     for_both(threads, [&](int set) {
-        forward_set(set, xs, work.buffer.data() + 2 * static_cast<std::size_t>(set) * n_top);
+        double* buffer = work.buffer.data() + 2 * static_cast<std::size_t>(set) * n_top;
+        for (int k = node_begin(set); k < node_end_[set]; ++k)
+            forward_node<2>(nodes_[k], xs, buffer, work.scratch[set].data());
     });
-    // Each right-hand side's top rows, contiguous: the two threads write apart.
-    std::vector<double>& top_rows = work.top_rows;
-    top_rows.resize(2 * static_cast<std::size_t>(n_top));
     for (int r = 0; r < n_top; ++r)
         for (int k = 0; k < 2; ++k)
-            top_rows[k * n_top + r] = xs[2 * (top + r) + k] + work.buffer[2 * r + k] +
-                                      work.buffer[2 * (n_top + r) + k];
-    // The top's forward and backward solves (u and v on one thread each); then L' z = y on
-    // the two sets.
+            xs[2 * (top + r) + k] += work.buffer[2 * r + k] + work.buffer[2 * (n_top + r) + k];
+    // The top's forward and backward solves, u and v on one thread each (lane k of xs); then
+    // L' z = y on the two sets.
     for_both(threads, [&](int k) {
-        forward_top(top_rows.data() + k * n_top);
-        backward_top(top_rows.data() + k * n_top);
+        for (int node = node_end_[1]; node < n_nodes; ++node)
+            forward_node<1>(nodes_[node], xs + k, nullptr, work.scratch[k].data());
+        for (int node = n_nodes - 1; node >= node_end_[1]; --node)
+            backward_node<1>(nodes_[node], xs + k, work.scratch[k].data());
     });
-    for (int r = 0; r < n_top; ++r)
-        for (int k = 0; k < 2; ++k)
-            xs[2 * (top + r) + k] = top_rows[k * n_top + r];
-    for_both(threads, [&](int set) { backward_set(set, xs); });
+    for_both(threads, [&](int set) {
+        for (int k = node_end_[set] - 1; k >= node_begin(set); --k)
+            backward_node<2>(nodes_[k], xs, work.scratch[set].data());
+    });
     x.resize(n_, 2);
     for (int c = 0; c < n_; ++c)
     {
