@@ -139,7 +139,7 @@ class ArapFactor
 {
 public:
     ArapFactor(const Mesh& mesh, const std::vector<bool>& is_pinned,
-               std::vector<detail::ArapFace> faces)
+               std::vector<detail::ArapFace> faces, const VertexOrdering* ordering = nullptr)
         : faces_(std::move(faces)), is_pinned_(is_pinned), dof_(mesh.n_vertices(), -1)
     {
         for (auto v : mesh.vertices())
@@ -170,14 +170,25 @@ public:
         // CHOLMOD's supernodal factorization (BLAS-3; carotid-300k: 0.15 s against 0.5 s for
         // its simplicial one), copied for the solves into a SubtreeSolver, which runs them on
         // two threads without the supernodal solve's BLAS call per supernode (that cost more
-        // than its arithmetic here). CHOLMOD's default ordering choice (AMD here), as Eigen's
-        // CholmodSupernodalLLT makes it. CHOLMOD's factor is freed once copied.
+        // than its arithmetic here). The given ordering, else CHOLMOD's default ordering choice
+        // (AMD here), as Eigen's CholmodSupernodalLLT makes it. CHOLMOD's factor is freed once
+        // copied.
+        std::vector<int> given;
+        if (ordering)
+            given = unknown_order(*ordering, dof_, n_free_);
         CholmodCommon common;
         common.c.supernodal = CHOLMOD_SUPERNODAL;
         const Eigen::SparseMatrix<double>& lower = K;
         cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
         const detail::SerialOpenMp serial;
-        cholmod_factor* factor = cholmod_analyze(&view, &common.c);
+        if (ordering)
+        {
+            common.c.nmethods = 1;
+            common.c.method[0].ordering = CHOLMOD_GIVEN;
+        }
+        cholmod_factor* factor = ordering
+                                     ? cholmod_analyze_p(&view, given.data(), nullptr, 0, &common.c)
+                                     : cholmod_analyze(&view, &common.c);
         const bool factored = factor != nullptr && cholmod_factorize(&view, factor, &common.c) &&
                               common.c.status == CHOLMOD_OK && factor->minor == factor->n;
         try
@@ -390,12 +401,14 @@ double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     return detail::arap_energy(detail::arap_faces(mesh, "arap_energy"), uv);
 }
 
-std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins)
+std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins,
+                                                 const VertexOrdering* ordering)
 {
     if (mesh.n_faces() == 0)
         throw InvalidInputError("arap_prefactor: the mesh has no faces; pass a triangulated disk");
     return std::make_shared<const ArapFactor>(mesh, pinned_vertices(mesh, pins, "arap_prefactor"),
-                                              detail::arap_faces(mesh, "arap_prefactor"));
+                                              detail::arap_faces(mesh, "arap_prefactor"),
+                                              ordering);
 }
 
 ArapSummary arap(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,

@@ -3,6 +3,7 @@
 #include "vessel/errors.h"
 #include "vessel/operators.h"
 #include "detail/edge_distance.h"
+#include "detail/paired_cholmod.h"
 #include "detail/serial_openmp.h"
 
 #include <Eigen/CholmodSupport>
@@ -79,11 +80,12 @@ struct HarmonicLongitudinal::Impl
     std::vector<BoundaryLoop> loops;
     std::vector<Eigen::Index> unknown;  // per vertex: its unknown, or -1 on a loop
     Eigen::SparseMatrix<double> L;      // cotan Laplacian, for the loops' right-hand side
-    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+    detail::OrderedCholmod<Eigen::Lower> solver;
 };
 
 HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
-                                           const std::vector<BoundaryLoop>& loops)
+                                           const std::vector<BoundaryLoop>& loops,
+                                           const VertexOrdering* ordering)
     : impl_(std::make_unique<Impl>())
 {
     if (loops.size() < 2)
@@ -115,7 +117,16 @@ HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
     A.setFromTriplets(entries.begin(), entries.end());
     {
         const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
-        d.solver.compute(A);
+        if (ordering)
+        {
+            std::vector<int> unknown_of(d.unknown.begin(), d.unknown.end());
+            d.solver.analyze_given(A, unknown_order(*ordering, unknown_of,
+                                                    static_cast<int>(n_free)));
+        }
+        else
+            d.solver.analyzePattern(A);
+        if (d.solver.info() == Eigen::Success)
+            d.solver.factorize(A);
     }
     if (d.solver.info() != Eigen::Success)
         throw SolverError("harmonic_longitudinal: the Laplacian with the loops fixed could not be "

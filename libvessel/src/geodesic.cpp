@@ -254,13 +254,23 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
 
     {
         Common common;
-        // AMD only: CHOLMOD's default may also try METIS, which is much slower to order meshes
-        // of this kind and gains less than it costs for a few solves.
+        // The given ordering, else AMD only: CHOLMOD's default may also try METIS, which is
+        // much slower to order meshes of this kind and gains less than it costs for a few
+        // solves.
+        std::vector<int> given;
+        if (options.ordering)
+        {
+            std::vector<int> all(n);
+            std::iota(all.begin(), all.end(), 0);
+            given = unknown_order(*options.ordering, all, n);
+        }
         common.c.nmethods = 1;
-        common.c.method[0].ordering = CHOLMOD_AMD;
+        common.c.method[0].ordering = options.ordering ? CHOLMOD_GIVEN : CHOLMOD_AMD;
         common.c.supernodal = CHOLMOD_SUPERNODAL;
         cholmod_sparse view = lower_view(d.heat);
-        d.heat_neumann.reset(cholmod_analyze(&view, &common.c));
+        d.heat_neumann.reset(options.ordering
+                                 ? cholmod_analyze_p(&view, given.data(), nullptr, 0, &common.c)
+                                 : cholmod_analyze(&view, &common.c));
         if (!d.heat_neumann || common.c.status != CHOLMOD_OK)
             throw_cholmod("symbolic analysis", common.c);
         d.poisson.reset(cholmod_copy_factor(d.heat_neumann.get(), &common.c));

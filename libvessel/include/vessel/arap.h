@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/ordering.h"
 #include "vessel/pins.h"
 
 #include <functional>
@@ -58,7 +59,10 @@ double arap_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 //! Reads \p mesh only, so it may run beside other readers of it.
 //! \throw InvalidInputError if the pins are invalid or a face is degenerate.
 //! \throw SolverError if CHOLMOD cannot factor the Laplacian.
-std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins);
+//! \param ordering Elimination order of the factorization: a VertexOrdering of \p mesh (the
+//! pipeline passes the one its other factorizations use); null (the default) = AMD here.
+std::shared_ptr<const ArapFactor> arap_prefactor(const Mesh& mesh, const Pins& pins,
+                                                 const VertexOrdering* ordering = nullptr);
 
 //! \brief Refine a disk parameterization with the as-rigid-as-possible energy
 //! \cite liu_2008_local; pinned vertices stay at their targets.

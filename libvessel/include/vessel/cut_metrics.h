@@ -2,6 +2,7 @@
 
 #include "vessel/boundary.h"
 #include "vessel/cut_plan.h"
+#include "vessel/ordering.h"
 
 #include <memory>
 
@@ -58,9 +59,13 @@ class HarmonicLongitudinal
 {
 public:
     //! \param loops boundary_loops(mesh); loops[0] is the inlet. Reads \p mesh only.
-    //! \throw InvalidInputError if there are fewer than two loops; SolverError as
-    //! harmonic_longitudinal().
-    HarmonicLongitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops);
+    //! \param ordering Elimination order of the factorization, a VertexOrdering of \p mesh
+    //! (e.g. shared with the heat method's, as the pipeline does); null (the default) = CHOLMOD
+    //! orders it.
+    //! \throw InvalidInputError if there are fewer than two loops or \p ordering is not one of
+    //! the mesh; SolverError as harmonic_longitudinal().
+    HarmonicLongitudinal(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
+                         const VertexOrdering* ordering = nullptr);
     ~HarmonicLongitudinal();
     HarmonicLongitudinal(HarmonicLongitudinal&&) noexcept;
     HarmonicLongitudinal& operator=(HarmonicLongitudinal&&) noexcept;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include "vessel/mesh.h"
+#include "vessel/ordering.h"
 
 #include <memory>
 #include <vector>
@@ -25,6 +26,9 @@ struct HeatGeodesicsOptions
     double time_factor = 1.0;
     //! See HeatBoundaryCondition.
     HeatBoundaryCondition boundary_condition = HeatBoundaryCondition::Neumann;
+    //! Elimination order of the factorizations, laplacian_ordering() of the same mesh, e.g. to
+    //! share one with other factorizations (the pipeline does). Null (the default) = AMD here.
+    std::shared_ptr<const VertexOrdering> ordering;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/ordering.h"
 #include "vessel/pins.h"
 
 #include <Eigen/Sparse>
@@ -16,8 +17,13 @@ namespace vessel {
 //! do not hold), the system is solved regularised instead (shift 1e-10 x its largest diagonal
 //! entry, refined against the unshifted system), so a run does not end here: the solution is
 //! unchanged wherever the pins determine it, and an unpinned part collapses toward the origin.
+//! \param ordering Elimination order of the factorization: a VertexOrdering of \p mesh (e.g.
+//! laplacian_ordering() of the cut mesh, shared with ARAP as the pipeline does); null (the
+//! default) = AMD here.
 //! \throw SolverError if even the regularised factorization or solve fails.
-Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins);
+//! \throw InvalidInputError if \p ordering is not an ordering of the mesh's vertices.
+Eigen::MatrixX2d lscm(const Mesh& mesh, const Pins& pins,
+                      const VertexOrdering* ordering = nullptr);
 
 //! \brief The LSCM conformal energy as a quadratic form \cite mullen_2008_spectral:
 //! E_C(x) = 1/2 x^T L_C x = E_D(x) - A(x), Dirichlet energy minus signed image area.

@@ -7,6 +7,32 @@
 
 namespace vessel::detail {
 
+//! Eigen's CholmodSupernodalLLT with a symbolic analysis in a given elimination order (e.g. from
+//! a VertexOrdering shared by several factorizations) instead of CHOLMOD's own choice.
+template <int UpLo>
+class OrderedCholmod : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>
+{
+public:
+    //! Symbolic analysis of \p A (the UpLo triangle, compressed) eliminating its unknowns in
+    //! \p order (each once). Check info().
+    void analyze_given(const Eigen::SparseMatrix<double>& A, std::vector<int> order)
+    {
+        if (this->m_cholmodFactor)
+        {
+            cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
+            this->m_cholmodFactor = nullptr;
+        }
+        cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+        this->cholmod().nmethods = 1;
+        this->cholmod().method[0].ordering = CHOLMOD_GIVEN;
+        this->m_cholmodFactor = cholmod_analyze_p(&view, order.data(), nullptr, 0, &this->cholmod());
+        this->m_isInitialized = true;
+        this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
+        this->m_factorizationIsOk = false;
+    }
+};
+
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
 //! come in pairs (u, v of one vertex: unknowns 2i and 2i + 1) that share their sparsity.
 //! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
@@ -15,8 +41,7 @@ namespace vessel::detail {
 //! matters where the pattern changes every iteration (SLIM's scaffold), and from kMetisVertices
 //! on a factor with far fewer flops (the area polish's Newton Hessian too; LSCM's single
 //! factorization keeps AMD). factorize() and solve() are Eigen's.
-class PairedCholmod
-    : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper>
+class PairedCholmod : public OrderedCholmod<Eigen::Upper>
 {
 public:
     //! Vertex count from which the vertex graph is ordered by METIS instead of AMD.
@@ -25,9 +50,17 @@ public:
     //! Symbolic analysis of \p A (upper triangle, compressed, even size). Check info().
     //! \p metis_vertices: the vertex count from which METIS orders (a single factorization,
     //! e.g. LSCM's, is better served by AMD's cheaper ordering at every size).
-    void analyze_pairs(const Eigen::SparseMatrix<double>& A, int metis_vertices = kMetisVertices)
+    //! \p given_order: an elimination order of the pairs (each pair index once) to use instead
+    //! of ordering them here.
+    void analyze_pairs(const Eigen::SparseMatrix<double>& A, int metis_vertices = kMetisVertices,
+                       const std::vector<int>* given_order = nullptr)
     {
         const int n = static_cast<int>(A.cols()) / 2;
+        if (given_order)
+        {
+            analyze_given(A, paired(*given_order));
+            return;
+        }
         // Upper pattern of the vertex graph: vertex I <= J for each stored (i, j).
         std::vector<int> column_start(n + 1, 0);
         std::vector<int> rows;
@@ -65,32 +98,27 @@ public:
         // docs/benchmarks.md); below it AMD, cheaper to compute on small graphs.
         const bool ok =
             n >= metis_vertices
-                ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &cholmod())
-                : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &cholmod());
+                ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())
+                : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &this->cholmod());
         if (!ok)
         {
-            m_info = Eigen::NumericalIssue;
+            this->m_info = Eigen::NumericalIssue;
             return;
         }
-        std::vector<int> order(2 * static_cast<std::size_t>(n));
-        for (int k = 0; k < n; ++k)
+        analyze_given(A, paired(vertex_order));
+    }
+
+private:
+    // Each pair's two unknowns in the pairs' order.
+    static std::vector<int> paired(const std::vector<int>& pair_order)
+    {
+        std::vector<int> order(2 * pair_order.size());
+        for (std::size_t k = 0; k < pair_order.size(); ++k)
         {
-            order[2 * k] = 2 * vertex_order[k];
-            order[2 * k + 1] = 2 * vertex_order[k] + 1;
+            order[2 * k] = 2 * pair_order[k];
+            order[2 * k + 1] = 2 * pair_order[k] + 1;
         }
-        if (m_cholmodFactor)
-        {
-            cholmod_free_factor(&m_cholmodFactor, &cholmod());
-            m_cholmodFactor = nullptr;
-        }
-        cholmod_sparse view = Eigen::viewAsCholmod(A.selfadjointView<Eigen::Upper>());
-        cholmod().nmethods = 1;
-        cholmod().method[0].ordering = CHOLMOD_GIVEN;
-        m_cholmodFactor = cholmod_analyze_p(&view, order.data(), nullptr, 0, &cholmod());
-        m_isInitialized = true;
-        m_info = m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
-        m_analysisIsOk = m_cholmodFactor != nullptr;
-        m_factorizationIsOk = false;
+        return order;
     }
 };
 
