@@ -10,8 +10,7 @@ namespace vessel {
 VertexOrdering laplacian_ordering(const Mesh& mesh)
 {
     const int n = static_cast<int>(mesh.n_vertices());
-    // Upper triangle of the vertex graph's pattern, column by column (CHOLMOD orders the
-    // symmetric pattern it stands for).
+    // Upper triangle of the vertex graph's pattern, column by column.
     std::vector<int> column_start(n + 1, 0), rows;
     rows.reserve(mesh.n_edges());
     for (auto v : mesh.vertices())
@@ -21,17 +20,7 @@ VertexOrdering laplacian_ordering(const Mesh& mesh)
                 rows.push_back(w.idx());
         column_start[v.idx() + 1] = static_cast<int>(rows.size());
     }
-    cholmod_sparse graph{};
-    graph.nrow = graph.ncol = static_cast<std::size_t>(n);
-    graph.nzmax = rows.size();
-    graph.p = column_start.data();
-    graph.i = rows.data();
-    graph.stype = 1;  // upper triangle
-    graph.itype = CHOLMOD_INT;
-    graph.xtype = CHOLMOD_PATTERN;
-    graph.dtype = CHOLMOD_DOUBLE;
-    graph.sorted = 0;
-    graph.packed = 1;
+    cholmod_sparse graph = detail::upper_pattern(column_start, rows);
     VertexOrdering ordering;
     ordering.vertices.resize(n);
     detail::CholmodCommon common;

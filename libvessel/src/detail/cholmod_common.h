@@ -2,6 +2,8 @@
 
 #include <cholmod.h>
 
+#include <vector>
+
 namespace vessel::detail {
 
 //! A cholmod_common started on construction and finished on destruction. CHOLMOD keeps its
@@ -15,5 +17,24 @@ struct CholmodCommon
     CholmodCommon(const CholmodCommon&) = delete;
     CholmodCommon& operator=(const CholmodCommon&) = delete;
 };
+
+//! A CHOLMOD view (no copy) of the symmetric pattern whose upper triangle is given column by
+//! column: column j's rows (each <= j, any order) are rows[column_start[j] ..
+//! column_start[j + 1]). For orderings (cholmod_amd, cholmod_metis) of a vertex graph.
+inline cholmod_sparse upper_pattern(std::vector<int>& column_start, std::vector<int>& rows)
+{
+    cholmod_sparse pattern{};
+    pattern.nrow = pattern.ncol = column_start.size() - 1;
+    pattern.nzmax = rows.size();
+    pattern.p = column_start.data();
+    pattern.i = rows.data();
+    pattern.stype = 1;  // upper triangle
+    pattern.itype = CHOLMOD_INT;
+    pattern.xtype = CHOLMOD_PATTERN;
+    pattern.dtype = CHOLMOD_DOUBLE;
+    pattern.sorted = 0;
+    pattern.packed = 1;
+    return pattern;
+}
 
 }  // namespace vessel::detail

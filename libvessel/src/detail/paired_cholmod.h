@@ -1,5 +1,7 @@
 #pragma once
 
+#include "detail/cholmod_common.h"
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
@@ -80,17 +82,7 @@ public:
                 }
             column_start[J + 1] = static_cast<int>(rows.size());
         }
-        cholmod_sparse graph{};
-        graph.nrow = graph.ncol = static_cast<std::size_t>(n);
-        graph.nzmax = rows.size();
-        graph.p = column_start.data();
-        graph.i = rows.data();
-        graph.stype = 1;  // upper triangle
-        graph.itype = CHOLMOD_INT;
-        graph.xtype = CHOLMOD_PATTERN;
-        graph.dtype = CHOLMOD_DOUBLE;
-        graph.sorted = 0;
-        graph.packed = 1;
+        cholmod_sparse graph = upper_pattern(column_start, rows);
         std::vector<int> vertex_order(n);
         // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
         // fill on large maps (carotid-1M, SLIM: peak RSS 2752 -> 2431 MB, page faults 11.0M
