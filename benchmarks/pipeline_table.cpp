@@ -113,21 +113,28 @@ struct Settings
     double curve_budget_s = 60.0;        // solver curves: seconds per solver and mesh
     double peer_timeout_s = 900.0;       // kill the peer's child after this long
     long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
-    bool paper_method = false;           // F as the paper's: LSCM + ARAP, overlaps allowed
+    std::string method = "default";      // the timed pipeline: see pipeline_options()
 };
 
-// The options of the timed pipeline: the library's defaults, or with --method paper the paper's
+// The options of the timed pipeline: the library's defaults; with --method paper the paper's
 // F (LSCM at the layout, then ARAP with the inlet pinned; no untangling, no SLIM, no area polish,
-// overlaps allowed) and only the paper's cuts (no relief cuts). Z, GC, VC, AC and L are the
-// library's either way.
+// overlaps allowed) and only the paper's cuts (no relief cuts); with --method paper-untangled
+// the same, then the flipped triangles untangled locally (untangle.h; no SLIM, no polish), so
+// the map has no flipped triangle. Z, GC, VC, AC and L are the library's in every case.
 vessel::FlattenOptions pipeline_options(const Settings& s)
 {
     vessel::FlattenOptions o;
-    if (s.paper_method)
+    if (s.method != "default")
     {
         o.refinement = vessel::Refinement::Arap;
         o.overlaps = vessel::OverlapPolicy::Keep;
         o.relief.max_cuts = 0;
+    }
+    if (s.method == "paper-untangled")
+    {
+        o.refinement = vessel::Refinement::Injective;  // ARAP, untangling, then SLIM ...
+        o.injective.max_iterations = 0;                // ... with no SLIM iteration
+        o.polish_area = false;
     }
     return o;
 }
@@ -221,7 +228,7 @@ json run_table_case(const Case& c, const Settings& s)
     vessel::FlattenResult last;
     bool time_boxed = false;
     const vessel::FlattenOptions options = pipeline_options(s);
-    out["method"] = s.paper_method ? "paper" : "default";
+    out["method"] = s.method;
     for (int run = 0; run < s.runs; ++run)
     {
         vessel::Mesh copy = mesh;
@@ -637,7 +644,7 @@ std::string status_of(const json& r)
     return "";
 }
 
-// The --method the table's pipeline ran with ("default" or "paper").
+// The --method the table's pipeline ran with ("default", "paper" or "paper-untangled").
 std::string method_of(const std::vector<json>& results)
 {
     for (const json& r : results)
@@ -1076,9 +1083,10 @@ int main(int argc, char** argv)
     app.add_flag("--skip-1m", skip_1m, "Leave out the 1M-triangle phantom");
     std::string method = "default";
     app.add_option("--method", method,
-                   "Pipeline timed: default (the library's defaults: one-to-one map, area polish) "
-                   "or paper (F = LSCM + ARAP as in the paper, overlaps allowed, no relief cuts)")
-        ->check(CLI::IsMember({"default", "paper"}))
+                   "Pipeline timed: default (the library's defaults: one-to-one map, area polish), "
+                   "paper (F = LSCM + ARAP as in the paper, overlaps allowed, no relief cuts) or "
+                   "paper-untangled (the same, then flipped triangles untangled locally)")
+        ->check(CLI::IsMember({"default", "paper", "paper-untangled"}))
         ->capture_default_str();
     app.add_option("--peer-timeout", s.peer_timeout_s,
                    "Kill the CGAL peer's child for a mesh after this long (s); recorded, not fatal")
@@ -1118,7 +1126,7 @@ int main(int argc, char** argv)
     }
 
     s.peer = !no_peer;
-    s.paper_method = method == "paper";
+    s.method = method;
     const bool curves = !curves_csv.empty();
     if (curves)
         solvers = true;  // same mesh list: the real meshes

@@ -143,8 +143,7 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     // factorizations, which leave the second core idle part of the time (single-threaded
     // symbolic analyses and solves). The heat method waits for the ordering.
     std::promise<std::shared_ptr<const VertexOrdering>> ordering;
-    std::shared_future<std::shared_ptr<const VertexOrdering>> ordered =
-        ordering.get_future().share();
+    std::future<std::shared_ptr<const VertexOrdering>> ordered = ordering.get_future();
     std::future<HarmonicLongitudinal> harmonic =
         std::async(std::launch::async, [&mesh, &stage, &ordering] {
             std::shared_ptr<const VertexOrdering> order;
