@@ -147,7 +147,6 @@ public:
                 dof_[v.idx()] = n_free_++;
         if (n_free_ == 0)
             return;
-        make_gather();
         std::vector<Eigen::Triplet<double>> triplets;
         triplets.reserve(9 * faces_.size());
         for (const auto& face : faces_)
@@ -206,10 +205,21 @@ public:
             throw SolverError("arap: CHOLMOD could not factor the cotan Laplacian (" +
                               std::to_string(n_free_) +
                               " free vertices); every connected component needs a pin");
+        // The free vertices renumbered in the factor's column order: the right-hand side is
+        // gathered and the solution read in that order, with no permutation per solve.
+        std::vector<int> column_of(n_free_);
+        const std::vector<int>& row_of_column = solver_->permutation();
+        for (int c = 0; c < n_free_; ++c)
+            column_of[row_of_column[c]] = c;
+        for (int& d : dof_)
+            if (d >= 0)
+                d = column_of[d];
+        make_gather();
     }
 
     const std::vector<detail::ArapFace>& faces() const { return faces_; }
     const std::vector<bool>& is_pinned() const { return is_pinned_; }
+    //! Per vertex its unknown, i.e. its column in solver()'s factor (solve_in_order()), or -1.
     const std::vector<int>& dof() const { return dof_; }
     int n_free() const { return n_free_; }
     //! The factor's solves; only when n_free() > 0.
@@ -323,8 +333,9 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
         return partial[0] + partial[1];
     };
     // b = b_pinned + the rotated terms, row by row (each row's terms in face order, so the sums
-    // are those of one sweep over the faces), on disjoint rows per thread.
-    const auto gather = [&](Eigen::MatrixX2d& b) {
+    // are those of one sweep over the faces), on disjoint rows per thread; row i at b[2i],
+    // b[2i + 1].
+    const auto gather = [&](double* b) {
         detail::parallel_chunks(static_cast<std::size_t>(n_free), threads,
                                 [&](std::size_t begin, std::size_t end, int) {
             for (std::size_t i = begin; i < end; ++i)
@@ -335,23 +346,25 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
                         sum -= rotated[*term >> 1];
                     else
                         sum += rotated[*term >> 1];
-                b.row(i) = sum;
+                b[2 * i] = sum[0];
+                b[2 * i + 1] = sum[1];
             }
         });
     };
     detail::SubtreeSolver::Workspace solve_work;
     double energy = local_step();
-    Eigen::MatrixX2d b(n_free, 2), x(n_free, 2);
+    std::vector<double> x(2 * static_cast<std::size_t>(n_free));  // (u, v) per unknown
     for (int it = 1; it <= options.max_iterations; ++it)
     {
-        gather(b);
-        system.solver().solve(b, x, threads, solve_work);
-        if (!x.allFinite())
+        gather(x.data());
+        system.solver().solve_in_order(x.data(), threads, solve_work);
+        if (!std::all_of(x.begin(), x.end(), [](double value) { return std::isfinite(value); }))
             throw SolverError("arap: the global step's solve is not finite in local/global iteration " +
                               std::to_string(it));
         for (int i = 0; i < n; ++i)
             if (dof[i] >= 0)
-                uv.row(i) = x.row(dof[i]);
+                uv.row(i) << x[2 * static_cast<std::size_t>(dof[i])],
+                    x[2 * static_cast<std::size_t>(dof[i]) + 1];
         const double previous = energy;
         energy = local_step();
         summary.iterations = it;

@@ -375,17 +375,28 @@ void SubtreeSolver::backward_node(const Node& node, double* x, double* scratch) 
 void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int threads,
                           Workspace& work) const
 {
-    const int top = top_begin_, n_top = n_ - top;
     work.x.resize(2 * static_cast<std::size_t>(n_));
-    work.buffer.assign(4 * static_cast<std::size_t>(n_top), 0.0);
-    for (auto& scratch : work.scratch)
-        scratch.resize(2 * static_cast<std::size_t>(max_below_ + max_width_));
     double* xs = work.x.data();
     for (int c = 0; c < n_; ++c)
     {
         xs[2 * c] = b(perm_[c], 0);
         xs[2 * c + 1] = b(perm_[c], 1);
     }
+    solve_in_order(xs, threads, work);
+    x.resize(n_, 2);
+    for (int c = 0; c < n_; ++c)
+    {
+        x(perm_[c], 0) = xs[2 * c];
+        x(perm_[c], 1) = xs[2 * c + 1];
+    }
+}
+
+void SubtreeSolver::solve_in_order(double* xs, int threads, Workspace& work) const
+{
+    const int top = top_begin_, n_top = n_ - top;
+    work.buffer.assign(4 * static_cast<std::size_t>(n_top), 0.0);
+    for (auto& scratch : work.scratch)
+        scratch.resize(2 * static_cast<std::size_t>(max_below_ + max_width_));
     const int n_nodes = static_cast<int>(nodes_.size());
     // L y = P b: the two sets, then the top (its rows collect both sets' updates, in set order).
     for_both(threads, [&](int set) {
@@ -408,12 +419,6 @@ void SubtreeSolver::solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int th
         for (int k = node_end_[set] - 1; k >= node_begin(set); --k)
             backward_node<2>(nodes_[k], xs, work.scratch[set].data());
     });
-    x.resize(n_, 2);
-    for (int c = 0; c < n_; ++c)
-    {
-        x(perm_[c], 0) = xs[2 * c];
-        x(perm_[c], 1) = xs[2 * c + 1];
-    }
 }
 
 }  // namespace vessel::detail

@@ -56,6 +56,13 @@ public:
     void solve(const Eigen::MatrixX2d& b, Eigen::MatrixX2d& x, int threads,
                Workspace& work) const;
 
+    //! Column c of the factor is row permutation()[c] of A.
+    const std::vector<int>& permutation() const { return perm_; }
+    //! solve() without its permutations, for callers that number their unknowns in the
+    //! factor's order: \p x holds (b_u, b_v) of column c at x[2c], x[2c + 1] and receives the
+    //! solution there.
+    void solve_in_order(double* x, int threads, Workspace& work) const;
+
 private:
     struct Node
     {
