@@ -75,7 +75,11 @@ double closest_rotation_angle(const Eigen::Matrix2d& J)
 
 double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matrix2d& R)
 {
-    const Eigen::Matrix2d J = arap_jacobian(face, uv);
+    return jacobian_energy(face.area, arap_jacobian(face, uv), R);
+}
+
+double jacobian_energy(double area, const Eigen::Matrix2d& J, Eigen::Matrix2d& R)
+{
     // The rotation of closest_rotation_angle() without the angle: (cos t, sin t) is the unit
     // vector along (J00 + J11, J10 - J01); t = 0 (atan2(0, 0)) when that vector is zero.
     const double c = J(0, 0) + J(1, 1), s = J(1, 0) - J(0, 1);
@@ -84,7 +88,7 @@ double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matr
         R << c / length, -s / length, s / length, c / length;
     else
         R.setIdentity();
-    return face.area * (J - R).squaredNorm();
+    return area * (J - R).squaredNorm();
 }
 
 double arap_energy(const std::vector<ArapFace>& faces, const Eigen::MatrixX2d& uv)
@@ -314,16 +318,36 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
             for (int t = 0; t < chunks; ++t)
                 body(count * t / chunks, count * (t + 1) / chunks, t);
     };
+    // The map as the local step reads it, interleaved: (u, v) of unknown i at x[2i], x[2i + 1]
+    // (where the global step's solve leaves them), then the other vertices' (pinned or
+    // without a face), fixed. Each face's corners as positions in it.
+    std::vector<int> slot(n);
+    for (int i = 0, next = n_free; i < n; ++i)
+        slot[i] = dof[i] >= 0 ? dof[i] : next++;
+    std::vector<double> x(2 * static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i)
+    {
+        x[2 * static_cast<std::size_t>(slot[i])] = uv(i, 0);
+        x[2 * static_cast<std::size_t>(slot[i]) + 1] = uv(i, 1);
+    }
+    std::vector<std::array<int, 3>> corner(faces.size());
+    for (std::size_t f = 0; f < faces.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            corner[f][k] = 2 * slot[faces[f].v[k]];
     std::vector<Eigen::RowVector2d> rotated(3 * faces.size());
     const auto local_step = [&] {
         std::array<double, 2> partial{0.0, 0.0};
         over_chunks(faces.size(), [&](std::size_t begin, std::size_t end, int t) {
             double e = 0.0;
-            Eigen::Matrix2d R;
+            Eigen::Matrix2d R, D;
             for (std::size_t f = begin; f < end; ++f)
             {
                 const auto& face = faces[f];
-                e += detail::face_energy(face, uv, R);
+                const double* p0 = x.data() + corner[f][0];
+                const double* p1 = x.data() + corner[f][1];
+                const double* p2 = x.data() + corner[f][2];
+                D << p1[0] - p0[0], p2[0] - p0[0], p1[1] - p0[1], p2[1] - p0[1];
+                e += detail::jacobian_energy(face.area, D * face.X_inv, R);
                 for (int k = 0; k < 3; ++k)
                     rotated[3 * f + k] = face.cot[k] *
                                          (R * (face.x[(k + 1) % 3] - face.x[(k + 2) % 3])).transpose();
@@ -353,18 +377,16 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
     };
     detail::SubtreeSolver::Workspace solve_work;
     double energy = local_step();
-    std::vector<double> x(2 * static_cast<std::size_t>(n_free));  // (u, v) per unknown
+    const auto unknowns_end = x.begin() + 2 * static_cast<std::ptrdiff_t>(n_free);
     for (int it = 1; it <= options.max_iterations; ++it)
     {
+        // The right-hand side over the unknowns' positions (the local step has read them),
+        // then the solve in place.
         gather(x.data());
         system.solver().solve_in_order(x.data(), threads, solve_work);
-        if (!std::all_of(x.begin(), x.end(), [](double value) { return std::isfinite(value); }))
+        if (!std::all_of(x.begin(), unknowns_end, [](double value) { return std::isfinite(value); }))
             throw SolverError("arap: the global step's solve is not finite in local/global iteration " +
                               std::to_string(it));
-        for (int i = 0; i < n; ++i)
-            if (dof[i] >= 0)
-                uv.row(i) << x[2 * static_cast<std::size_t>(dof[i])],
-                    x[2 * static_cast<std::size_t>(dof[i]) + 1];
         const double previous = energy;
         energy = local_step();
         summary.iterations = it;
@@ -378,6 +400,10 @@ ArapSummary arap_local_global(const ArapFactor& system, Eigen::MatrixX2d& uv,
         if (options.on_iteration && !options.on_iteration(it, energy))
             break;
     }
+    for (int i = 0; i < n; ++i)
+        if (dof[i] >= 0)
+            uv.row(i) << x[2 * static_cast<std::size_t>(dof[i])],
+                x[2 * static_cast<std::size_t>(dof[i]) + 1];
     summary.final_energy = energy;
     std::ostringstream report;
     report << "LocalGlobal: " << summary.iterations << " iterations, energy "

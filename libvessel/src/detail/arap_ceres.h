@@ -34,6 +34,9 @@ double closest_rotation_angle(const Eigen::Matrix2d& J);
 //! area * ||J - R||_F^2 for one face; \p R receives the closest rotation to J.
 double face_energy(const ArapFace& face, const Eigen::MatrixX2d& uv, Eigen::Matrix2d& R);
 
+//! face_energy() for a face of \p area with Jacobian \p J.
+double jacobian_energy(double area, const Eigen::Matrix2d& J, Eigen::Matrix2d& R);
+
 //! Sum over faces of area * ||J - R||_F^2 with R the closest rotation.
 double arap_energy(const std::vector<ArapFace>& faces, const Eigen::MatrixX2d& uv);
 
