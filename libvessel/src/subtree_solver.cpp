@@ -204,9 +204,9 @@ SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
             }
         if (s < 2)
             node_end_[s] = static_cast<int>(order.size());
+        if (s == 1)
+            top_begin_ = next;
     }
-    top_begin_ = next - std::accumulate(order.begin() + node_end_[1], order.end(), 0,
-                                        [&](int sum, int k) { return sum + source[k].width; });
 
     perm_.resize(n_);
     for (int j = 0; j < n_; ++j)
@@ -256,11 +256,14 @@ double SubtreeSolver::set_share(int set) const
 {
     if (values_.empty())
         return 0.0;
-    const long begin = nodes_[node_begin(set)].value_start;
-    const long end = node_end_[set] < static_cast<int>(nodes_.size())
-                         ? nodes_[node_end_[set]].value_start
-                         : static_cast<long>(values_.size());
-    return static_cast<double>(end - begin) / static_cast<double>(values_.size());
+    // Where node k's values start; past the last node, the end of the values (a set, and the
+    // top, may be empty).
+    const auto value_start = [&](int k) {
+        return k < static_cast<int>(nodes_.size()) ? nodes_[k].value_start
+                                                   : static_cast<long>(values_.size());
+    };
+    return static_cast<double>(value_start(node_end_[set]) - value_start(node_begin(set))) /
+           static_cast<double>(values_.size());
 }
 
 template <int Lanes>
