@@ -184,14 +184,8 @@ public:
         const Eigen::SparseMatrix<double>& lower = K;
         cholmod_sparse view = Eigen::viewAsCholmod(lower.selfadjointView<Eigen::Lower>());
         const detail::SerialOpenMp serial;
-        if (ordering)
-        {
-            common.c.nmethods = 1;
-            common.c.method[0].ordering = CHOLMOD_GIVEN;
-        }
-        cholmod_factor* factor = ordering
-                                     ? cholmod_analyze_p(&view, given.data(), nullptr, 0, &common.c)
-                                     : cholmod_analyze(&view, &common.c);
+        cholmod_factor* factor =
+            detail::analyze_in_order(view, ordering ? &given : nullptr, common.c);
         const bool factored = factor != nullptr && cholmod_factorize(&view, factor, &common.c) &&
                               common.c.status == CHOLMOD_OK && factor->minor == factor->n;
         try

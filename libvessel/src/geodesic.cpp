@@ -265,12 +265,11 @@ HeatGeodesics::HeatGeodesics(const Mesh& mesh, const HeatGeodesicsOptions& optio
             given = unknown_order(*options.ordering, all, n);
         }
         common.c.nmethods = 1;
-        common.c.method[0].ordering = options.ordering ? CHOLMOD_GIVEN : CHOLMOD_AMD;
+        common.c.method[0].ordering = CHOLMOD_AMD;
         common.c.supernodal = CHOLMOD_SUPERNODAL;
         cholmod_sparse view = lower_view(d.heat);
-        d.heat_neumann.reset(options.ordering
-                                 ? cholmod_analyze_p(&view, given.data(), nullptr, 0, &common.c)
-                                 : cholmod_analyze(&view, &common.c));
+        d.heat_neumann.reset(
+            detail::analyze_in_order(view, options.ordering ? &given : nullptr, common.c));
         if (!d.heat_neumann || common.c.status != CHOLMOD_OK)
             throw_cholmod("symbolic analysis", common.c);
         d.poisson.reset(cholmod_copy_factor(d.heat_neumann.get(), &common.c));

@@ -124,9 +124,6 @@ struct DirectionStage
     Eigen::VectorXd H;  // harmonic_longitudinal()
     Eigen::MatrixX3d z;
     Eigen::MatrixX3d winding;  // winding_rate() of z, for the cut planner
-    // The elimination order of the uncut mesh's factorizations (the heat method's two and the
-    // harmonic coordinate's): ordering is a large share of each one's cost.
-    std::shared_ptr<const VertexOrdering> ordering;
     double seconds = 0.0;
 };
 
@@ -138,8 +135,9 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     if (stage.loops.size() < 2)
         throw InvalidInputError("flatten: the mesh has " + std::to_string(stage.loops.size()) +
                                 " boundary loop(s); a vessel tree needs an inlet and an outlet");
-    // The elimination ordering, then the harmonic coordinate's factorization (it needs only the
-    // loops), run on their own thread beside the curvature fits and the heat method's
+    // The elimination ordering of the uncut mesh (the heat method's two factorizations and the
+    // harmonic coordinate's share it), then the harmonic coordinate's factorization (it needs
+    // only the loops), run on their own thread beside the curvature fits and the heat method's
     // factorizations, which leave the second core idle part of the time (single-threaded
     // symbolic analyses and solves). The heat method waits for the ordering.
     std::promise<std::shared_ptr<const VertexOrdering>> ordering;
@@ -160,10 +158,10 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
             return HarmonicLongitudinal(mesh, stage.loops, order.get());
         });
     const PrincipalCurvature curvature = principal_curvature(mesh, options.curvature);
-    stage.ordering = ordered.get();
     HeatGeodesicsOptions geodesic = options.geodesic;
+    const std::shared_ptr<const VertexOrdering> uncut_order = ordered.get();
     if (!geodesic.ordering)
-        geodesic.ordering = stage.ordering;
+        geodesic.ordering = uncut_order;
     const HeatGeodesics heat(mesh, geodesic);
     stage.G = heat.distance(stage.loops[0].vertices);
     stage.H = harmonic.get().solve(stage.G);

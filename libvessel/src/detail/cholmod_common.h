@@ -18,6 +18,19 @@ struct CholmodCommon
     CholmodCommon& operator=(const CholmodCommon&) = delete;
 };
 
+//! The symbolic analysis of \p A: in the elimination order \p order when given (each unknown
+//! once; CHOLMOD_GIVEN becomes the only method of \p c), else by \p c's ordering methods.
+//! Null if CHOLMOD fails (see c.status).
+inline cholmod_factor* analyze_in_order(cholmod_sparse& A, std::vector<int>* order,
+                                        cholmod_common& c)
+{
+    if (!order)
+        return cholmod_analyze(&A, &c);
+    c.nmethods = 1;
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    return cholmod_analyze_p(&A, order->data(), nullptr, 0, &c);
+}
+
 //! A CHOLMOD view (no copy) of the symmetric pattern whose upper triangle is given column by
 //! column: column j's rows (each <= j, any order) are rows[column_start[j] ..
 //! column_start[j + 1]). For orderings (cholmod_amd, cholmod_metis) of a vertex graph.

@@ -25,9 +25,7 @@ public:
             this->m_cholmodFactor = nullptr;
         }
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
-        this->cholmod().nmethods = 1;
-        this->cholmod().method[0].ordering = CHOLMOD_GIVEN;
-        this->m_cholmodFactor = cholmod_analyze_p(&view, order.data(), nullptr, 0, &this->cholmod());
+        this->m_cholmodFactor = analyze_in_order(view, &order, this->cholmod());
         this->m_isInitialized = true;
         this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
         this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
