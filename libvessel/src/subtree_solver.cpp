@@ -1,6 +1,7 @@
 #include "detail/subtree_solver.h"
 
 #include "detail/face_jacobian.h"
+#include "detail/tree_split.h"
 #include "vessel/errors.h"
 
 #include <algorithm>
@@ -18,15 +19,9 @@ constexpr double kBalance = 0.97;
 constexpr double kMaxTopShare = 0.3;
 constexpr int kMaxExpansions = 1 << 14;
 
-struct Split
-{
-    std::vector<int> roots[2];  // subtree roots of each set
-};
+}  // namespace
 
-// Splits the forest given by `parent` (parent[j] > j, or -1) into two sets of whole subtrees of
-// about equal weight: expand the heaviest subtree of the frontier into the top (its root) and its
-// children, and deal the frontier to the two sets heaviest first, each to the lighter set.
-Split split_forest(const std::vector<int>& parent, const std::vector<double>& subtree_weight)
+ForestSplit split_forest(const std::vector<int>& parent, const std::vector<double>& subtree_weight)
 {
     const int n = static_cast<int>(parent.size());
     std::vector<int> child_start(n + 1, 0), children(n);
@@ -56,11 +51,11 @@ Split split_forest(const std::vector<int>& parent, const std::vector<double>& su
     for (int j = 0; j < n; ++j)
         if (parent[j] < 0)
             add(j);
-    Split best;
+    ForestSplit best;
     double best_lighter = -1.0, top = 0.0;
     for (int expansions = 0; !frontier.empty() && expansions <= kMaxExpansions; ++expansions)
     {
-        Split split;
+        ForestSplit split;
         double weight[2] = {0.0, 0.0};
         for (auto root = frontier.rbegin(); root != frontier.rend(); ++root)
         {
@@ -88,6 +83,24 @@ Split split_forest(const std::vector<int>& parent, const std::vector<double>& su
     }
     return best;
 }
+
+std::vector<int> split_owners(const std::vector<int>& parent,
+                              const std::vector<double>& subtree_weight)
+{
+    const ForestSplit split = split_forest(parent, subtree_weight);
+    const int n = static_cast<int>(parent.size());
+    std::vector<int> owner(n, 2);
+    for (int s = 0; s < 2; ++s)
+        for (const int root : split.roots[s])
+            owner[root] = s;
+    // Parents come after their children, so one pass from the last node settles every subtree.
+    for (int k = n - 1; k >= 0; --k)
+        if (owner[k] == 2 && parent[k] >= 0 && owner[parent[k]] < 2)
+            owner[k] = owner[parent[k]];
+    return owner;
+}
+
+namespace {
 
 // A supernode of width w stores the triangle of its own columns column by column from the
 // diagonal down (w - k entries in column k), then the rows below in panels of kPanel columns
@@ -178,17 +191,8 @@ SubtreeSolver::SubtreeSolver(const cholmod_factor& L)
         if (parent[k] >= 0)
             subtree_weight[parent[k]] += subtree_weight[k];
     }
-    const Split split = split_forest(parent, subtree_weight);
-
-    // Owner of each node: the set whose subtree holds it, else the top (2). Parents come after
-    // their children, so one pass from the last node settles every subtree.
-    std::vector<int> owner(n_nodes, 2);
-    for (int s = 0; s < 2; ++s)
-        for (const int root : split.roots[s])
-            owner[root] = s;
-    for (int k = n_nodes - 1; k >= 0; --k)
-        if (owner[k] == 2 && parent[k] >= 0 && owner[parent[k]] < 2)
-            owner[k] = owner[parent[k]];
+    // Owner of each node: the set whose subtree holds it, else the top (2).
+    const std::vector<int> owner = split_owners(parent, subtree_weight);
     std::vector<int> order;  // nodes in their new order
     order.reserve(n_nodes);
     std::vector<int> label(n_);  // new column of each column

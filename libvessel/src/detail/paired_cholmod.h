@@ -1,20 +1,47 @@
 #pragma once
 
 #include "detail/cholmod_common.h"
+#include "detail/serial_openmp.h"
+#include "detail/subtree_factorization.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include <memory>
 #include <vector>
 
 namespace vessel::detail {
 
 //! Eigen's CholmodSupernodalLLT with a symbolic analysis in a given elimination order (e.g. from
-//! a VertexOrdering shared by several factorizations) instead of CHOLMOD's own choice.
+//! a VertexOrdering shared by several factorizations) instead of CHOLMOD's own choice, and its
+//! numeric factorization on two threads (SubtreeFactorization; the solves are CHOLMOD's).
 template <int UpLo>
 class OrderedCholmod : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>
 {
+    using Base = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>;
+
 public:
+    //! Threads of factorize() (1 or 2; the same factor either way).
+    void set_threads(int threads) { threads_ = threads; }
+
+    //! Numeric factorization of \p A, whose pattern analyze_given() analysed (compressed).
+    //! Check info(): NumericalIssue if A is not positive definite.
+    void factorize(const Eigen::SparseMatrix<double>& A)
+    {
+        if (!subtree_ || !A.isCompressed())
+        {
+            const SerialOpenMp serial;
+            Base::factorize(A);
+            return;
+        }
+        const SerialOpenMp serial;  // one BLAS thread per factorization thread
+        cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+        const bool ok =
+            subtree_->factorize(view, *this->m_cholmodFactor, this->cholmod(), threads_);
+        this->m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_factorizationIsOk = true;
+    }
+
     //! Symbolic analysis of \p A (the UpLo triangle, compressed) eliminating its unknowns in
     //! \p order (each once). Check info().
     void analyze_given(const Eigen::SparseMatrix<double>& A, std::vector<int> order)
@@ -26,11 +53,18 @@ public:
         }
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
         this->m_cholmodFactor = analyze_in_order(view, &order, this->cholmod());
+        subtree_.reset();
+        if (this->m_cholmodFactor && this->m_cholmodFactor->is_super && A.isCompressed())
+            subtree_ = std::make_unique<SubtreeFactorization>(view, *this->m_cholmodFactor);
         this->m_isInitialized = true;
         this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
         this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
         this->m_factorizationIsOk = false;
     }
+
+private:
+    std::unique_ptr<SubtreeFactorization> subtree_;
+    int threads_ = 2;
 };
 
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
