@@ -4,6 +4,7 @@
 #include "detail/cholmod_common.h"
 #include "detail/face_jacobian.h"
 #include "detail/serial_openmp.h"
+#include "detail/subtree_factorization.h"
 #include "detail/subtree_solver.h"
 #include "vessel/errors.h"
 
@@ -170,8 +171,8 @@ public:
             }
         Eigen::SparseMatrix<double> K(n_free_, n_free_);
         K.setFromTriplets(triplets.begin(), triplets.end());
-        // CHOLMOD's supernodal factorization (BLAS-3; carotid-300k: 0.15 s against 0.5 s for
-        // its simplicial one), copied for the solves into a SubtreeSolver, which runs them on
+        // A supernodal factorization in CHOLMOD's layout (BLAS-3; carotid-300k: 0.15 s against
+        // 0.5 s for CHOLMOD's simplicial one; SubtreeFactorization's numeric part), copied for the solves into a SubtreeSolver, which runs them on
         // two threads without the supernodal solve's BLAS call per supernode (that cost more
         // than its arithmetic here). The given ordering, else CHOLMOD's default ordering choice
         // (AMD here), as Eigen's CholmodSupernodalLLT makes it. CHOLMOD's factor is freed once
@@ -186,8 +187,9 @@ public:
         const detail::SerialOpenMp serial;
         cholmod_factor* factor =
             detail::analyze_in_order(view, ordering ? &given : nullptr, common.c);
-        const bool factored = factor != nullptr && cholmod_factorize(&view, factor, &common.c) &&
-                              common.c.status == CHOLMOD_OK && factor->minor == factor->n;
+        // One thread: the pipeline makes this factor on its own thread beside LSCM's.
+        const bool factored =
+            factor != nullptr && detail::factorize_once(view, *factor, common.c, 1);
         try
         {
             if (factored)

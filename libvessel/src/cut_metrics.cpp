@@ -117,6 +117,7 @@ HarmonicLongitudinal::HarmonicLongitudinal(const Mesh& mesh,
     A.setFromTriplets(entries.begin(), entries.end());
     {
         const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run
+        d.solver.set_threads(1);  // flatten() makes it on a thread beside the curvature fits
         if (ordering)
         {
             std::vector<int> unknown_of(d.unknown.begin(), d.unknown.end());

@@ -4,6 +4,7 @@
 #include "vessel/operators.h"
 #include "detail/cholmod_common.h"
 #include "detail/serial_openmp.h"
+#include "detail/subtree_factorization.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -57,8 +58,8 @@ void factorize(const SparseMatrix& A, cholmod_factor* L, const char* what)
     Common common;
     cholmod_sparse view = lower_view(A);
     const detail::SerialOpenMp serial;  // serial BLAS: the same bits in every run (see there)
-    if (!cholmod_factorize(&view, L, &common.c) || common.c.status != CHOLMOD_OK ||
-        L->minor != L->n)
+    // One thread each: the three factorizations already share the two cores.
+    if (!detail::factorize_once(view, *L, common.c, 1))
         throw_cholmod(std::string("factorization of the ") + what, common.c);
 }
 

@@ -279,4 +279,13 @@ bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
     return failed.load() == n_;
 }
 
+bool factorize_once(const cholmod_sparse& A, cholmod_factor& L, cholmod_common& common,
+                    int threads)
+{
+    if (!L.is_super || L.itype != CHOLMOD_INT || A.itype != CHOLMOD_INT || !A.packed)
+        return cholmod_factorize(const_cast<cholmod_sparse*>(&A), &L, &common) &&
+               common.status == CHOLMOD_OK && L.minor == L.n;
+    return SubtreeFactorization(A, L).factorize(A, L, common, threads);
+}
+
 }  // namespace vessel::detail

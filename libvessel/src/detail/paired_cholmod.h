@@ -24,7 +24,23 @@ public:
     //! Threads of factorize() (1 or 2; the same factor either way).
     void set_threads(int threads) { threads_ = threads; }
 
-    //! Numeric factorization of \p A, whose pattern analyze_given() analysed (compressed).
+    //! Eigen's analyzePattern() (CHOLMOD's ordering), then made ready for factorize().
+    void analyzePattern(const Eigen::SparseMatrix<double>& A)
+    {
+        Base::analyzePattern(A);
+        prepare(A);
+    }
+
+    //! analyzePattern(), then factorize().
+    void compute(const Eigen::SparseMatrix<double>& A)
+    {
+        analyzePattern(A);
+        if (this->info() == Eigen::Success)
+            factorize(A);
+    }
+
+    //! Numeric factorization of \p A, whose pattern analyze_given() or analyzePattern()
+    //! analysed.
     //! Check info(): NumericalIssue if A is not positive definite.
     void factorize(const Eigen::SparseMatrix<double>& A)
     {
@@ -53,16 +69,26 @@ public:
         }
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
         this->m_cholmodFactor = analyze_in_order(view, &order, this->cholmod());
-        subtree_.reset();
-        if (this->m_cholmodFactor && this->m_cholmodFactor->is_super && A.isCompressed())
-            subtree_ = std::make_unique<SubtreeFactorization>(view, *this->m_cholmodFactor);
         this->m_isInitialized = true;
         this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
         this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
         this->m_factorizationIsOk = false;
+        prepare(A);
     }
 
 private:
+    // The numeric factorization's plan for the analysed pattern of A (none for a simplicial
+    // factor or a matrix not compressed: factorize() then calls CHOLMOD's).
+    void prepare(const Eigen::SparseMatrix<double>& A)
+    {
+        subtree_.reset();
+        if (this->m_cholmodFactor && this->m_cholmodFactor->is_super && A.isCompressed())
+        {
+            cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+            subtree_ = std::make_unique<SubtreeFactorization>(view, *this->m_cholmodFactor);
+        }
+    }
+
     std::unique_ptr<SubtreeFactorization> subtree_;
     int threads_ = 2;
 };

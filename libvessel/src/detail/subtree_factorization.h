@@ -68,4 +68,10 @@ private:
     long a_nonzeros_ = 0;
 };
 
+//! One numeric factorization of \p A into the symbolic factor \p L (as analysed from A's pattern
+//! by cholmod_analyze()): a SubtreeFactorization on \p threads threads when L is supernodal,
+//! else cholmod_factorize(). \return false if CHOLMOD fails or A is not positive definite.
+bool factorize_once(const cholmod_sparse& A, cholmod_factor& L, cholmod_common& common,
+                    int threads);
+
 }  // namespace vessel::detail
