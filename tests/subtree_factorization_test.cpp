@@ -90,7 +90,7 @@ TEST_CASE("subtree factorization: a real mesh's paired system, as CHOLMOD factor
     CholmodCommon common;
     cholmod_factor* ours[2] = {analyze(A, common), analyze(A, common)};
     cholmod_factor* theirs = analyze(A, common);
-    const SubtreeFactorization factorization(view, *ours[0]);
+    SubtreeFactorization factorization(view, *ours[0]);
     // The tree splits into two sets that both carry work (else two threads would not run).
     CHECK(factorization.set_share(0) > 0.2);
     CHECK(factorization.set_share(1) > 0.2);
@@ -142,7 +142,7 @@ TEST_CASE("subtree factorization: an indefinite matrix is reported at CHOLMOD's 
     common.c.print = 0;
     cholmod_factor* ours = analyze(A, common);
     cholmod_factor* theirs = analyze(A, common);
-    const SubtreeFactorization factorization(view, *ours);
+    SubtreeFactorization factorization(view, *ours);
     for (int threads : {1, 2})
         CHECK_FALSE(factorization.factorize(view, *ours, common.c, threads));
     cholmod_factorize(&view, theirs, &common.c);

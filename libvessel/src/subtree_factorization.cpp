@@ -23,13 +23,6 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 
 namespace vessel::detail {
 
-struct SubtreeFactorization::Context
-{
-    std::vector<int> head;       // by supernode: the first supernode waiting to update it, or -1
-    std::vector<int> map;        // by row: its place in the rows of the supernode being made
-    std::vector<double> update;  // one descendant's update block
-};
-
 SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmod_factor& L)
 {
     if (!L.is_super || L.itype != CHOLMOD_INT || A.itype != CHOLMOD_INT || !A.packed ||
@@ -99,8 +92,7 @@ SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmo
             if (owner_of_place[entry_row[e]] != s)
                 throw SolverError("SubtreeFactorization: the matrix has an entry outside the "
                                   "factor's pattern; analyze this matrix's pattern");
-            entries_[e].dest = px[s] + static_cast<long>(entry_column[e] - super[s]) * height +
-                               place[entry_row[e]];
+            entries_[e].dest = px[s] + (entry_column[e] - super[s]) * height + place[entry_row[e]];
         }
     }
 
@@ -236,7 +228,7 @@ void SubtreeFactorization::run(int part, Context& context, const cholmod_factor&
 }
 
 bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
-                                     cholmod_common& common, int threads) const
+                                     cholmod_common& common, int threads)
 {
     if (A.ncol != static_cast<std::size_t>(n_) || L.n != static_cast<std::size_t>(n_) ||
         static_cast<const int*>(A.p)[n_] != a_nonzeros_ || !A.packed)
@@ -254,14 +246,19 @@ bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
         throw SolverError("SubtreeFactorization: the factor is not the analysed one");
     double* Lx = static_cast<double*>(L.x);
     const double* Ax = static_cast<const double*>(A.x);
-    std::vector<Context> contexts(3);
-    for (Context& context : contexts)
+    // Every list is empty after a complete factorization, but not after a failed one.
+    contexts_.resize(3);
+    for (Context& context : contexts_)
     {
         context.head.assign(nsuper_, -1);
         context.map.resize(n_);
         context.update.resize(max_update_);
     }
-    std::vector<int> next(nsuper_, -1), position(nsuper_, 0);
+    next_.resize(nsuper_);
+    position_.resize(nsuper_);
+    std::vector<Context>& contexts = contexts_;
+    std::vector<int>& next = next_;
+    std::vector<int>& position = position_;
     std::atomic<int> failed{n_};
     if (threads > 1 && !order_[0].empty() && !order_[1].empty())
     {

@@ -36,8 +36,9 @@ public:
     //! Factorizes \p A (the pattern given at construction, new values) into \p L, allocating its
     //! values the first time. \return false if A is not positive definite (L->minor is then the
     //! failing column, as cholmod_factorize() sets it).
+    //! Not for two threads at once on one object (it keeps its scratch between calls).
     bool factorize(const cholmod_sparse& A, cholmod_factor& L, cholmod_common& common,
-                   int threads) const;
+                   int threads);
 
     //! Share of the estimated flops in each of the two sets (the rest is the top).
     double set_share(int set) const;
@@ -45,11 +46,16 @@ public:
 private:
     struct Entry
     {
-        long value;  // index into A's values
-        long dest;   // index into the factor's values
+        int value;  // index into A's values
+        int dest;   // index into the factor's values (CHOLMOD's int factor: below 2^31)
     };
     // One thread's scratch and its lists of the supernodes waiting to update a supernode.
-    struct Context;
+    struct Context
+    {
+        std::vector<int> head;       // by supernode: the first supernode waiting to update it, or -1
+        std::vector<int> map;        // by row: its place in the rows of the supernode being made
+        std::vector<double> update;  // one descendant's update block
+    };
     // Makes the supernodes of `part` (0, 1: a set; 2: the top) in \p context's lists; stops
     // at a supernode that is not positive definite (its failing column lowers \p failed).
     void run(int part, Context& context, const cholmod_factor& L, double* Lx,
@@ -66,6 +72,9 @@ private:
     std::vector<Entry> entries_;
     double share_[2] = {0.0, 0.0};
     long a_nonzeros_ = 0;
+    // factorize()'s scratch, kept for the next call: a context per part, the supernode lists.
+    std::vector<Context> contexts_;
+    std::vector<int> next_, position_;
 };
 
 //! One numeric factorization of \p A into the symbolic factor \p L (as analysed from A's pattern
