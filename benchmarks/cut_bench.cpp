@@ -8,6 +8,7 @@
 // VC/bare/ (ours with the method's bare rule) and VC/peer-our-costs/ (the peer's search on our
 // travel costs) solve one problem and find the same paths: the like-for-like pair.
 // See docs/benchmarks.md.
+#include "bench_meshes.h"
 #include "cgal_peer.h"
 
 #include "vessel/boundary.h"
@@ -275,27 +276,7 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
 
 int main(int argc, char** argv)
 {
-    const std::string real = VESSEL_SHARED_DATA;
-    for (const char* file :
-         {"vampy/artery-coarse.ply", "x-ray-angio-data/coronary-clinical-branch-fine.ply",
-          "vampy/artery.ply", "vmtk-test-data/aorta-surface-open-ends.ply",
-          "x-ray-angio-data/coronary-phantom-tri3-coarse.ply", "simvascular-tests/demo-model-open.ply",
-          "vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply",
-          "svfsi-tests/pulmonary-glenn-wall.ply", "svfsi-tests/pulmonary-glenn-wall-split4.ply"})
-    {
-        const std::string path = real + "/" + file;
-        add_mesh(file, [path] { return vessel::load_tree_surface(path).mesh; });
-    }
-    // The carotid phantoms of vessel-bench-table at 44k and 300k triangles.
-    for (const auto& [name, edge] : {std::pair{"carotid-44k", 0.263}, {"carotid-300k", 0.1013}})
-    {
-        const double e = edge;
-        add_mesh(name, [e] {
-            vessel::CarotidPhantomOptions o;
-            o.edge_length = e;
-            return vessel::carotid_phantom(o);
-        });
-    }
+    vessel_bench::for_each_bench_mesh(add_mesh);
     benchmark::Initialize(&argc, argv);
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -1,8 +1,8 @@
 #include "detail/cholmod_common.h"
 #include "detail/paired_cholmod.h"
+#include "detail/paired_system.h"
 #include "detail/subtree_factorization.h"
 #include "vessel/errors.h"
-#include "vessel/operators.h"
 #include "vessel/validation.h"
 
 #include <Eigen/CholmodSupport>
@@ -19,37 +19,12 @@ using vessel::detail::SubtreeFactorization;
 
 namespace {
 
-// A system of the kind the flattening factors, on a real vessel mesh: per vertex a (u, v) pair,
-// the cotangent Laplacian (made definite by a small shift) on both, and the u-v couplings of
-// neighbours in the pattern as LSCM has them (here with value 0). Upper triangle, compressed.
+// detail::paired_laplacian_system() of a real vessel mesh.
 Eigen::SparseMatrix<double> paired_system(const char* relative)
 {
     const std::string path = std::string(VESSEL_SHARED_DATA) + "/" + relative;
     REQUIRE_MESSAGE(std::filesystem::exists(path), "missing shared data: " << path);
-    const vessel::Mesh mesh = vessel::load_tree_surface(path).mesh;
-    Eigen::SparseMatrix<double> L = vessel::cotan_laplacian(mesh);
-    if (L.coeff(0, 0) < 0.0)
-        L = -L;
-    std::vector<Eigen::Triplet<double>> t;
-    for (int k = 0; k < L.outerSize(); ++k)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(L, k); it; ++it)
-        {
-            const int i = static_cast<int>(it.row()), j = static_cast<int>(it.col());
-            if (i > j)
-                continue;
-            const double value = it.value() + (i == j ? 1e-3 : 0.0);
-            t.emplace_back(2 * i, 2 * j, value);
-            t.emplace_back(2 * i + 1, 2 * j + 1, value);
-            if (i != j)
-            {
-                t.emplace_back(2 * i, 2 * j + 1, 0.0);
-                t.emplace_back(2 * i + 1, 2 * j, 0.0);
-            }
-        }
-    Eigen::SparseMatrix<double> A(2 * L.rows(), 2 * L.rows());
-    A.setFromTriplets(t.begin(), t.end());
-    A.makeCompressed();
-    return A;
+    return vessel::detail::paired_laplacian_system(vessel::load_tree_surface(path).mesh);
 }
 
 // CHOLMOD's view of the symmetric matrix whose upper triangle \p A holds (stype 1).
