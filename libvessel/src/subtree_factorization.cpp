@@ -134,7 +134,8 @@ double SubtreeFactorization::set_share(int set) const
     return share_[set];
 }
 
-void SubtreeFactorization::run(int part, Context& context, const cholmod_factor& L, double* Lx,
+void SubtreeFactorization::run(int part, Context& context, Context& scratch,
+                               const cholmod_factor& L, double* Lx,
                                std::vector<int>& next, std::vector<int>& position,
                                std::vector<Context>& all, const double* Ax,
                                std::atomic<int>& failed) const
@@ -165,7 +166,7 @@ void SubtreeFactorization::run(int part, Context& context, const cholmod_factor&
         for (long e = entry_start_[s]; e < entry_start_[s + 1]; ++e)
             Lx[entries_[e].dest] += Ax[entries_[e].value];
         for (int k = 0; k < height; ++k)
-            context.map[rows[pi[s] + k]] = k;
+            scratch.map[rows[pi[s] + k]] = k;
 
         // The descendants that update s: those listed by this thread, and in the top also
         // those each set's thread left waiting for it.
@@ -182,7 +183,7 @@ void SubtreeFactorization::run(int part, Context& context, const cholmod_factor&
                     ++middle;
                 const int inside = middle - begin, below = pi[d + 1] - begin;
                 const double* source = Lx + px[d] + (begin - pi[d]);
-                double* C = context.update.data();
+                double* C = scratch.update.data();
                 dsyrk_("L", "N", &inside, &d_width, &one, source, &d_height, &zero, C, &below);
                 if (below > inside)
                 {
@@ -195,7 +196,7 @@ void SubtreeFactorization::run(int part, Context& context, const cholmod_factor&
                     double* column = block + static_cast<long>(rows[begin + j] - first) * height;
                     const double* c = C + static_cast<long>(j) * below;
                     for (int i = j; i < below; ++i)
-                        column[context.map[rows[begin + i]]] -= c[i];
+                        column[scratch.map[rows[begin + i]]] -= c[i];
                 }
                 wait(d, middle - pi[d]);
                 d = d_next;
@@ -246,13 +247,17 @@ bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
         throw SolverError("SubtreeFactorization: the factor is not the analysed one");
     double* Lx = static_cast<double*>(L.x);
     const double* Ax = static_cast<const double*>(A.x);
-    // Every list is empty after a complete factorization, but not after a failed one.
+    // Every list is empty after a complete factorization, but not after a failed one. The top
+    // runs after both sets, with the first set's row map and update block.
     contexts_.resize(3);
-    for (Context& context : contexts_)
+    for (int part = 0; part < 3; ++part)
     {
-        context.head.assign(nsuper_, -1);
-        context.map.resize(n_);
-        context.update.resize(max_update_);
+        contexts_[part].head.assign(nsuper_, -1);
+        if (part < 2)
+        {
+            contexts_[part].map.resize(n_);
+            contexts_[part].update.resize(max_update_);
+        }
     }
     next_.resize(nsuper_);
     position_.resize(nsuper_);
@@ -262,16 +267,17 @@ bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
     std::atomic<int> failed{n_};
     if (threads > 1 && !order_[0].empty() && !order_[1].empty())
     {
-        std::thread other([&] { run(1, contexts[1], L, Lx, next, position, contexts, Ax, failed); });
-        run(0, contexts[0], L, Lx, next, position, contexts, Ax, failed);
+        std::thread other(
+            [&] { run(1, contexts[1], contexts[1], L, Lx, next, position, contexts, Ax, failed); });
+        run(0, contexts[0], contexts[0], L, Lx, next, position, contexts, Ax, failed);
         other.join();
     }
     else
     {
-        run(0, contexts[0], L, Lx, next, position, contexts, Ax, failed);
-        run(1, contexts[1], L, Lx, next, position, contexts, Ax, failed);
+        run(0, contexts[0], contexts[0], L, Lx, next, position, contexts, Ax, failed);
+        run(1, contexts[1], contexts[1], L, Lx, next, position, contexts, Ax, failed);
     }
-    run(2, contexts[2], L, Lx, next, position, contexts, Ax, failed);
+    run(2, contexts[2], contexts[0], L, Lx, next, position, contexts, Ax, failed);
     L.minor = static_cast<std::size_t>(failed.load());
     return failed.load() == n_;
 }

@@ -54,11 +54,12 @@ private:
     {
         std::vector<int> head;       // by supernode: the first supernode waiting to update it, or -1
         std::vector<int> map;        // by row: its place in the rows of the supernode being made
-        std::vector<double> update;  // one descendant's update block
+        std::vector<double> update;  // one descendant's update block (map, update: sets only)
     };
-    // Makes the supernodes of `part` (0, 1: a set; 2: the top) in \p context's lists; stops
-    // at a supernode that is not positive definite (its failing column lowers \p failed).
-    void run(int part, Context& context, const cholmod_factor& L, double* Lx,
+    // Makes the supernodes of `part` (0, 1: a set; 2: the top) in \p context's lists with
+    // \p scratch's row map and update block; stops at a supernode that is not positive definite
+    // (its failing column lowers \p failed).
+    void run(int part, Context& context, Context& scratch, const cholmod_factor& L, double* Lx,
              std::vector<int>& next, std::vector<int>& position, std::vector<Context>& all,
              const double* Ax, std::atomic<int>& failed) const;
 
