@@ -68,32 +68,23 @@ SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmo
     for (int s = 0; s < nsuper_; ++s)
         entry_start_[s + 1] += entry_start_[s];
     entries_.resize(entry_start_[nsuper_]);
-    std::vector<int> entry_row(entries_.size()), entry_column(entries_.size());
     {
+        // A supernode's rows are sorted (CHOLMOD keeps them so; the updates rely on it too):
+        // an entry's place among them is found by bisection.
         std::vector<long> cursor(entry_start_.begin(), entry_start_.end() - 1);
         read([&](int p, int row, int column) {
-            const long e = cursor[super_of_[column]]++;
-            entries_[e].value = p;
-            entry_row[e] = row;
-            entry_column[e] = column;
-        });
-    }
-    std::vector<int> place(n_, -1), owner_of_place(n_, -1);
-    for (int s = 0; s < nsuper_; ++s)
-    {
-        const int height = pi[s + 1] - pi[s];
-        for (int k = 0; k < height; ++k)
-        {
-            place[rows[pi[s] + k]] = k;
-            owner_of_place[rows[pi[s] + k]] = s;
-        }
-        for (long e = entry_start_[s]; e < entry_start_[s + 1]; ++e)
-        {
-            if (owner_of_place[entry_row[e]] != s)
+            const int s = super_of_[column];
+            const int* first = rows + pi[s];
+            const int* last = rows + pi[s + 1];
+            const int* found = std::lower_bound(first, last, row);
+            if (found == last || *found != row)
                 throw SolverError("SubtreeFactorization: the matrix has an entry outside the "
                                   "factor's pattern; analyze this matrix's pattern");
-            entries_[e].dest = px[s] + (entry_column[e] - super[s]) * height + place[entry_row[e]];
-        }
+            const long e = cursor[s]++;
+            entries_[e].value = p;
+            entries_[e].dest = px[s] + (column - super[s]) * static_cast<int>(last - first) +
+                               static_cast<int>(found - first);
+        });
     }
 
     // The supernodal tree (a supernode's parent holds its first row below its own columns),
