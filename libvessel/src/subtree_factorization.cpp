@@ -91,16 +91,24 @@ SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmo
     // weighted by an estimate of the flops each supernode's columns cost and send.
     std::vector<int> parent(nsuper_, -1);
     std::vector<double> work(nsuper_), subtree_work(nsuper_);
-    long largest = 0;
     for (int s = 0; s < nsuper_; ++s)
     {
         const int width = super[s + 1] - super[s], height = pi[s + 1] - pi[s];
         if (height > width)
             parent[s] = super_of_[rows[pi[s] + width]];
         work[s] = static_cast<double>(width) * height * height;
-        largest = std::max(largest, static_cast<long>(height - width) * (height - width));
+        // The update blocks this supernode sends (run()): from each run of its rows below its
+        // columns that falls in one ancestor's columns, that run by the rows from it on.
+        for (int p = pi[s] + width; p < pi[s + 1];)
+        {
+            const int target_end = super[super_of_[rows[p]] + 1];
+            int q = p;
+            while (q < pi[s + 1] && rows[q] < target_end)
+                ++q;
+            max_update_ = std::max(max_update_, static_cast<long>(q - p) * (pi[s + 1] - p));
+            p = q;
+        }
     }
-    max_update_ = L.maxcsize > 0 ? static_cast<long>(L.maxcsize) : largest;
     for (int s = 0; s < nsuper_; ++s)
     {
         subtree_work[s] += work[s];
