@@ -191,7 +191,7 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
     if (!energy.Evaluate(p.data(), &cost, gradient.data()))
         return 0;
     // The u and v of a vertex share their sparsity: the paired analysis of SLIM's global step
-    // (the vertex graph ordered by AMD, by METIS on large maps), on the upper triangle.
+    // (the vertex graph ordered by AMD, by METIS on the largest maps), on the upper triangle.
     // Against CHOLMOD's own AMD on the lower triangle: carotid-300k, 10 Newton steps, 2
     // analyses: the factor's flops 1.17e10 -> 6.1e9, a factorization ~1.08 -> ~0.7 s
     // (docs/benchmarks.md, branch fspeed7).

@@ -104,8 +104,13 @@ private:
 class PairedCholmod : public OrderedCholmod<Eigen::Upper>
 {
 public:
-    //! Vertex count from which the vertex graph is ordered by METIS instead of AMD.
-    static constexpr int kMetisVertices = 100000;
+    //! Vertex count from which the vertex graph is ordered by METIS instead of AMD. METIS's
+    //! nested dissection fills less (carotid-1M, 500k vertices, SLIM: peak RSS 2752 -> 2431 MB)
+    //! but costs far more to compute, and SLIM with a scaffold orders a new pattern at every
+    //! new triangulation: with AMD instead, Glenn split4 (139k vertices, 225 triangulations)
+    //! flattened in 191 s against 285 s, carotid-300k (150k) in 19.0 s against 20.3 s (peak
+    //! RSS 876 against 810 MB), the same maps' figures (docs/benchmarks.md).
+    static constexpr int kMetisVertices = 400000;
 
     //! Symbolic analysis of \p A (upper triangle, compressed, even size). Check info().
     //! \p metis_vertices: the vertex count from which METIS orders (a single factorization,
@@ -144,8 +149,8 @@ public:
         std::vector<int> vertex_order(n);
         // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
         // fill on large maps (carotid-1M, SLIM: peak RSS 2752 -> 2431 MB, page faults 11.0M
-        // -> 8.9M; 300k: 808 -> 750 MB), the same CPU time there (branch fspeed6,
-        // docs/benchmarks.md); below it AMD, cheaper to compute on small graphs.
+        // -> 8.9M; branch fspeed6, docs/benchmarks.md); below it AMD, far cheaper to compute
+        // (see kMetisVertices).
         const bool ok =
             n >= metis_vertices
                 ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())
