@@ -172,11 +172,11 @@ public:
         Eigen::SparseMatrix<double> K(n_free_, n_free_);
         K.setFromTriplets(triplets.begin(), triplets.end());
         // A supernodal factorization in CHOLMOD's layout (BLAS-3; carotid-300k: 0.15 s against
-        // 0.5 s for CHOLMOD's simplicial one; SubtreeFactorization's numeric part), copied for the solves into a SubtreeSolver, which runs them on
-        // two threads without the supernodal solve's BLAS call per supernode (that cost more
-        // than its arithmetic here). The given ordering, else CHOLMOD's default ordering choice
-        // (AMD here), as Eigen's CholmodSupernodalLLT makes it. CHOLMOD's factor is freed once
-        // copied.
+        // 0.5 s for CHOLMOD's simplicial one; SubtreeFactorization's numeric part), copied for
+        // the solves into a SubtreeSolver, which runs them on two threads without the
+        // supernodal solve's BLAS call per supernode (that cost more than its arithmetic here).
+        // The given ordering, else CHOLMOD's default ordering choice (AMD here), as Eigen's
+        // CholmodSupernodalLLT makes it. CHOLMOD's factor is freed once copied.
         std::vector<int> given;
         if (ordering)
             given = unknown_order(*ordering, dof_, n_free_);

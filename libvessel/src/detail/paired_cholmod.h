@@ -44,13 +44,12 @@ public:
     //! Check info(): NumericalIssue if A is not positive definite.
     void factorize(const Eigen::SparseMatrix<double>& A)
     {
+        const SerialOpenMp serial;  // one BLAS thread per factorization thread
         if (!subtree_ || !A.isCompressed())
         {
-            const SerialOpenMp serial;
             Base::factorize(A);
             return;
         }
-        const SerialOpenMp serial;  // one BLAS thread per factorization thread
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
         const bool ok =
             subtree_->factorize(view, *this->m_cholmodFactor, this->cholmod(), threads_);
