@@ -6,6 +6,8 @@
 // 300k phantom takes seconds).
 
 #include "vessel/phantom.h"
+
+#include <benchmark/benchmark.h>
 #include "vessel/validation.h"
 
 #include <functional>
@@ -37,6 +39,19 @@ inline void for_each_bench_mesh(
             return vessel::carotid_phantom(o);
         });
     }
+}
+
+//! main() of a Google Benchmark executable: \p add_mesh registers its benchmarks of each mesh,
+//! then the command line's filter and options run them.
+inline int run_on_bench_meshes(
+    int argc, char** argv,
+    const std::function<void(const std::string&, std::function<vessel::Mesh()>)>& add_mesh)
+{
+    for_each_bench_mesh(add_mesh);
+    benchmark::Initialize(&argc, argv);
+    benchmark::RunSpecifiedBenchmarks();
+    benchmark::Shutdown();
+    return 0;
 }
 
 }  // namespace vessel_bench

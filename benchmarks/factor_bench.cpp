@@ -77,9 +77,5 @@ void add_mesh(const std::string& name, std::function<vessel::Mesh()> make)
 
 int main(int argc, char** argv)
 {
-    vessel_bench::for_each_bench_mesh(add_mesh);
-    benchmark::Initialize(&argc, argv);
-    benchmark::RunSpecifiedBenchmarks();
-    benchmark::Shutdown();
-    return 0;
+    return vessel_bench::run_on_bench_meshes(argc, argv, add_mesh);
 }
