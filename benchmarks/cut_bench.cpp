@@ -1,8 +1,9 @@
 // vessel-cut-bench: the cut stages alone, GC (travel costs) and VC (cut paths), on the valid
 // real trees and the carotid phantoms, beside the CGAL peer's GC (boost adjacency_list) and VC
 // (boost Dijkstra per outlet). Google Benchmark reports wall and CPU time per iteration; stage Z
-// runs once per mesh outside the timing, as the peer's does. Z/winding/ times the one Z product
-// the cut planner reads that the peer has no counterpart of (winding_rate(), in flatten()'s Z).
+// runs once per mesh outside the timing, as the peer's does. Z/winding/ and Z/stream/ time the
+// Z products the cut planner reads that the peer has no counterpart of (winding_rate() and the
+// streamline routes' field, descent_direction() of H, both in flatten()'s Z).
 // VC/peer/ follows the method's rule as ours; VC/peer-inlet/ the peer's former, easier rule
 // (later cuts may end on the inlet); VC/check/ (no timing) compares the two sides' paths.
 // VC/bare/ (ours with the method's bare rule) and VC/peer-our-costs/ (the peer's search on our
@@ -43,6 +44,7 @@ struct Ours
     Eigen::MatrixX3d z;
     Eigen::VectorXd H;  // harmonic_longitudinal(), as stage Z of flatten() computes it
     Eigen::MatrixX3d winding;  // winding_rate(), as stage Z of flatten() computes it
+    Eigen::MatrixX3d stream;   // the streamline routes' field, as stage Z of flatten() makes it
     vessel::HalfedgeWeights weights;
     std::unique_ptr<vessel::CutGraph> graph;
 };
@@ -64,6 +66,7 @@ std::shared_ptr<Ours> stage_z(vessel::Mesh mesh)
     ours->z = vessel::align_to_root(ours->mesh, ours->curvature.min_direction, G);
     ours->H = vessel::harmonic_longitudinal(ours->mesh, ours->loops, G);
     ours->winding = winding(*ours);
+    ours->stream = vessel::descent_direction(ours->mesh, ours->H);
     return ours;
 }
 
@@ -111,11 +114,11 @@ vessel_bench::PeerCost our_costs(const Ours& o)
 }
 
 // VC as flatten() runs it with its default options (CutRoute::Aligned, CutJoin::Approach): the
-// harmonic stream field, then the cheapest and the traced path per outlet.
+// cheapest and the traced path per outlet (the stream field they trace is made in stage Z).
 vessel::CutPlan default_vc(Ours& o)
 {
-    return vessel::plan_cuts(*o.graph, o.loops, o.winding, vessel::CutPlanOptions{},
-                             vessel::descent_direction(o.mesh, o.H), o.H);
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, vessel::CutPlanOptions{}, o.stream,
+                             o.H);
 }
 
 // FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal
@@ -236,6 +239,11 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
         Ours& o = get_ours();
         for (auto _ : state)
             benchmark::DoNotOptimize(winding(o));
+    })->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("Z/stream/" + name).c_str(), [=](benchmark::State& state) {
+        Ours& o = get_ours();
+        for (auto _ : state)
+            benchmark::DoNotOptimize(vessel::descent_direction(o.mesh, o.H));
     })->Unit(benchmark::kMillisecond);
     for (const auto& [label, join] : {std::pair{"VC/peer/", vessel_bench::PeerJoin::Tree},
                                       {"VC/peer-inlet/", vessel_bench::PeerJoin::TreeOrInlet}})

@@ -143,49 +143,34 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
 }
 
 // Distance along edges to the cut tree (0 on it) and the next vertex toward it
-// (detail::EdgeDistance on the graph's arcs, which keep voh_range() order, with reused arrays);
-// loop vertices (loop_of >= 0) are neither seeds nor passed through.
-//
-// The grows are deferred (defer()) until a reader says how far it reads (cover()). Only
-// distances up to bound() are kept (farther vertices stay unreached): a vertex within it gets
-// the same distance and `via` as an unbounded grow, because Dijkstra settles everything within
-// the bound before anything beyond it, and every grow runs with the same bound. A reader that
-// needs farther values raises the bound, which replays every grow (cover()).
-// A part of a path that reads the tree distance (cut_back()): the box of its vertices and the
-// largest read among them.
+// (detail::EdgeDistance on the graph's arcs, which keep voh_range() order, with reused arrays),
+// grown only near where a reader reads it (near_zones()); loop vertices (loop_of >= 0) are
+// neither seeds nor passed through. The field is defined as the grows from each cut's vertices
+// in turn (defer()), each lowering the distances it improves: the via of a vertex that two
+// cuts reach at the same distance is the earlier cut's.
+// A part of a path that reads the tree distance (cut_back(), band_path()): the box of its
+// vertices and the largest read among them.
 struct ReadZone
 {
     Eigen::AlignedBox3d box;
     double read = 0.0;
 };
 
-// cut_back() splits its reading vertices into this many zones at most: a closer bound than
-// their one box, for a few box distances per vertex visited.
+// cut_back() and band_path() split their reading vertices into this many zones at most: a
+// closer bound than their one box, for a few box distances per vertex visited.
 constexpr std::size_t kReadZones = 8;
 
 class TreeDistance
 {
 public:
-    // \p bound: the first bound; \p step: the bound once a reader needs more, none if it needs
-    // more than that (at most two replays, not one per outlet that reads a little further);
-    // 0: just what the reader needs.
-    void reset(std::size_t nv, double bound, double step)
+    void reset(std::size_t nv)
     {
         nv_ = nv;
-        field_.reset(0);  // sized at the first cover(): cut_back() alone never grows it
         grown_.clear();
-        applied_ = 0;
         points_.clear();
-        bound_ = bound;
-        step_ = step;
     }
 
-    double bound() const { return bound_; }
-    const std::vector<double>& dist() const { return field_.dist; }
-    // Neighbour one step closer to the tree, -1 on it or unreached.
-    const std::vector<int>& via() const { return field_.via; }
-
-    // Adds \p seeds to the tree without growing the field yet.
+    // Adds \p seeds to the tree (their grow runs at each near_zones()).
     void defer(const Mesh& mesh, const std::vector<VertexHandle>& seeds,
                const std::vector<int>& loop_of)
     {
@@ -195,34 +180,16 @@ public:
                 points_.push_back(to_eigen(mesh.point(s)));
     }
 
-    // Makes the field exact within \p radius: the deferred grows run, or, if the bound is
-    // below \p radius, all of them again in order with the bound raised to the step (or to
-    // none beyond it).
-    void cover(const CutGraph& graph, const std::vector<int>& loop_of, double radius)
-    {
-        if (radius > bound_ || field_.dist.size() != nv_)
-        {
-            if (radius > bound_)
-                bound_ = !(step_ > 0.0)     ? radius
-                         : radius <= step_ ? step_
-                                           : std::numeric_limits<double>::infinity();
-            field_.reset(nv_);
-            applied_ = 0;
-        }
-        const auto off_loops = [&loop_of](int v) { return loop_of[v] < 0; };
-        for (; applied_ < grown_.size(); ++applied_)
-            field_.grow(graph.mesh(), grown_[applied_], detail::graph_neighbours(graph), off_loops, bound_);
-    }
-
-    // The field cover() would give, exact (distance and via) at every vertex that can lie on a
-    // shortest route from the tree to a point of a zone's box no longer than the zone's read:
-    // all grows replayed into a scratch field in order, a vertex entered only while its
+    // The field, exact (distance and via, as unbounded grows give them) at every vertex that
+    // can lie on a shortest route from the tree to a point of a zone's box no longer than the
+    // zone's read: all grows replayed into a scratch field in order, a vertex entered only while its
     // distance stays within its bound, the largest over the zones of
     // min(read, read + tolerance - straight distance to the zone's box) (\p tolerance for
     // rounding). Such a vertex's predecessors pass the same test (the straight distance to a
     // box drops by at most an edge's length), and the pops left are in the same (distance,
     // index) order, so they pick the same `via`; a vertex it does not reach lies farther than
-    // every zone's read, or on no such route. The tree's own field is left as it is.
+    // every zone's read, or on no such route, and a value beyond a zone's read may be too high.
+    // Valid until the next call.
     const detail::EdgeDistance& near_zones(const CutGraph& graph, const std::vector<int>& loop_of,
                                            const std::vector<ReadZone>& zones, double tolerance)
     {
@@ -234,15 +201,25 @@ public:
         for (int v : memoised_)
             memo_[v] = std::numeric_limits<double>::quiet_NaN();
         memoised_.clear();
+        // A vertex farther from all the zones' box than the largest read is entered by none:
+        // one box distance instead of one per zone for most of the tree's vertices.
+        Eigen::AlignedBox3d all;
+        double largest = -std::numeric_limits<double>::infinity();
+        for (const auto& zone : zones)
+        {
+            all.extend(zone.box);
+            largest = std::max(largest, zone.read);
+        }
         const auto bound_at = [&](int v) {
             double& bound = memo_[v];
             if (std::isnan(bound))
             {
                 const Eigen::Vector3d p = to_eigen(mesh.point(VertexHandle(v)));
                 bound = -std::numeric_limits<double>::infinity();
-                for (const auto& zone : zones)
-                    bound = std::max(bound, std::min(zone.read, zone.read + tolerance -
-                                                                    zone.box.exteriorDistance(p)));
+                if (largest + tolerance - all.exteriorDistance(p) >= 0.0)
+                    for (const auto& zone : zones)
+                        bound = std::max(bound, std::min(zone.read, zone.read + tolerance -
+                                                                        zone.box.exteriorDistance(p)));
                 memoised_.push_back(v);
             }
             return bound;
@@ -257,15 +234,11 @@ public:
     const std::vector<Eigen::Vector3d>& points() const { return points_; }
 
 private:
-    detail::EdgeDistance field_;
     detail::EdgeDistance scratch_;  // near_zones()
     std::vector<double> memo_;      // near_zones(): each vertex's bound
     std::vector<int> memoised_;     // the vertices with a bound in memo_
     std::size_t nv_ = 0;
-    double bound_ = std::numeric_limits<double>::infinity();
-    double step_ = 0.0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
-    std::size_t applied_ = 0;                       // grows run into the field so far
     std::vector<Eigen::Vector3d> points_;           // see points()
 };
 
@@ -275,7 +248,7 @@ private:
 // given) the trace is cut back to where it first comes within \p slack of its nearest
 // approach to the tree, and the band also covers the shortest bridge from there to the tree.
 // Empty when the trace does not arrive or the band holds no route. \p loop_of as in
-// TreeDistance, to raise \p tree's bound when the approach lies beyond it.
+// TreeDistance.
 // \p winding_rate: plan_cuts()'s, read by the band's search.
 std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
                                    const Eigen::MatrixX3d& winding_rate,
@@ -292,43 +265,61 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     std::vector<VertexHandle> seeds;
     if (tree)
     {
+        // The tree distance at the trace's corners, read through zones along the trace with a
+        // trial read: exact at every corner within it (TreeDistance::near_zones()). Every face
+        // within the slack of the nearest approach must lie within the read; if not, read as
+        // far as that (or, while no corner is reached, twice as far, up to 64 slacks, then
+        // without limit).
         std::vector<double> near(n_faces);
         std::vector<int> corner(n_faces, -1);
         double nearest = std::numeric_limits<double>::infinity();
-        const auto approach = [&] {
+        const detail::EdgeDistance* reached = nullptr;
+        const std::size_t n_zones = std::min(kReadZones, n_faces);
+        const std::size_t per_zone = (n_faces + n_zones - 1) / n_zones;
+        std::vector<ReadZone> zones;
+        for (std::size_t k = 0; k < n_faces; k += per_zone)
+        {
+            ReadZone zone;
+            for (std::size_t i = k; i < std::min(n_faces, k + per_zone); ++i)
+                for (auto v : mesh.fv_range(line.faces[i]))
+                    zone.box.extend(to_eigen(mesh.point(v)));
+            zones.push_back(zone);
+        }
+        const auto approach = [&](double read) {
+            for (auto& zone : zones)
+                zone.read = read;
+            reached = &tree->near_zones(graph, loop_of, zones, 1e-9 * read);
             nearest = std::numeric_limits<double>::infinity();
             for (std::size_t i = 0; i < n_faces; ++i)
             {
                 near[i] = std::numeric_limits<double>::infinity();
                 corner[i] = -1;
                 for (auto v : mesh.fv_range(line.faces[i]))
-                    if (tree->dist()[v.idx()] < near[i])
+                    if (reached->dist[v.idx()] < near[i])
                     {
-                        near[i] = tree->dist()[v.idx()];
+                        near[i] = reached->dist[v.idx()];
                         corner[i] = v.idx();
                     }
                 nearest = std::min(nearest, near[i]);
             }
         };
-        tree->cover(graph, loop_of, tree->bound());
-        approach();
-        // Every face within the slack of the nearest approach must lie inside the bound. A
-        // finite nearest approach is exact (values within the bound are); an infinite one lies
-        // beyond the bound: raise it (to the step, then none) until the trace meets the field.
-        while (!(nearest + slack <= tree->bound()))
+        double read = 3.0 * slack;
+        approach(read);
+        while (!(nearest + slack <= read))
         {
-            tree->cover(graph, loop_of,
-                        std::isfinite(nearest)
-                            ? nearest + slack
-                            : std::nextafter(tree->bound(), std::numeric_limits<double>::infinity()));
-            approach();
+            read = std::isfinite(nearest) ? nearest + slack
+                   : read < 64.0 * slack  ? 2.0 * read
+                                          : std::numeric_limits<double>::infinity();
+            approach(read);
+            if (!std::isfinite(read))
+                break;
         }
         if (!std::isfinite(nearest))
             return std::nullopt;
         n_faces = 0;
         while (near[n_faces] > nearest + slack)
             ++n_faces;
-        for (int v = corner[n_faces]; v >= 0; v = tree->via()[v])
+        for (int v = corner[n_faces]; v >= 0; v = reached->via[v])
             seeds.push_back(VertexHandle(v));
         ++n_faces;
     }
@@ -657,25 +648,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     const bool approach = options.join == CutJoin::Approach;
     const double slack = streamline ? options.join_rings * mean_edge : 0.0;
-    // The tree distance is read by cut_back() (CutJoin::Approach) only where a path vertex could
-    // pass, often nowhere, and on the streamline route up to the slack beyond a trace's nearest
-    // approach (which stops within join_rings of the tree when it arrives): at least 3 x the
-    // slack. cut_back() grows its own pruned copy (TreeDistance::near_zones()); band_path()
-    // raises the bound as far as it reads.
-    // On the streamline routes the bound starts at 3 x the slack and the largest reach, what
-    // both readers need but for an unusually far approach, which lifts it. Starting at 3 x the
-    // slack instead, with that as the step, saved 10% of the default VC on carotid-300k but
-    // cost 6% on pulmonary-glenn-wall-split4 (20 outlets, more replays); measured while
-    // cut_back() still read this field. Without a stream field the field itself is not grown.
+    // The distance to the cut tree is read by cut_back() (CutJoin::Approach) only where a path
+    // vertex could pass, often nowhere, and by band_path() at a later cut's trace up to the
+    // slack beyond its nearest approach (the trace stops within join_rings of the tree when it
+    // arrives); each grows it only near what it reads (TreeDistance::near_zones()). Until
+    // 2026-11-27 band_path() read a field grown from the whole tree out to the largest
+    // reach, which cost a third of the default VC on carotid-44k.
     TreeDistance tree;
     if (streamline || approach)
-    {
-        double step = 3.0 * slack;
-        if (approach)
-            for (std::size_t l = 2; l < loops.size(); ++l)
-                step = std::max(step, options.join_reach * (loops[l].arc_length / (2.0 * M_PI)));
-        tree.reset(nv, streamline ? step : 0.0, streamline ? step : 0.0);
-    }
+        tree.reset(nv);
 
     CutPlan plan;
     for (std::size_t l = 1; l < loops.size(); ++l)
