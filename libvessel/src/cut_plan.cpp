@@ -115,15 +115,23 @@ VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidat
 }
 
 // Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
-// farther), keeping smaller values already there; vertices flagged in \p skip are not entered.
+// farther), keeping smaller values already there; vertices \p skip(index) names are not
+// entered. Each vertex whose value it lowers is appended to \p lowered, when given.
+template <class Skip>
 void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, int max_rings,
-                const std::vector<int>& skip, std::vector<int>& ring)
+                Skip skip, std::vector<int>& ring, std::vector<int>* lowered = nullptr)
 {
     std::vector<VertexHandle> front;
+    const auto set = [&](int v, int r) {
+        if (lowered && ring[v] < 0)
+            lowered->push_back(v);
+        ring[v] = r;
+    };
     for (auto v : seeds)
-        if (skip[v.idx()] < 0)
+        if (!skip(v.idx()))
         {
-            ring[v.idx()] = 0;
+            if (ring[v.idx()] != 0)
+                set(v.idx(), 0);
             front.push_back(v);
         }
     const auto neighbours = detail::graph_neighbours(graph);
@@ -132,15 +140,25 @@ void grow_rings(const CutGraph& graph, const std::vector<VertexHandle>& seeds, i
         std::vector<VertexHandle> next;
         for (auto v : front)
             neighbours(v.idx(), [&](int w) {
-                if (skip[w] < 0 && (ring[w] < 0 || ring[w] > r))
+                if (!skip(w) && (ring[w] < 0 || ring[w] > r))
                 {
-                    ring[w] = r;
+                    set(w, r);
                     next.push_back(VertexHandle(w));
                 }
             });
         front.swap(next);
     }
 }
+
+// band_path()'s |V| arrays, kept across the outlets of one plan so that a band's search costs
+// only the band: `ring` is -1 and `band.is_blocked` 1 everywhere between calls.
+struct BandScratch
+{
+    explicit BandScratch(std::size_t nv) : ring(nv, -1) { band.is_blocked.assign(nv, 1); }
+    std::vector<int> ring;
+    std::vector<int> in_band;  // the vertices with ring >= 0 during a call
+    PathQuery band;
+};
 
 // Distance along edges to the cut tree (0 on it) and the next vertex toward it
 // (detail::EdgeDistance on the graph's arcs, which keep voh_range() order, with reused arrays),
@@ -250,7 +268,7 @@ private:
 // Empty when the trace does not arrive or the band holds no route. \p loop_of as in
 // TreeDistance.
 // \p winding_rate: plan_cuts()'s, read by the band's search.
-std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
+std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query, BandScratch& scratch,
                                    const Eigen::MatrixX3d& winding_rate,
                                    const Eigen::MatrixX3d& field, VertexHandle start,
                                    const std::vector<char>& stop_at, int band_rings,
@@ -328,23 +346,22 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     for (std::size_t i = 0; i < n_faces; ++i)
         for (auto v : mesh.fv_range(line.faces[i]))
             seeds.push_back(v);
-    const std::vector<int> no_skip(mesh.n_vertices(), -1);
-    std::vector<int> ring(mesh.n_vertices(), -1);
-    grow_rings(graph, seeds, band_rings, no_skip, ring);
+    std::vector<int>& ring = scratch.ring;
+    scratch.in_band.clear();
+    grow_rings(graph, seeds, band_rings, [](int) { return false; }, ring, &scratch.in_band);
 
-    PathQuery band;
+    // The band's query: the outlet's targets (lent by \p query for the search), every vertex
+    // outside the band blocked, and the loop's other vertices: the cut opens its loop at `start`
+    // only, with no step along the rim (boundary edges).
+    PathQuery& band = scratch.band;
     band.sources = {start};
-    band.is_target = query.is_target;
-    band.is_blocked = query.is_blocked;
-    band.is_blocked.resize(mesh.n_vertices(), 0);
     band.tie_tolerance = query.tie_tolerance;
-    // The cut opens its loop at `start` only: no step along the rim (boundary edges).
+    band.is_target.swap(query.is_target);
+    for (int v : scratch.in_band)
+        band.is_blocked[v] = query.is_blocked.empty() ? 0 : query.is_blocked[v];
     for (auto v : query.sources)
         if (v != start)
             band.is_blocked[v.idx()] = 1;
-    for (std::size_t v = 0; v < ring.size(); ++v)
-        if (ring[v] < 0)
-            band.is_blocked[v] = 1;
     std::optional<GraphPath> path;
     try
     {
@@ -353,6 +370,12 @@ std::optional<GraphPath> band_path(CutGraph& graph, const PathQuery& query,
     catch (const InvalidInputError&)
     {
         // no target inside the band
+    }
+    band.is_target.swap(query.is_target);
+    for (int v : scratch.in_band)
+    {
+        band.is_blocked[v] = 1;
+        ring[v] = -1;
     }
     return path;
 }
@@ -645,6 +668,8 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     // options.join_rings (-1 beyond); a later cut's streamline stops where join >= 0.
     std::vector<int> join(streamline ? nv : 0, -1);
     std::vector<char> stop_at(streamline ? nv : 0, 0);
+    std::vector<int> joined;  // vertices given a join value since the last trace
+    BandScratch band_scratch(streamline ? nv : 0);
     const bool closest = options.join == CutJoin::Closest && options.route != CutRoute::Streamline;
     const bool approach = options.join == CutJoin::Approach;
     const double slack = streamline ? options.join_rings * mean_edge : 0.0;
@@ -724,11 +749,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         {
             if (l == 1)
                 stop_at = query.is_target;
-            else
+            else if (l == 2)
                 for (std::size_t v = 0; v < nv; ++v)
                     stop_at[v] = join[v] >= 0;
+            else
+                for (int v : joined)
+                    stop_at[v] = 1;
+            joined.clear();
             std::optional<GraphPath> along =
-                band_path(graph, query, winding_rate, stream_field,
+                band_path(graph, query, band_scratch, winding_rate, stream_field,
                           mesh.from_vertex_handle(found.halfedges.front()), stop_at,
                           options.band_rings, l == 1 ? nullptr : &tree, loop_of, slack);
             if (along && compare && !keep_traced(mesh, found, *along, stream_field,
@@ -767,7 +796,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
             for (auto h : cut.halfedges)
                 on_cut.push_back(mesh.to_vertex_handle(h));
             if (streamline)
-                grow_rings(graph, on_cut, options.join_rings, loop_of, join);
+                grow_rings(
+                    graph, on_cut, options.join_rings, [&loop_of](int v) { return loop_of[v] >= 0; },
+                    join, &joined);
             tree.defer(mesh, on_cut, loop_of);
         }
         plan.paths.push_back(std::move(cut));
