@@ -69,22 +69,36 @@ SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmo
         entry_start_[s + 1] += entry_start_[s];
     entries_.resize(entry_start_[nsuper_]);
     {
-        // A supernode's rows are sorted (CHOLMOD keeps them so; the updates rely on it too):
-        // an entry's place among them is found by bisection.
+        // Bucketed by supernode first (dest holds the row meanwhile, `offset` the column within
+        // the supernode), then each supernode's entries are placed through a map of its rows:
+        // one lookup per entry instead of a bisection of the supernode's rows.
+        std::vector<int> offset(entries_.size());
         std::vector<long> cursor(entry_start_.begin(), entry_start_.end() - 1);
         read([&](int p, int row, int column) {
             const int s = super_of_[column];
-            const int* first = rows + pi[s];
-            const int* last = rows + pi[s + 1];
-            const int* found = std::lower_bound(first, last, row);
-            if (found == last || *found != row)
-                throw SolverError("SubtreeFactorization: the matrix has an entry outside the "
-                                  "factor's pattern; analyze this matrix's pattern");
             const long e = cursor[s]++;
             entries_[e].value = p;
-            entries_[e].dest = px[s] + (column - super[s]) * static_cast<int>(last - first) +
-                               static_cast<int>(found - first);
+            entries_[e].dest = row;
+            offset[e] = column - super[s];
         });
+        std::vector<int> place(n_), owner(n_, -1);  // row -> its index in supernode owner[row]
+        for (int s = 0; s < nsuper_; ++s)
+        {
+            const int height = pi[s + 1] - pi[s];
+            for (int k = 0; k < height; ++k)
+            {
+                place[rows[pi[s] + k]] = k;
+                owner[rows[pi[s] + k]] = s;
+            }
+            for (long e = entry_start_[s]; e < entry_start_[s + 1]; ++e)
+            {
+                const int row = entries_[e].dest;
+                if (owner[row] != s)
+                    throw SolverError("SubtreeFactorization: the matrix has an entry outside the "
+                                      "factor's pattern; analyze this matrix's pattern");
+                entries_[e].dest = px[s] + offset[e] * height + place[row];
+            }
+        }
     }
 
     // The supernodal tree (a supernode's parent holds its first row below its own columns),
