@@ -46,6 +46,7 @@ WindingMeter::WindingMeter(const Mesh& mesh, const CutGraph* graph,
                                 " longitudinal values for " + std::to_string(mesh.n_vertices()) +
                                 " vertices; pass one per vertex, indexed by v.idx()");
     stamp_.assign(mesh.n_vertices(), -1);
+    fit_of_.assign(mesh.n_vertices(), -1);
     direction_.assign(mesh.n_vertices(),
                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
@@ -173,6 +174,22 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
     return ring.radius > 0.0 && spread < options_.max_spread * ring.radius;
 }
 
+const WindingMeter::RingFit& WindingMeter::ring_fit(VertexHandle p, Ring& scratch) const
+{
+    int& slot = fit_of_[static_cast<std::size_t>(p.idx())];
+    if (slot < 0)
+    {
+        RingFit fit;
+        fit.ok = ring_at(p, scratch);
+        fit.centre = scratch.centre;
+        fit.axis = scratch.axis;
+        fit.radius = scratch.radius;
+        slot = static_cast<int>(fits_.size());
+        fits_.push_back(fit);
+    }
+    return fits_[static_cast<std::size_t>(slot)];
+}
+
 PathWinding WindingMeter::measure(const CutPath& path) const
 {
     std::vector<VertexHandle> vertices{path.start};
@@ -194,14 +211,15 @@ PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
     for (std::size_t i = 1; i < path.size(); ++i)
         result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
 
-    Ring ring;
+    Ring scratch;
     bool framed = false;  // a reference and a previous angle exist (the last vertex was measured)
     Eigen::Vector3d reference, previous_axis;
     double previous_angle = 0.0, total = 0.0, low = 0.0, high = 0.0;
     for (auto p : path)
     {
         Eigen::Vector3d d;
-        bool ok = ring_at(p, ring);
+        const RingFit& ring = ring_fit(p, scratch);
+        bool ok = ring.ok;
         if (ok)
         {
             d = to_eigen(mesh_.point(p)) - ring.centre;

@@ -46,8 +46,9 @@ struct PathWinding
 //! vessel axis; the angle of p around that axis is measured against a reference direction that
 //! is parallel-transported from ring to ring by the minimal rotation between consecutive axes
 //! (a discrete rotation-minimizing frame). Where the band is no clean ring the frame restarts
-//! and that stretch adds nothing. O(ring size) per cut vertex; the meter keeps two |V| scratch
-//! arrays (marks, cached gradients), so measure many cuts with one meter.
+//! and that stretch adds nothing. O(ring size) per cut vertex, once per vertex (a vertex that
+//! another measured path passed reuses its ring); the meter keeps three |V| scratch arrays
+//! (marks, cached gradients, ring slots), so measure many cuts with one meter.
 class WindingMeter
 {
 public:
@@ -102,6 +103,18 @@ private:
     //! until then; or all given at construction): consecutive rings of a cut share most of
     //! their vertices.
     mutable std::vector<Eigen::Vector3d> direction_;
+    //! ring_at()'s answer per vertex once asked (plan_cuts() measures two candidate cuts from
+    //! one start, which share part of their vertices): index into fits_, -1 until then.
+    struct RingFit
+    {
+        Eigen::Vector3d centre, axis;
+        double radius = 0.0;
+        bool ok = false;
+    };
+    //! \p scratch: the ring, made with it the first time p is asked.
+    const RingFit& ring_fit(VertexHandle p, Ring& scratch) const;
+    mutable std::vector<int> fit_of_;
+    mutable std::vector<RingFit> fits_;
 };
 
 //! Seam-level figures over cuts.
