@@ -178,6 +178,26 @@ struct ReadZone
 // closer bound than their one box, for a few box distances per vertex visited.
 constexpr std::size_t kReadZones = 8;
 
+// \p count reading items, in order, split into at most kReadZones runs of consecutive items:
+// a zone per run, its box grown by \p add(item, box) for each item and its read that of the
+// run's first item, \p read_of(item).
+template <class Add, class ReadOf>
+std::vector<ReadZone> zones_along(std::size_t count, Add add, ReadOf read_of)
+{
+    const std::size_t n_zones = std::min(kReadZones, count);
+    const std::size_t per_zone = (count + n_zones - 1) / n_zones;
+    std::vector<ReadZone> zones;
+    for (std::size_t k = 0; k < count; k += per_zone)
+    {
+        ReadZone zone;
+        zone.read = read_of(k);
+        for (std::size_t j = k; j < std::min(count, k + per_zone); ++j)
+            add(j, zone.box);
+        zones.push_back(zone);
+    }
+    return zones;
+}
+
 class TreeDistance
 {
 public:
@@ -292,17 +312,13 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query, BandScratc
         std::vector<int> corner(n_faces, -1);
         double nearest = std::numeric_limits<double>::infinity();
         const detail::EdgeDistance* reached = nullptr;
-        const std::size_t n_zones = std::min(kReadZones, n_faces);
-        const std::size_t per_zone = (n_faces + n_zones - 1) / n_zones;
-        std::vector<ReadZone> zones;
-        for (std::size_t k = 0; k < n_faces; k += per_zone)
-        {
-            ReadZone zone;
-            for (std::size_t i = k; i < std::min(n_faces, k + per_zone); ++i)
+        std::vector<ReadZone> zones = zones_along(
+            n_faces,
+            [&](std::size_t i, Eigen::AlignedBox3d& box) {
                 for (auto v : mesh.fv_range(line.faces[i]))
-                    zone.box.extend(to_eigen(mesh.point(v)));
-            zones.push_back(zone);
-        }
+                    box.extend(to_eigen(mesh.point(v)));
+            },
+            [](std::size_t) { return 0.0; });  // set by each trial read
         const auto approach = [&](double read) {
             for (auto& zone : zones)
                 zone.read = read;
@@ -328,9 +344,7 @@ std::optional<GraphPath> band_path(CutGraph& graph, PathQuery& query, BandScratc
             read = std::isfinite(nearest) ? nearest + slack
                    : read < 64.0 * slack  ? 2.0 * read
                                           : std::numeric_limits<double>::infinity();
-            approach(read);
-            if (!std::isfinite(read))
-                break;
+            approach(read);  // without limit, every reachable corner: the loop ends
         }
         if (!std::isfinite(nearest))
             return std::nullopt;
@@ -509,17 +523,10 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
     // Every read lies in one of a few zones (consecutive reading vertices: their box and the
     // first one's read): only the tree distance on the routes that can reach a zone within its
     // read is grown (TreeDistance::near_zones()).
-    const std::size_t n_zones = std::min<std::size_t>(kReadZones, reading.size());
-    const std::size_t per_zone = (reading.size() + n_zones - 1) / n_zones;
-    std::vector<ReadZone> zones;
-    for (std::size_t k = 0; k < reading.size(); k += per_zone)
-    {
-        ReadZone zone;
-        zone.read = reading[k].second;
-        for (std::size_t j = k; j < std::min(reading.size(), k + per_zone); ++j)
-            zone.box.extend(reading[j].first);
-        zones.push_back(zone);
-    }
+    const std::vector<ReadZone> zones = zones_along(
+        reading.size(),
+        [&](std::size_t j, Eigen::AlignedBox3d& zone_box) { zone_box.extend(reading[j].first); },
+        [&](std::size_t k) { return reading[k].second; });
     const detail::EdgeDistance& field = tree.near_zones(graph, loop_of, zones, margin);
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
