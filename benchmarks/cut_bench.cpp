@@ -113,6 +113,17 @@ vessel_bench::PeerCost our_costs(const Ours& o)
     };
 }
 
+// VC with the paper's rule as `vessel-flatten --cut-route shortest --join cheapest` runs it:
+// the cheapest path per outlet, later cuts ending where it meets the tree, with the library's
+// tie tolerance (the least winding of nearly equal routes). The rule the peer follows.
+vessel::CutPlan paper_vc(Ours& o)
+{
+    vessel::CutPlanOptions paper;
+    paper.route = vessel::CutRoute::ShortestPath;
+    paper.join = vessel::CutJoin::Cheapest;
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, paper);
+}
+
 // VC as flatten() runs it with its default options (CutRoute::Aligned, CutJoin::Approach): the
 // cheapest and the traced path per outlet (the stream field they trace is made in stage Z).
 vessel::CutPlan default_vc(Ours& o)
@@ -223,7 +234,8 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
     })->Unit(benchmark::kMillisecond);
     for (const auto& [label, plan_of] :
          {std::pair{"VC/ours/", &ours_vc}, std::pair{"VC/default/", &default_vc},
-          std::pair{"VC/bare/", &bare_vc}})
+          std::pair{"VC/bare/", &bare_vc},
+          std::pair{"VC/paper/", &paper_vc}})
     {
         const auto run = plan_of;
         benchmark::RegisterBenchmark((label + name).c_str(), [=](benchmark::State& state) {

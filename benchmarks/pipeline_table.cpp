@@ -114,16 +114,26 @@ struct Settings
     double peer_timeout_s = 900.0;       // kill the peer's child after this long
     long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
     std::string method = "default";      // the timed pipeline: see pipeline_options()
+    std::string cuts = "default";        // the cut rule: see pipeline_options()
 };
 
 // The options of the timed pipeline: the library's defaults; with --method paper the paper's
 // F (LSCM at the layout, then ARAP with the inlet pinned; no untangling, no SLIM, no area polish,
 // overlaps allowed) and only the paper's cuts (no relief cuts); with --method paper-untangled
 // the same, then the flipped triangles untangled locally (untangle.h; no SLIM, no polish), so
-// the map has no flipped triangle. Z, GC, VC, AC and L are the library's in every case.
+// the map has no flipped triangle. Z, GC, AC and L are the library's in every case; VC too,
+// unless --cuts paper: the paper's cut rule, the cheapest path per outlet, later cuts ending
+// where they first meet the tree (the rule the peer follows; the library's tie tolerance kept).
+// The library's default route also traces a streamline per outlet and keeps the candidate that
+// winds less (CutRoute::Aligned, CutJoin::Approach).
 vessel::FlattenOptions pipeline_options(const Settings& s)
 {
     vessel::FlattenOptions o;
+    if (s.cuts == "paper")
+    {
+        o.cuts.route = vessel::CutRoute::ShortestPath;
+        o.cuts.join = vessel::CutJoin::Cheapest;
+    }
     if (s.method != "default")
     {
         o.refinement = vessel::Refinement::Arap;
@@ -229,6 +239,7 @@ json run_table_case(const Case& c, const Settings& s)
     bool time_boxed = false;
     const vessel::FlattenOptions options = pipeline_options(s);
     out["method"] = s.method;
+    out["cuts"] = s.cuts;
     for (int run = 0; run < s.runs; ++run)
     {
         vessel::Mesh copy = mesh;
@@ -644,12 +655,17 @@ std::string status_of(const json& r)
     return "";
 }
 
-// The --method the table's pipeline ran with ("default", "paper" or "paper-untangled").
+// The --method (and --cuts, if not the default) the table's pipeline ran with.
 std::string method_of(const std::vector<json>& results)
 {
     for (const json& r : results)
         if (r.contains("method"))
-            return r["method"].get<std::string>();
+        {
+            std::string m = r["method"].get<std::string>();
+            if (r.value("cuts", std::string("default")) != "default")
+                m += " --cuts " + r["cuts"].get<std::string>();
+            return m;
+        }
     return "default";
 }
 
@@ -1087,6 +1103,12 @@ int main(int argc, char** argv)
                    "paper (F = LSCM + ARAP as in the paper, overlaps allowed, no relief cuts) or "
                    "paper-untangled (the same, then flipped triangles untangled locally)")
         ->check(CLI::IsMember({"default", "paper", "paper-untangled"}))
+        ->capture_default_str();
+    app.add_option("--cuts", s.cuts,
+                   "Cut rule timed in VC: default (the library's: per outlet the cheapest path "
+                   "and a traced streamline's band, the one that winds less) or paper (the "
+                   "paper's: the cheapest path, later cuts ending where they meet the tree)")
+        ->check(CLI::IsMember({"default", "paper"}))
         ->capture_default_str();
     app.add_option("--peer-timeout", s.peer_timeout_s,
                    "Kill the CGAL peer's child for a mesh after this long (s); recorded, not fatal")
