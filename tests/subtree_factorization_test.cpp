@@ -161,3 +161,49 @@ TEST_CASE("subtree factorization: PairedCholmod factors with it and solves, on o
     solver.factorize(indefinite);
     CHECK(solver.info() == Eigen::NumericalIssue);
 }
+
+TEST_CASE("subtree factorization: a PairedCholmod analysing one pattern after another keeps its "
+          "values array and solves each system as a new solver does")
+{
+    // SLIM's scaffold re-analyses a new pattern at almost every iteration; the solver hands the
+    // last factor's values array to the next factor, a larger one gets a new array.
+    const Eigen::SparseMatrix<double> small = paired_system("vampy/artery-coarse.ply");
+    const Eigen::SparseMatrix<double> large =
+        paired_system("x-ray-angio-data/coronary-phantom-tri3-coarse.ply");
+    const auto rhs = [](Eigen::Index n) {
+        Eigen::VectorXd b(n);
+        for (Eigen::Index i = 0; i < n; ++i)
+            b[i] = std::sin(0.07 * static_cast<double>(i)) + 0.5;
+        return b;
+    };
+    const auto fresh_solution = [&](const Eigen::SparseMatrix<double>& A) {
+        vessel::detail::PairedCholmod fresh;
+        fresh.analyze_pairs(A);
+        fresh.factorize(A);
+        REQUIRE(fresh.info() == Eigen::Success);
+        return Eigen::VectorXd(fresh.solve(rhs(A.rows())));
+    };
+    vessel::detail::PairedCholmod kept;
+    int step = 0;
+    for (const Eigen::SparseMatrix<double>* A : {&small, &large, &small, &large, &small})
+    {
+        CAPTURE(step);
+        if (step == 3)
+            kept.analyzePattern(*A);  // Eigen's analysis (CHOLMOD's ordering) keeps it too
+        else
+            kept.analyze_pairs(*A);
+        REQUIRE(kept.info() == Eigen::Success);
+        for (int repeat = 0; repeat < 2; ++repeat)  // refactorized in place
+        {
+            kept.factorize(*A);
+            REQUIRE(kept.info() == Eigen::Success);
+            const Eigen::VectorXd b = rhs(A->rows());
+            const Eigen::VectorXd x = kept.solve(b);
+            const Eigen::SparseMatrix<double> full = A->selfadjointView<Eigen::Upper>();
+            CHECK((full * x - b).norm() <= 1e-10 * b.norm());
+            if (step != 3)
+                CHECK(x == fresh_solution(*A));
+        }
+        ++step;
+    }
+}

@@ -19,16 +19,20 @@ struct CholmodCommon
 };
 
 //! The symbolic analysis of \p A: in the elimination order \p order when given (each unknown
-//! once; CHOLMOD_GIVEN becomes the only method of \p c), else by \p c's ordering methods.
-//! Null if CHOLMOD fails (see c.status).
+//! once; CHOLMOD_GIVEN is the only method of \p c for this call, its methods are restored
+//! after), else by \p c's ordering methods. Null if CHOLMOD fails (see c.status).
 inline cholmod_factor* analyze_in_order(cholmod_sparse& A, std::vector<int>* order,
                                         cholmod_common& c)
 {
     if (!order)
         return cholmod_analyze(&A, &c);
+    const int nmethods = c.nmethods, first = c.method[0].ordering;
     c.nmethods = 1;
     c.method[0].ordering = CHOLMOD_GIVEN;
-    return cholmod_analyze_p(&A, order->data(), nullptr, 0, &c);
+    cholmod_factor* L = cholmod_analyze_p(&A, order->data(), nullptr, 0, &c);
+    c.nmethods = nmethods;
+    c.method[0].ordering = first;
+    return L;
 }
 
 //! A CHOLMOD view (no copy) of the symmetric pattern whose upper triangle is given column by
