@@ -162,11 +162,11 @@ TEST_CASE("subtree factorization: PairedCholmod factors with it and solves, on o
     CHECK(solver.info() == Eigen::NumericalIssue);
 }
 
-TEST_CASE("subtree factorization: a PairedCholmod analysing one pattern after another keeps its "
-          "values array and solves each system as a new solver does")
+TEST_CASE("subtree factorization: a PairedCholmod re-analyses one pattern after another, in a "
+          "given order or CHOLMOD's, and solves each system as a new solver does")
 {
-    // SLIM's scaffold re-analyses a new pattern at almost every iteration; the solver hands the
-    // last factor's values array to the next factor, a larger one gets a new array.
+    // SLIM's scaffold re-analyses a new pattern at almost every iteration with one solver; an
+    // analysis in a given order must leave CHOLMOD's own ordering methods to a later one.
     const Eigen::SparseMatrix<double> small = paired_system("vampy/artery-coarse.ply");
     const Eigen::SparseMatrix<double> large =
         paired_system("x-ray-angio-data/coronary-phantom-tri3-coarse.ply");
@@ -189,7 +189,7 @@ TEST_CASE("subtree factorization: a PairedCholmod analysing one pattern after an
     {
         CAPTURE(step);
         if (step == 3)
-            kept.analyzePattern(*A);  // Eigen's analysis (CHOLMOD's ordering) keeps it too
+            kept.analyzePattern(*A);  // Eigen's analysis (CHOLMOD's ordering)
         else
             kept.analyze_pairs(*A);
         REQUIRE(kept.info() == Eigen::Success);

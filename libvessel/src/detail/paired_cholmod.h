@@ -21,18 +21,12 @@ class OrderedCholmod : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<do
     using Base = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>;
 
 public:
-    OrderedCholmod() = default;
-    OrderedCholmod(const OrderedCholmod&) = delete;
-    OrderedCholmod& operator=(const OrderedCholmod&) = delete;
-    ~OrderedCholmod() { release_spare(); }  // before Eigen's base finishes the common
-
     //! Threads of factorize() (1 or 2; the same factor either way).
     void set_threads(int threads) { threads_ = threads; }
 
     //! Eigen's analyzePattern() (CHOLMOD's ordering), then made ready for factorize().
     void analyzePattern(const Eigen::SparseMatrix<double>& A)
     {
-        keep_values();
         Base::analyzePattern(A);
         prepare(A);
     }
@@ -57,7 +51,6 @@ public:
             return;
         }
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
-        give_values(*this->m_cholmodFactor);
         const bool ok =
             subtree_->factorize(view, *this->m_cholmodFactor, this->cholmod(), threads_);
         this->m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
@@ -68,7 +61,6 @@ public:
     //! \p order (each once). Check info().
     void analyze_given(const Eigen::SparseMatrix<double>& A, std::vector<int> order)
     {
-        keep_values();
         if (this->m_cholmodFactor)
         {
             cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
@@ -96,68 +88,8 @@ private:
         }
     }
 
-    // The values of a numeric supernodal factor outlive its pattern: keep_values() takes them
-    // from the factor before a new analysis frees it, give_values() hands them (or a new array
-    // with room to spare) to the next symbolic factor before its numeric factorization. SLIM's
-    // scaffold analyses a new pattern at almost every iteration, and a fresh array of a
-    // factor's size is fresh pages from the system: their first touches were 95% of a flatten's
-    // page faults on the pulmonary Glenn tree (2.0M faults, 10% of its samples in the kernel).
-    void keep_values()
-    {
-        cholmod_factor* L = this->m_cholmodFactor;
-        if (!L || !L->is_super || L->xtype != CHOLMOD_REAL || L->x == nullptr)
-            return;
-        const std::size_t capacity = L->x == given_ ? given_capacity_ : L->xsize;
-        release_spare();
-        spare_ = static_cast<double*>(L->x);
-        spare_capacity_ = capacity;
-        L->x = nullptr;  // the factor is now symbolic again; freeing it leaves the array
-        L->xtype = CHOLMOD_PATTERN;
-        given_ = nullptr;
-    }
-
-    // As cholmod_change_factor() makes a symbolic supernodal factor numeric (LL', real), with
-    // the kept array if it is large enough, else a new one 1/8 larger than needed (the next
-    // scaffold's factor is often a little larger). No-op for a numeric factor.
-    void give_values(cholmod_factor& L)
-    {
-        if (!L.is_super || L.xtype != CHOLMOD_PATTERN)
-            return;
-        if (spare_capacity_ < L.xsize)
-        {
-            release_spare();
-            const std::size_t capacity = L.xsize + L.xsize / 8 + 1;
-            spare_ = static_cast<double*>(
-                cholmod_malloc(capacity, sizeof(double), &this->cholmod()));
-            if (!spare_)
-                return;  // SubtreeFactorization asks CHOLMOD for the exact size instead
-            spare_capacity_ = capacity;
-        }
-        L.x = spare_;
-        L.xtype = CHOLMOD_REAL;
-        L.dtype = CHOLMOD_DOUBLE;
-        L.is_ll = true;
-        L.minor = L.n;
-        given_ = spare_;
-        given_capacity_ = spare_capacity_;
-        spare_ = nullptr;
-        spare_capacity_ = 0;
-    }
-
-    void release_spare()
-    {
-        if (spare_)
-            cholmod_free(spare_capacity_, sizeof(double), spare_, &this->cholmod());
-        spare_ = nullptr;
-        spare_capacity_ = 0;
-    }
-
     std::unique_ptr<SubtreeFactorization> subtree_;
     int threads_ = 2;
-    double* spare_ = nullptr;        // values kept from an earlier factor (ours to free)
-    std::size_t spare_capacity_ = 0;
-    const void* given_ = nullptr;    // the array give_values() put in the current factor
-    std::size_t given_capacity_ = 0;
 };
 
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
