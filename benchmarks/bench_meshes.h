@@ -5,10 +5,10 @@
 // 44k and 300k triangles, each handed to the caller as a name and a maker (made lazily: the
 // 300k phantom takes seconds).
 
-#include "vessel/phantom.h"
+#include "vessel/phantom/phantom.h"
 
 #include <benchmark/benchmark.h>
-#include "vessel/validation.h"
+#include "vessel/check/validation.h"
 
 #include <functional>
 #include <string>

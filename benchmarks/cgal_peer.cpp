@@ -14,7 +14,7 @@
 //       timed too (F_lscm, not in Total) for its quality.
 #include "cgal_peer.h"
 
-#include "vessel/metrics.h"
+#include "vessel/quality/metrics.h"
 
 #include <CGAL/Heat_method_3/Surface_mesh_geodesic_distances_3.h>
 #include <CGAL/Monge_via_jet_fitting.h>

@@ -3,7 +3,7 @@
 // (and Boost Graph) as a user without libvessel would. Benchmark code only: CGAL is never used by
 // the library. See docs/benchmarks.md.
 
-#include "vessel/mesh.h"
+#include "vessel/core/mesh.h"
 
 #include <nlohmann/json.hpp>
 

@@ -12,16 +12,16 @@
 #include "bench_meshes.h"
 #include "cgal_peer.h"
 
-#include "vessel/boundary.h"
-#include "vessel/curvature.h"
-#include "vessel/cut_cost.h"
-#include "vessel/cut_graph.h"
-#include "vessel/cut_metrics.h"
-#include "vessel/cut_plan.h"
-#include "vessel/direction.h"
-#include "vessel/geodesic.h"
-#include "vessel/phantom.h"
-#include "vessel/validation.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/direction/curvature.h"
+#include "vessel/cut/cut_cost.h"
+#include "vessel/cut/cut_graph.h"
+#include "vessel/cut/cut_metrics.h"
+#include "vessel/cut/cut_plan.h"
+#include "vessel/direction/direction.h"
+#include "vessel/direction/geodesic.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/check/validation.h"
 
 #include <benchmark/benchmark.h>
 

@@ -7,10 +7,10 @@
 // time is the figure (Google Benchmark's CPU time counts the calling thread only).
 // See docs/benchmarks.md.
 #include "bench_meshes.h"
-#include "detail/paired_cholmod.h"
-#include "detail/paired_system.h"
-#include "vessel/phantom.h"
-#include "vessel/validation.h"
+#include "solve/paired_cholmod.h"
+#include "solve/paired_system.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/check/validation.h"
 
 #include <benchmark/benchmark.h>
 

@@ -5,17 +5,17 @@
 // pipe. A CGAL peer pipeline (cgal_peer.cpp) runs on the same meshes, each in its own child too.
 // `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
 #include "cgal_peer.h"
-#include "vessel/arap.h"
-#include "vessel/boundary.h"
-#include "vessel/cut_metrics.h"
-#include "vessel/cut_winding.h"
-#include "vessel/errors.h"
-#include "vessel/geodesic.h"
-#include "vessel/io.h"
-#include "vessel/phantom.h"
+#include "vessel/map/arap.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/cut/cut_metrics.h"
+#include "vessel/cut/cut_winding.h"
+#include "vessel/core/errors.h"
+#include "vessel/direction/geodesic.h"
+#include "vessel/io/io.h"
+#include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
-#include "vessel/properties.h"
-#include "vessel/validation.h"
+#include "vessel/core/properties.h"
+#include "vessel/check/validation.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -2,9 +2,9 @@
 // make_tree_surface(). The documented errors (IoError, InvalidInputError, TopologyError) are
 // the expected answers to bad bytes; anything else (another exception, a crash, a sanitizer
 // report, a hang) is a bug.
-#include "vessel/errors.h"
-#include "vessel/io.h"
-#include "vessel/validation.h"
+#include "vessel/core/errors.h"
+#include "vessel/io/io.h"
+#include "vessel/check/validation.h"
 
 #include <OpenMesh/Core/System/omstream.hh>
 

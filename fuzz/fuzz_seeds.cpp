@@ -1,8 +1,8 @@
 // Writes the seed corpus of the reader fuzzers: small phantoms (a tube, a coarse carotid
 // bifurcation, a closed sphere) in every format and encoding OpenMesh writes, plus a few short
 // hand-made files, into DIR/<ext>/.
-#include "vessel/io.h"
-#include "vessel/phantom.h"
+#include "vessel/io/io.h"
+#include "vessel/phantom/phantom.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 

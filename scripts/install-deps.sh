@@ -4,7 +4,7 @@
 # expected on the machine (CI has node 20); without them the viewer is left out of the build.
 # libopenblas0-pthread: becomes the libblas.so.3 alternative, so CHOLMOD's supernodal factorizations
 # run on OpenBLAS instead of ATLAS or the reference BLAS (1.3-1.5x less CPU for a whole run,
-# docs/design.md); libvessel holds it at one thread (detail/serial_openmp.h).
+# docs/design.md); libvessel holds it at one thread (solve/serial_openmp.h).
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config

@@ -5,7 +5,7 @@
 
 FLAT.obj is vessel-flatten's output (v = input positions, vt = uv, f v/vt). The map is coloured by
 log2 of the per-triangle area ratio 2D/3D (white = area kept). With --overlaps, the
-triangles listed in the vessel-flatten report's "overlaps" (exact, vessel/overlap.h) are red. Needs python3-numpy and
+triangles listed in the vessel-flatten report's "overlaps" (exact, vessel/quality/overlap.h) are red. Needs python3-numpy and
 python3-matplotlib (Debian). INPUT_MESH is only used for the title.
 """
 import json

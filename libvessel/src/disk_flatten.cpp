@@ -13,11 +13,11 @@
 
 #include "detail/refine_map.h"
 #include "detail/stage_clock.h"
-#include "vessel/cut.h"
-#include "vessel/embedding.h"
-#include "vessel/errors.h"
-#include "vessel/properties.h"
-#include "vessel/spectral.h"
+#include "vessel/cut/cut.h"
+#include "vessel/map/embedding.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
+#include "vessel/map/spectral.h"
 
 
 namespace vessel::detail {

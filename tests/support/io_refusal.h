@@ -1,7 +1,7 @@
 #pragma once
 
-#include "vessel/errors.h"
-#include "vessel/io.h"
+#include "vessel/core/errors.h"
+#include "vessel/io/io.h"
 
 #include <string>
 

@@ -1,7 +1,7 @@
 #include "support/meshes.h"
 
-#include "vessel/boundary.h"
-#include "vessel/phantom.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/phantom/phantom.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,8 +1,8 @@
 #pragma once
 
-#include "vessel/io.h"
-#include "vessel/vtk_io.h"
-#include "vessel/mesh.h"
+#include "vessel/io/io.h"
+#include "vessel/io/vtk_io.h"
+#include "vessel/core/mesh.h"
 
 #include <Eigen/Geometry>
 

@@ -7,12 +7,12 @@
 //
 //   custom_cost_example [MESH] [OUT.obj]
 // Without arguments it flattens the built-in carotid phantom.
-#include "vessel/flat_io.h"
-#include "vessel/io.h"
-#include "vessel/phantom.h"
+#include "vessel/io/flat_io.h"
+#include "vessel/io/io.h"
+#include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
-#include "vessel/properties.h"
-#include "vessel/validation.h"
+#include "vessel/core/properties.h"
+#include "vessel/check/validation.h"
 
 #include <cstdio>
 #include <exception>

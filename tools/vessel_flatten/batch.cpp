@@ -1,8 +1,8 @@
 #include "batch.h"
 
-#include "vessel/errors.h"
-#include "vessel/flat_io.h"
-#include "vessel/io.h"
+#include "vessel/core/errors.h"
+#include "vessel/io/flat_io.h"
+#include "vessel/io/io.h"
 
 #include <OpenMesh/Core/System/omstream.hh>
 #include <nlohmann/json.hpp>

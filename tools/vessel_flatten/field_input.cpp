@@ -1,6 +1,6 @@
 #include "field_input.h"
 
-#include "vessel/io.h"
+#include "vessel/io/io.h"
 
 namespace vessel::cli {
 

@@ -3,8 +3,8 @@
 // The input mesh with its arrays and a --fields series, read the same way by vessel-flatten and
 // vessel-view.
 
-#include "vessel/field_series.h"
-#include "vessel/vtk_io.h"
+#include "vessel/fields/field_series.h"
+#include "vessel/io/vtk_io.h"
 
 #include <CLI/CLI.hpp>
 

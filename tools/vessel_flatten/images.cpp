@@ -1,8 +1,8 @@
 #include "images.h"
 
-#include "vessel/errors.h"
-#include "vessel/map_frames.h"
-#include "vessel/map_image.h"
+#include "vessel/core/errors.h"
+#include "vessel/render/map_frames.h"
+#include "vessel/render/map_image.h"
 
 #include <algorithm>
 #include <cstdio>

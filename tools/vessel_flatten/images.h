@@ -2,7 +2,7 @@
 
 // vessel-flatten --image / --frames: a field of the flattened result drawn with map_image.h.
 
-#include "vessel/fields.h"
+#include "vessel/fields/fields.h"
 #include "vessel/pipeline.h"
 
 #include <optional>

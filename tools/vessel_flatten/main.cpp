@@ -4,15 +4,15 @@
 #include "field_input.h"
 #include "images.h"
 #include "viewer_fields.h"
-#include "vessel/errors.h"
-#include "vessel/field_series.h"
-#include "vessel/flat_io.h"
-#include "vessel/flat_vtk.h"
-#include "vessel/io.h"
+#include "vessel/core/errors.h"
+#include "vessel/fields/field_series.h"
+#include "vessel/io/flat_io.h"
+#include "vessel/io/flat_vtk.h"
+#include "vessel/io/io.h"
 #include "vessel/pipeline.h"
-#include "vessel/split.h"
-#include "vessel/validation.h"
-#include "vessel/viewer.h"
+#include "vessel/cut/split.h"
+#include "vessel/check/validation.h"
+#include "vessel/render/viewer.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

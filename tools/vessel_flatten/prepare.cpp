@@ -1,6 +1,6 @@
 #include "prepare.h"
 
-#include "vessel/errors.h"
+#include "vessel/core/errors.h"
 
 #include <string>
 #include <vector>

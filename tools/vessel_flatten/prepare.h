@@ -1,7 +1,7 @@
 #pragma once
 
-#include "vessel/repair.h"
-#include "vessel/validation.h"
+#include "vessel/check/repair.h"
+#include "vessel/check/validation.h"
 
 #include <optional>
 

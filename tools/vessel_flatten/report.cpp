@@ -1,8 +1,8 @@
 #include "report.h"
 
-#include "vessel/cut_metrics.h"
-#include "vessel/cut_winding.h"
-#include "vessel/direction.h"
+#include "vessel/cut/cut_metrics.h"
+#include "vessel/cut/cut_winding.h"
+#include "vessel/direction/direction.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,8 +2,8 @@
 
 // vessel-flatten --html with fields: the carried point fields as viewer fields.
 
-#include "vessel/fields.h"
-#include "vessel/viewer.h"
+#include "vessel/fields/fields.h"
+#include "vessel/render/viewer.h"
 
 #include <vector>
 

@@ -4,11 +4,11 @@
 
 #include "pulse_files.h"
 
-#include "vessel/boundary.h"
-#include "vessel/errors.h"
-#include "vessel/field_series.h"
-#include "vessel/phantom.h"
-#include "vessel/pulse_series.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/core/errors.h"
+#include "vessel/fields/field_series.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/fields/pulse_series.h"
 
 #include <CLI/CLI.hpp>
 

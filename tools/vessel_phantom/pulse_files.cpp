@@ -1,6 +1,6 @@
 #include "pulse_files.h"
 
-#include "vessel/field_series.h"
+#include "vessel/fields/field_series.h"
 
 namespace vessel::cli {
 

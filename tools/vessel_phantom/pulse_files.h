@@ -3,8 +3,8 @@
 // The files of a synthetic pulse series, written the same way by vessel-phantom --pulse and
 // vessel-pulse.
 
-#include "vessel/fields.h"
-#include "vessel/io.h"
+#include "vessel/fields/fields.h"
+#include "vessel/io/io.h"
 
 #include <string>
 

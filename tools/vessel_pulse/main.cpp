@@ -1,11 +1,11 @@
 // vessel-pulse: a synthetic travelling WSS-like pulse over an existing vessel surface (e.g. a real
 // mesh), written as a time series that vessel-flatten --fields and vessel-view --fields read.
 #include "../vessel_phantom/pulse_files.h"
-#include "vessel/errors.h"
-#include "vessel/io.h"
-#include "vessel/properties.h"
-#include "vessel/pulse_series.h"
-#include "vessel/validation.h"
+#include "vessel/core/errors.h"
+#include "vessel/io/io.h"
+#include "vessel/core/properties.h"
+#include "vessel/fields/pulse_series.h"
+#include "vessel/check/validation.h"
 
 #include <CLI/CLI.hpp>
 

@@ -1,7 +1,7 @@
 #include "flat_obj.h"
 
-#include "vessel/errors.h"
-#include "vessel/properties.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
 
 #include <algorithm>
 #include <array>

@@ -1,7 +1,7 @@
 #pragma once
 
-#include "vessel/boundary.h"
-#include "vessel/mesh.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/core/mesh.h"
 
 #include <string>
 #include <vector>

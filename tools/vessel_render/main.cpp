@@ -1,12 +1,12 @@
 // vessel-render: flatten a vessel surface and draw a field on the map (PNG, SVG or PDF), or a
 // time series of a synthetic pulse as frames (+ GIF/MP4 with ffmpeg).
 #include "flat_obj.h"
-#include "vessel/errors.h"
-#include "vessel/map_frames.h"
-#include "vessel/map_image.h"
+#include "vessel/core/errors.h"
+#include "vessel/render/map_frames.h"
+#include "vessel/render/map_image.h"
 #include "vessel/pipeline.h"
-#include "vessel/properties.h"
-#include "vessel/validation.h"
+#include "vessel/core/properties.h"
+#include "vessel/check/validation.h"
 
 #include <CLI/CLI.hpp>
 

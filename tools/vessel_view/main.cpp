@@ -2,10 +2,10 @@
 #include "../vessel_flatten/field_input.h"
 #include "../vessel_flatten/viewer_fields.h"
 #include "command.h"
-#include "vessel/errors.h"
+#include "vessel/core/errors.h"
 #include "vessel/pipeline.h"
-#include "vessel/validation.h"
-#include "vessel/viewer.h"
+#include "vessel/check/validation.h"
+#include "vessel/render/viewer.h"
 
 #include <CLI/CLI.hpp>
 

@@ -3,7 +3,7 @@
 // Internals shared by the two ARAP solvers (arap.cpp and arap_ceres.cpp). Ceres stays out of this
 // header: glog's CHECK macros must not leak into code that includes it.
 
-#include "vessel/arap.h"
+#include "vessel/map/arap.h"
 
 #include <Eigen/Core>
 

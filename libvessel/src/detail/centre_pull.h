@@ -1,6 +1,6 @@
 #pragma once
 
-#include "vessel/centre_pull.h"
+#include "vessel/map/centre_pull.h"
 
 #include <Eigen/Core>
 

@@ -6,8 +6,8 @@
 // graph_neighbours() give the neighbour walk over either (the winding meter's rings too).
 
 #include "detail/quad_heap.h"
-#include "vessel/cut_graph.h"
-#include "vessel/mesh.h"
+#include "vessel/cut/cut_graph.h"
+#include "vessel/core/mesh.h"
 
 #include <limits>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 
-#include "vessel/mesh.h"
+#include "vessel/core/mesh.h"
 
 #include <algorithm>
 #include <array>

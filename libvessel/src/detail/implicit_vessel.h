@@ -3,7 +3,7 @@
 // Implicit vessel surfaces shared by carotid_phantom() and tree_phantom(): a smooth union of
 // tubes sampled by surface nets, opened at end planes and improved into a valid tree surface.
 
-#include "vessel/mesh.h"
+#include "vessel/core/mesh.h"
 
 #include <Eigen/Geometry>
 

@@ -2,7 +2,7 @@
 
 // Plane geometry shared by the layout policies (layout.cpp, sector_layout.cpp).
 
-#include "vessel/layout.h"
+#include "vessel/layout/layout.h"
 
 #include <Eigen/Core>
 

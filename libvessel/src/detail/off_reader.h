@@ -1,6 +1,6 @@
 #pragma once
 
-#include "vessel/io.h"
+#include "vessel/io/io.h"
 
 #include <string>
 

@@ -2,7 +2,7 @@
 
 // Text helpers shared by the readers' checks (io.cpp) and the OFF reader (off_reader.cpp).
 
-#include "vessel/errors.h"
+#include "vessel/core/errors.h"
 
 #include <cctype>
 #include <cmath>

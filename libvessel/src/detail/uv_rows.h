@@ -1,7 +1,7 @@
 #pragma once
 
-#include "vessel/errors.h"
-#include "vessel/mesh.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/mesh.h"
 
 #include <string>
 

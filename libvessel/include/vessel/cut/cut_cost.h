@@ -1,0 +1,67 @@
+#pragma once
+
+#include "vessel/core/mesh.h"
+
+#include <functional>
+#include <type_traits>
+
+namespace vessel {
+
+//! \file Travel costs of the directed cut graph. A cost is any callable
+//! `double(const Mesh&, SmartHalfedgeHandle) const` returning a value >= 0 for walking along
+//! halfedge `h` from `h.from()` to `h.to()`. Costs are evaluated once into HalfedgeWeights, so a
+//! researcher's own cost (see tools/examples/custom_cost.cpp) runs at full speed in Dijkstra.
+
+//! E_c = 1 - <unit edge, unit z_i>: zero when the edge runs along the vessel direction z at its
+//! start vertex i (z points toward the inlet, so cuts walk from the outlets toward the inlet).
+struct CurvatureCost
+{
+    const Eigen::MatrixX3d* direction = nullptr;  //!< |V| x 3 unit z, row `v.idx()`
+    double operator()(const Mesh& mesh, SmartHalfedgeHandle h) const;
+};
+
+//! E_g = edge length, in units of the mean edge length so that it blends with E_c.
+struct LengthCost
+{
+    double unit = 1.0;  //!< divide lengths by this (the pipeline passes the mean edge length)
+    double operator()(const Mesh& mesh, SmartHalfedgeHandle h) const;
+};
+
+//! E_cg = a E_c + (1 - a) E_g.
+struct BlendCost
+{
+    CurvatureCost curvature;
+    LengthCost length;
+    double a = 0.5;  //!< weight of the curvature term, in [0, 1]
+    double operator()(const Mesh& mesh, SmartHalfedgeHandle h) const;
+};
+
+//! Type-erased cost, for choosing a cost at run time (CLI, configuration).
+using AnyCost = std::function<double(const Mesh&, SmartHalfedgeHandle)>;
+
+//! \brief Evaluate \p cost on every halfedge (boundary halfedges included).
+//! \return one weight per halfedge, indexed by `h.idx()`.
+//! \throw InvalidInputError if the cost returns a negative or non-finite value.
+template <class Cost>
+HalfedgeWeights evaluate_cost(const Mesh& mesh, const Cost& cost);
+
+//! \cond internal
+void check_weight(double w, int halfedge);
+//! \endcond
+
+template <class Cost>
+HalfedgeWeights evaluate_cost(const Mesh& mesh, const Cost& cost)
+{
+    static_assert(std::is_invocable_r_v<double, const Cost&, const Mesh&, SmartHalfedgeHandle>,
+                  "a cut cost must be callable as double(const Mesh&, SmartHalfedgeHandle) const");
+    HalfedgeWeights weights(mesh.n_halfedges());
+    for (auto h : mesh.halfedges())
+    {
+        const double w = cost(mesh, h);
+        check_weight(w, h.idx());
+        weights[h.idx()] = w;
+    }
+    return weights;
+}
+
+}  // namespace vessel

@@ -1,0 +1,130 @@
+#pragma once
+
+#include "vessel/cut/cut_graph.h"
+#include "vessel/cut/cut_plan.h"
+
+#include <vector>
+
+namespace vessel {
+
+//! How a cut's winding around its vessel is measured (WindingMeter).
+struct WindingOptions
+{
+    //! Half-width of a ring, in mean edge lengths: the ring through a vertex p is the connected
+    //! band of vertices whose longitudinal value lies within band x mean edge of p's. 0.5 (as
+    //! the shared yardstick seamwinding.py) holds one vertex per column on a regular tube.
+    double band = 0.5;
+    //! Fewer vertices than this and the band is no ring (the end of a loop, a thin strip).
+    int min_ring_vertices = 8;
+    //! A band counts as a ring only if the spread (std / mean) of its vertices' distances to
+    //! the local axis is below this; junctions and aneurysm sacs are not round and are skipped.
+    double max_spread = 0.25;
+    //! ... and only if the cut's vertex lies at least this fraction of the mean radius off the
+    //! axis (an angle is ill-defined near the axis).
+    double min_offset = 0.5;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! How far one cut winds around its vessel.
+struct PathWinding
+{
+    //! Signed angle (degrees) gained around the vessel from the cut's first to its last
+    //! measured vertex, in a rotation-minimizing frame: 0 for a cut that keeps to one side
+    //! (a line of minimal curvature on a canal surface), 360 for one full turn.
+    double winding_deg = 0.0;
+    double span_deg = 0.0;  //!< largest minus smallest cumulative angle along the cut
+    int measured = 0;       //!< path vertices that lie on a clean ring (the others add 0)
+    int vertices = 0;       //!< vertices of the path
+    double length = 0.0;    //!< 3D length of the path
+};
+
+//! \brief Ring-based winding of cuts (the library's version of the yardstick seamwinding.py).
+//!
+//! At every vertex p of a cut: the ring through p (WindingOptions::band) of the harmonic
+//! longitudinal coordinate u; its centroid and the mean gradient of u over it give the local
+//! vessel axis; the angle of p around that axis is measured against a reference direction that
+//! is parallel-transported from ring to ring by the minimal rotation between consecutive axes
+//! (a discrete rotation-minimizing frame). Where the band is no clean ring the frame restarts
+//! and that stretch adds nothing. O(ring size) per cut vertex, once per vertex (a vertex that
+//! another measured path passed reuses its ring); the meter keeps three |V| scratch arrays
+//! (marks, cached gradients, ring slots), so measure many cuts with one meter.
+class WindingMeter
+{
+public:
+    //! \param mesh the uncut surface (cut copies keep the first |V| vertices, but rings must
+    //! close around the vessel). \param longitudinal |V| values, e.g. harmonic_longitudinal().
+    //! \throw InvalidInputError if sizes disagree or options are invalid.
+    WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
+                 const WindingOptions& options = {});
+
+    //! \brief The same meter (the same figures), walking its rings over the arcs of \p graph
+    //! (the mesh's edges, in the order vv_range() visits them) instead of OpenMesh's
+    //! circulators. For a meter inside plan_cuts(), which has both at hand.
+    //! \param mean_edge mean_edge_length(graph.mesh()), which the caller already computed.
+    //! \throw InvalidInputError as above, or if \p mean_edge is negative or not finite.
+    WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal, double mean_edge,
+                 const WindingOptions& options = {});
+
+    //! \brief The graph meter with each vertex's direction of increasing u given instead of
+    //! computed at the first ring that reaches it (rings along a cut reach most of its vessel:
+    //! on the 300k carotid phantom these gradients were half of the default cut stage).
+    //! plan_cuts() passes minus its stream field, descent_direction(mesh, u), which the cut
+    //! route computes anyway; the figures then agree with the other constructors' to rounding
+    //! (the same area-weighted gradient of u, summed per face instead of per corner).
+    //! \param axis_direction |V| x 3 rows `v.idx()`: the unit direction in which u increases
+    //! at each vertex (zero where u has no gradient).
+    //! \throw InvalidInputError as above, or if \p axis_direction has not |V| rows.
+    WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal, double mean_edge,
+                 const Eigen::MatrixX3d& axis_direction, const WindingOptions& options = {});
+
+    //! \throw InvalidInputError if the path leaves the mesh's vertex range.
+    PathWinding measure(const CutPath& path) const;
+
+    //! The same for a path given as its vertices, in order.
+    PathWinding measure(const std::vector<VertexHandle>& path) const;
+
+private:
+    struct Ring;
+    // Checks the options and the field's size, and sizes the scratch; the public constructors
+    // then set the band's half width.
+    WindingMeter(const Mesh& mesh, const CutGraph* graph, const Eigen::VectorXd& longitudinal,
+                 const WindingOptions& options);
+    bool ring_at(VertexHandle p, Ring& ring) const;
+
+    const Mesh& mesh_;
+    const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs
+    Eigen::VectorXd u_;  // a copy: the meter may outlive the caller's field
+    WindingOptions options_;
+    double half_width_ = 0.0;
+    mutable std::vector<int> stamp_;  // BFS marks, by vertex
+    mutable int round_ = 0;
+    //! Unit gradient of u per vertex, computed when a ring first reaches the vertex (NaN
+    //! until then; or all given at construction): consecutive rings of a cut share most of
+    //! their vertices.
+    mutable std::vector<Eigen::Vector3d> direction_;
+    //! ring_at()'s answer per vertex once asked (plan_cuts() measures two candidate cuts from
+    //! one start, which share part of their vertices): index into fits_, -1 until then.
+    struct RingFit
+    {
+        Eigen::Vector3d centre, axis;
+        double radius = 0.0;
+        bool ok = false;
+    };
+    //! \p scratch: the ring, made with it the first time p is asked.
+    const RingFit& ring_fit(VertexHandle p, Ring& scratch) const;
+    mutable std::vector<int> fit_of_;
+    mutable std::vector<RingFit> fits_;
+};
+
+//! Seam-level figures over cuts.
+struct SeamWinding
+{
+    double mean_abs_deg = 0.0;  //!< length-weighted mean of |winding_deg|
+    double max_abs_deg = 0.0;   //!< largest |winding_deg|
+};
+
+//! Length-weighted mean and max of per-cut |winding| (all zero when there are none).
+SeamWinding seam_winding(const std::vector<PathWinding>& paths);
+
+}  // namespace vessel

@@ -1,0 +1,78 @@
+#pragma once
+
+#include "vessel/fields/fields.h"
+#include "vessel/io/vtk_io.h"
+
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+//! \file Time series of fields over one geometry: a ParaView `.pvd` collection, numbered `.vtp`
+//! / `.vtk` files, or a CSV table; see docs/fields.md for the formats.
+
+struct FieldSeriesOptions
+{
+    //! CSV in wide form: the field's name (empty: the file's stem). Not used otherwise.
+    std::string name;
+    //! Seconds between steps where the source has no times (numbered files; CSV columns whose
+    //! headers are not numbers): step k is at `k * time_step`.
+    double time_step = 1.0;
+    //! Largest distance between a step file's point and the mesh's, as a fraction of the
+    //! mesh's bounding-box diagonal (float32 files round coordinates at ~1e-7).
+    double position_tolerance = 1e-5;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! \brief Read a series given as
+//! - `NAME.pvd`: a ParaView collection (DataSet timestep/file entries; part 0 is used),
+//! - a pattern of numbered files: printf-style (`wss_%03d.vtp`, counted up from 0 or 1 until a
+//!   file is missing) or a glob in the file name (`wss_*.vtp`, ordered by the number in it),
+//! - `NAME.csv`: wide (vertex id column, then one column per step whose header is its time) or
+//!   long (columns vertex, time, value),
+//! - a single `.vtp` / `.vtk` (one step at time 0),
+//! and check every step against \p mesh: point and polygon counts, point positions, integer id
+//! arrays present in both (e.g. GlobalNodeID), and CSV vertex ids (0-based, each exactly once).
+//! \param mesh the input surface with its arrays (read_polydata(), or a RawMesh with no fields).
+//! \throw InvalidInputError saying which step, file, row or id does not match and how.
+//! \throw IoError if a file is missing or unreadable.
+TimeSeries read_field_series(const std::string& spec, const PolyData& mesh,
+                             const FieldSeriesOptions& options = {});
+
+//! transfer_fields() on every step: the series with rows indexed by the (cut) mesh.
+TimeSeries transfer_series(const TimeSeries& series, const Mesh& mesh);
+
+//! \brief Read a CSV series (see read_field_series()) for a mesh of \p points input points.
+//! \throw InvalidInputError / IoError as read_field_series().
+TimeSeries read_csv_series(const std::string& path, int points,
+                           const FieldSeriesOptions& options = {});
+
+//! How write_csv_series() lays out a table.
+enum class CsvLayout
+{
+    Wide,  //!< header `vertex,t0,t1,...`; one row per vertex
+    Long,  //!< header `vertex,time,NAME`; one row per (time, vertex)
+};
+
+//! \brief Write the scalar point field \p name of \p series as CSV (temporary file + rename).
+//! \throw InvalidInputError if the field is missing, not a scalar or not a point field.
+//! \throw IoError if the file cannot be written.
+void write_csv_series(const std::string& path, const TimeSeries& series, const std::string& name,
+                      CsvLayout layout);
+
+//! One geometry of a written series (e.g. the 3D cut mesh, or its 2D map).
+struct PvdPart
+{
+    std::string suffix;  //!< appended to the step files' names ("" for the first part)
+    PolyData data;       //!< geometry and the fields every step carries
+};
+
+//! \brief Write a `.pvd` collection: for every step k and part p, the file
+//! `<dir>/<stem>/<stem>_<k, 3 digits><suffix>.vtp` holds part p's data plus step k's fields
+//! (rows = the part's points / polygons); the `.pvd` lists them with `timestep` and `part`.
+//! \throw InvalidInputError if a field does not fit a part; IoError if writing fails.
+void write_pvd_series(const std::string& pvd_path, const std::vector<PvdPart>& parts,
+                      const TimeSeries& series, const VtkWriteOptions& options = {});
+
+}  // namespace vessel

@@ -1,0 +1,38 @@
+#pragma once
+
+#include "vessel/core/mesh.h"
+
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+//! A mesh exactly as stored in a file: positions and polygon corner lists, nothing repaired.
+struct RawMesh
+{
+    std::vector<Eigen::Vector3d> points;  //!< input vertex positions, in file order
+    std::vector<std::vector<int>> faces;  //!< corner indices into `points`, in file order
+};
+
+//! \brief Read OBJ, PLY (ascii/binary) or STL (ascii/binary) through OpenMesh's readers, OFF
+//! (every `[ST][C][N][4][n]OFF` header, ascii or binary; docs/bad-input.md) with our own reader,
+//! or VTK PolyData (`.vtp`, legacy `.vtk`) through read_polydata() (vtk_io.h; its data arrays
+//! are dropped here, read them with read_polydata()).
+//! STL corners at identical positions are merged by OpenMesh's STL reader, so a segmentation
+//! STL becomes a connected mesh. Faces are recorded before OpenMesh sees them, so non-manifold,
+//! mis-oriented and degenerate faces reach the validation instead of being silently altered.
+//! Safe to call from several threads: OpenMesh's readers (process-wide singletons) are used by
+//! one thread at a time.
+//! \throw IoError if the file is missing, unreadable, empty, of an unknown format, truncated or
+//! corrupt (the message names the line, element or index and what was expected).
+RawMesh read_raw_mesh(const std::string& path);
+
+//! The corner lists and positions of \p mesh as a RawMesh (vertex i = `VertexHandle(i)`,
+//! face j = `FaceHandle(j)`), e.g. to validate a generated mesh like a file.
+RawMesh to_raw_mesh(const Mesh& mesh);
+
+//! \brief Write a mesh with OpenMesh (format from the extension; PLY is written binary).
+//! \throw IoError if writing fails.
+void write_mesh(const Mesh& mesh, const std::string& path);
+
+}  // namespace vessel

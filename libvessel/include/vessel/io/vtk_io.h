@@ -1,0 +1,67 @@
+#pragma once
+
+#include "vessel/fields/fields.h"
+#include "vessel/io/io.h"
+
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+//! \file VTK PolyData files (`.vtp` XML, legacy `.vtk`) read and written through VTK 9; VTK
+//! itself stays private to libvessel.
+
+//! A surface with its data arrays, as stored in a VTK PolyData file.
+struct PolyData
+{
+    //! Points and polygons (VTK "Polys"), in file order. Vertices, lines and strips are not
+    //! part of a vessel wall and are refused when read.
+    RawMesh mesh;
+    std::vector<Field> point_data;  //!< rows = `mesh.points`
+    std::vector<Field> cell_data;   //!< rows = `mesh.faces`
+    //! Name of a 2-component point field written as the texture coordinates (empty: none).
+    std::string tcoords;
+};
+
+//! How write_polydata() encodes a file.
+enum class VtkEncoding
+{
+    Ascii,     //!< text (XML or legacy)
+    Binary,    //!< XML: base64 inline data; legacy: binary
+    Appended,  //!< XML only: raw binary block after the XML (ParaView's default)
+};
+
+//! Compression of a `.vtp`'s binary or appended data (VTK's `SetCompressorType`).
+enum class VtkCompressor
+{
+    None,
+    ZLib,  //!< VTK's and ParaView's default
+    LZ4,   //!< fastest to read and write, larger files
+    LZMA,  //!< smallest files, slowest to write
+};
+
+struct VtkWriteOptions
+{
+    VtkEncoding encoding = VtkEncoding::Appended;  //!< default: compact and fast
+    //! XML binary/appended data only (ignored for ascii and legacy `.vtk`).
+    VtkCompressor compressor = VtkCompressor::ZLib;
+};
+
+//! \brief Read a `.vtp` (ascii, binary or appended; uncompressed or zlib, lz4 or lzma) or legacy `.vtk`
+//! POLYDATA file with all its point and cell data arrays (scalars, vectors, tensors; float,
+//! double and integer types). Field data arrays are ignored.
+//! \throw IoError if the file is missing, unreadable, not PolyData, or holds vertex, line or
+//! strip cells (the message says how to remove them).
+PolyData read_polydata(const std::string& path);
+
+//! \brief Write \p data as `.vtp` (XML) or `.vtk` (legacy, by extension) with VTK's writers.
+//! Written to a temporary name and renamed, so a failed run leaves no partial file.
+//! \throw InvalidInputError if a field's row count does not match, or the extension is neither.
+//! \throw IoError if writing fails.
+void write_polydata(const std::string& path, const PolyData& data,
+                    const VtkWriteOptions& options = {});
+
+//! True if \p path ends in `.vtp` or `.vtk` (any case).
+bool is_vtk_path(const std::string& path);
+
+}  // namespace vessel

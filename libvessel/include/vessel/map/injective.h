@@ -1,0 +1,129 @@
+#pragma once
+
+#include "vessel/map/centre_pull.h"
+#include "vessel/layout/pins.h"
+
+#include <string>
+
+namespace vessel {
+
+//! \brief Tutte embedding \cite tutte_1963_draw, \cite floater_1997_parametrization: the disk's
+//! boundary is placed on a circle of the same perimeter (by arc length), every interior vertex at
+//! the average of its neighbours. Guaranteed free of flipped triangles (faces counter-clockwise).
+//! \param mesh Disk-topology triangle mesh.
+//! \return |V| x 2 (u, v), row `v.idx()`.
+//! \throw TopologyError if the mesh does not have exactly one boundary loop.
+//! \throw SolverError if the sparse factorization fails.
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh);
+
+//! \brief Tutte embedding with the boundary held at given positions: every interior vertex at
+//! the average of its neighbours. Free of flipped triangles when \p boundary is a convex polygon
+//! walked clockwise along the boundary halfedges (as on tutte_embedding()'s circle).
+//! \param boundary a position for every boundary vertex (and for no other vertex).
+//! \return |V| x 2, row `v.idx()`, scaled to the surface's 3D area.
+//! \throw InvalidInputError if a boundary vertex has no position or an interior one has.
+//! \throw SolverError if the sparse factorization fails.
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh, const Pins& boundary);
+
+struct InjectiveOptions
+{
+    int max_iterations = 100;  //!< SLIM iterations
+    double tolerance = 1e-4;   //!< stop after 3 iterations in a row decrease the energy by less
+    //! Keep the map one-to-one, not only flip-free: triangulate the free space between the
+    //! map's boundary and a box around it (a scaffold, Jiang et al. 2017) and let no scaffold
+    //! triangle flip either, so the boundary cannot run into itself. Needs a start without
+    //! overlaps (e.g. tutte_embedding).
+    bool scaffold = false;
+    //! Run without a scaffold, checking the map's boundary after every step; if the end map's
+    //! boundary crosses itself, go back to the last iterate whose boundary was simple and go on
+    //! from there with the scaffold (up to max_iterations more). The result is one-to-one, and
+    //! the scaffold's cost is paid only when needed. Needs a start whose boundary is simple;
+    //! otherwise it has no effect.
+    bool scaffold_on_contact = false;
+    //! With scaffold_on_contact: once the boundary has stayed crossed for this many
+    //! iterations in a row, stop the unconstrained run there and go on with the scaffold (a
+    //! crossing that lasts seldom comes apart; the iterations spent on it are lost).
+    int crossing_patience = 5;
+    //! The scaffold's total weight, as a fraction of the surface area, shared equally by its
+    //! triangles. Heavier scaffolds resist the map's motion more (pulmonary tree, mean |log
+    //! area|: 0.1598 at 0.1, 0.1561 at 0.02; the weight does not stall the steps).
+    double scaffold_weight = 0.002;
+    //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
+    //! progress continues below 1e-4 (pulmonary tree: 0.1527 at 1e-4, 0.1456 at 1e-5).
+    //! 2e-5 with `momentum` 0.5 (branch fmap, docs/benchmarks.md "SLIM momentum"): SLIM
+    //! iterations carotid-44k 112 -> 85, 100k 128 -> 79, 300k 99 -> 54, mean |log area| within
+    //! +3% of 1e-5 without momentum (3e-5: 300k +12%); the 8 real trees within -3% / +2%.
+    double scaffold_tolerance = 2e-5;
+    //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
+    //! many iterations; in between its triangles (box and Steiner vertices included) keep their
+    //! connectivity and only their rest shapes follow the map (a triangle that became
+    //! degenerate forces a new triangulation). 1 = every iteration (Jiang et al.). Measured
+    //! with 10: 10-outlet tree phantom 4.9 instead of 7.9 CPU s, mean |log area| 0.0964 vs
+    //! 0.0985; but pulmonary tree 0.179 vs 0.151 (the stale triangles block the steps), so
+    //! the default stays 1.
+    int scaffold_rebuild_every = 1;
+    //! Line searches per global step in the scaffold phase: when a step stops where a scaffold
+    //! triangle would collapse, the free space is triangulated anew and the rest of the same
+    //! direction is line searched again (CGAL mesher only, no new factorization), up to this
+    //! many times in all. 1 = one line search per step (Jiang et al.).
+    int scaffold_passes = 4;
+    //! Keep the scaffold's triangulation (and the symbolic factorization of its pattern) for
+    //! the next iteration when no scaffold triangle stopped the last step; only its rest shapes
+    //! follow the map (as between scaffold_rebuild_every's triangulations). A step that did
+    //! stop at a collapsing scaffold triangle still gets a new triangulation. Measured (branch
+    //! fspeed3, default pipeline): scaffold triangulations carotid-44k 200 -> 96, CGAL CPU
+    //! 4.7 -> 2.1 s; mean |log area| carotid 0.0390 -> 0.0400, pulmonary tree 0.1487 ->
+    //! 0.1489, AneuRisk 0.1360 -> 0.1361.
+    bool scaffold_keep_unblocked = true;
+    //! Treat a step stopped by a collapsing *surface* triangle like one stopped by a scaffold
+    //! triangle: triangulate the scaffold anew, continue the step (scaffold_passes) and
+    //! triangulate again at the next iteration. false (default, branch fspeed6): only a step
+    //! that a scaffold triangle stopped is continued and re-triangulated; where a surface
+    //! triangle stops it a new scaffold cannot let it go further, and each new triangulation
+    //! costs a symbolic factorization (carotid-1M: see docs/benchmarks.md, "fspeed6").
+    bool scaffold_continue_surface_blocked = false;
+    //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
+    //! of the last iteration's motion and keeps whichever line search ends at the lower energy
+    //! (flips and, with a scaffold, crossings stay excluded: the same line search). 0 = plain
+    //! SLIM. 0.5 measured on the carotid phantoms and the 8 real trees (docs/benchmarks.md,
+    //! "SLIM momentum"); 0.6 and more let carotid-13k's SLIM reach its crossing, and its scaffold
+    //! phase then costs 4x the time.
+    double momentum = 0.5;
+    //! Soft pulls on vertex sets' centres (centre_pull.h), added to the energy SLIM minimizes
+    //! and line searches (through a diagonal proxy in the global step: the solver's pattern
+    //! is unchanged). Empty = none. The pipeline fills it on a restart to keep the start's look
+    //! (FlattenOptions::look_pull); the summary's energies stay the surface's alone.
+    std::vector<CentrePull> centre_pulls;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+struct InjectiveSummary
+{
+    int iterations = 0;
+    double initial_energy = 0.0;  //!< symmetric Dirichlet energy at the start (4 x area at best)
+    double final_energy = 0.0;
+    bool converged = false;
+    //! With scaffold_on_contact: the iterate (0 = the start) the scaffold phase went on from;
+    //! -1 if the boundary never crossed (no scaffold was needed).
+    int scaffold_from = -1;
+    int scaffold_rebuilds = 0;  //!< scaffold triangulations made
+    int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
+    int accelerated = 0;        //!< steps that took the momentum direction (momentum)
+    std::string report;  //!< one line: iterations and energies
+};
+
+//! \brief Minimize the symmetric Dirichlet energy E = sum_t area_t (||J_t||^2 + ||J_t^-1||^2)
+//! with SLIM \cite rabinovich_2017_scalable (reweighted local/global steps on a CHOLMOD
+//! factorization whose pattern is analysed once) and a line search that never lets a triangle
+//! flip \cite smith_2015_bijective: the energy grows without bound as a triangle collapses and
+//! each step stops short of the first collapse, so a flip-free start stays flip-free. Its minimum is an isometry, like ARAP's, but it penalizes
+//! shrinking as much as stretching, so area stays close to the 3D area.
+//! \param uv |V| x 2 start, row `v.idx()`, with no flipped triangle; updated in place.
+//! \param pins vertices held fixed (may be empty).
+//! \throw InvalidInputError if \p uv has a flipped triangle or the sizes disagree.
+//! \throw SolverError if the sparse factorization fails.
+InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                                    const InjectiveOptions& options = {});
+
+}  // namespace vessel

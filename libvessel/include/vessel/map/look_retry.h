@@ -1,0 +1,57 @@
+#pragma once
+
+#include "vessel/map/map_look.h"
+
+#include <string>
+
+namespace vessel {
+
+//! When the pipeline redoes a restarted map with the look pull (LookRetryOptions).
+enum class LookRetry
+{
+    Off,   //!< never: the default map as it comes
+    Auto,  //!< when the default map's look is broken (LookRetryOptions::look_broken())
+    Force  //!< whenever the map restarted, broken or not (the acceptance test still applies)
+};
+
+//! \brief The adaptive look of issue 7: after a restarted map (FlattenOptions::look_pull 0), if
+//! its look is broken, redo the restart, SLIM and the polish with the hinge pull and keep that
+//! map only if it is one-to-one, its look is better (fewer outlets below the inlet, or as many
+//! and fewer walk inversions) and its area distortion is within the bound.
+//! Measured (docs/overlaps.md "The adaptive look"): Glenn's default map (1 outlet below the
+//! inlet, 22 walk inversions) is redone and kept; trees whose look holds are untouched.
+struct LookRetryOptions
+{
+    //! CLI `--look-retry auto|off|force`.
+    LookRetry mode = LookRetry::Auto;
+    //! The redo's hinge weight (FlattenOptions::look_pull; the other look_* options apply).
+    //! 100: Glenn 22 -> 7 walk inversions, 0 outlets below, 1.27x `keep`. CLI `--look-retry-pull`.
+    double pull = 100.0;
+    //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
+    //! fraction of the outlet pairs (Glenn: 22 of 190 = 0.12; 10- and 30-outlet tree
+    //! phantoms: at most 0.02). CLI `--look-retry-inversions`.
+    double max_walk_inversion_fraction = 0.05;
+    //! The pulled map is kept only if its mean |log area| (both FlatQuality measures) is at
+    //! most this factor times that of the unconstrained map (`--overlaps keep`, computed for the
+    //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
+    //! less a margin. CLI `--look-retry-area`.
+    double max_area_over_keep = 1.45;
+    //! \brief Whether \p look is broken by the rule above.
+    bool look_broken(const MapLook& look) const;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! What the look retry did (FlattenResult::look_retry).
+struct LookRetrySummary
+{
+    bool tried = false;          //!< the restart was redone with the pull
+    bool kept = false;           //!< the pulled map replaced the default one
+    double default_area = 0.0;   //!< default map's mean |log area| (normalized)
+    double pulled_area = 0.0;    //!< pulled map's, when tried
+    double keep_area = 0.0;      //!< the `keep` map's, when it was computed (else 0)
+    MapLook default_look;        //!< the default map's look, when tried
+    std::string report;          //!< one line, also in FlattenResult::notes
+};
+
+}  // namespace vessel

@@ -1,0 +1,454 @@
+#include "vessel/check/validation.h"
+
+#include "vessel/cut/boundary.h"
+#include "detail/orient.h"
+#include "detail/union_find.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <sstream>
+
+namespace vessel {
+
+namespace {
+
+using Triangle = std::array<int, 3>;
+
+using detail::UnionFind;
+
+[[noreturn]] void refuse(const std::string& what)
+{
+    throw InvalidInputError("not a valid vessel tree surface: " + what);
+}
+
+std::string plural(std::size_t n, const std::string& word)
+{
+    if (n == 1)
+        return "1 " + word;
+    const std::string vertex = "vertex";
+    if (word.size() >= vertex.size() && word.compare(word.size() - vertex.size(), vertex.size(), vertex) == 0)
+        return std::to_string(n) + " " + word.substr(0, word.size() - vertex.size()) + "vertices";
+    return std::to_string(n) + " " + word + "s";
+}
+
+// One directed edge of a triangle; sorting by key groups the faces of each undirected edge.
+struct Corner
+{
+    std::uint64_t key;  // min * n + max of the two vertex indices
+    int triangle;
+    int local;     // the edge runs from corner `local` to corner `local + 1`
+    bool forward;  // from < to
+};
+
+struct Triangulated
+{
+    std::vector<Triangle> triangles;
+    std::vector<int> source_face;  // input face of each triangle
+    std::size_t polygons = 0;
+};
+
+Triangulated triangulate(const RawMesh& raw, const TreeSurfaceOptions& options)
+{
+    Triangulated out;
+    out.triangles.reserve(raw.faces.size());
+    const int n = static_cast<int>(raw.points.size());
+    for (std::size_t f = 0; f < raw.faces.size(); ++f)
+    {
+        const auto& face = raw.faces[f];
+        if (face.size() < 3)
+            refuse("face " + std::to_string(f) + " has only " + plural(face.size(), "corner") +
+                   "; remove it");
+        for (std::size_t i = 0; i < face.size(); ++i)
+        {
+            if (face[i] < 0 || face[i] >= n)
+                refuse("face " + std::to_string(f) + " refers to vertex " +
+                       std::to_string(face[i]) + " but the file has " + plural(n, "vertex") +
+                       "; the file is corrupt");
+            for (std::size_t j = i + 1; j < face.size(); ++j)
+                if (face[i] == face[j])
+                    refuse("face " + std::to_string(f) + " uses vertex " +
+                           std::to_string(face[i]) +
+                           " twice (degenerate face); remove degenerate faces first");
+        }
+        if (face.size() > 3)
+        {
+            if (!options.triangulate_polygons)
+                refuse("face " + std::to_string(f) + " has " + plural(face.size(), "corner") +
+                       "; triangulate the surface first (or allow vessel-flatten to do it: drop "
+                       "--refuse-polygons)");
+            ++out.polygons;
+        }
+        for (std::size_t i = 1; i + 1 < face.size(); ++i)
+        {
+            out.triangles.push_back({face[0], face[i], face[i + 1]});
+            out.source_face.push_back(static_cast<int>(f));
+        }
+    }
+    return out;
+}
+
+void check_coordinates(const RawMesh& raw)
+{
+    for (std::size_t i = 0; i < raw.points.size(); ++i)
+        if (!raw.points[i].allFinite())
+            refuse("vertex " + std::to_string(i) +
+                   " has a NaN or infinite coordinate; fix or remove it in the source");
+}
+
+void check_degenerate(const RawMesh& raw, const Triangulated& tri,
+                      const TreeSurfaceOptions& options)
+{
+    double edge_sum = 0.0;
+    for (const auto& t : tri.triangles)
+        for (int k = 0; k < 3; ++k)
+            edge_sum += (raw.points[t[k]] - raw.points[t[(k + 1) % 3]]).norm();
+    const double h = edge_sum / (3.0 * static_cast<double>(tri.triangles.size()));
+    const double min_area = options.degenerate_area_factor * h * h;
+    std::size_t count = 0;
+    std::size_t first = 0;
+    for (std::size_t i = 0; i < tri.triangles.size(); ++i)
+    {
+        const auto& t = tri.triangles[i];
+        const double area = 0.5 * (raw.points[t[1]] - raw.points[t[0]])
+                                       .cross(raw.points[t[2]] - raw.points[t[0]])
+                                       .norm();
+        if (area <= min_area && count++ == 0)
+            first = i;
+    }
+    if (count > 0)
+        refuse(plural(count, "degenerate (zero-area) face") + ", first is face " +
+               std::to_string(tri.source_face[first]) +
+               "; remove degenerate faces (vessel-flatten --repair, or MeshLab 'Remove Zero Area "
+               "Faces')");
+}
+
+// Two triangles with the same three vertices (in either winding) are duplicates; they would
+// otherwise be reported as non-manifold edges, which hides the simple fix.
+void check_duplicates(const Triangulated& tri)
+{
+    std::vector<std::pair<Triangle, int>> sorted;
+    sorted.reserve(tri.triangles.size());
+    for (std::size_t t = 0; t < tri.triangles.size(); ++t)
+    {
+        Triangle key = tri.triangles[t];
+        std::sort(key.begin(), key.end());
+        sorted.emplace_back(key, static_cast<int>(t));
+    }
+    std::sort(sorted.begin(), sorted.end());
+    std::size_t count = 0;
+    int first = -1, original = -1;
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+        if (sorted[i].first == sorted[i - 1].first && count++ == 0)
+        {
+            original = std::min(sorted[i - 1].second, sorted[i].second);
+            first = std::max(sorted[i - 1].second, sorted[i].second);
+        }
+    if (count > 0)
+        refuse(plural(count, "duplicate face") + " (same three vertices as another face), first is "
+               "face " + std::to_string(tri.source_face[first]) + " (a copy of face " +
+               std::to_string(tri.source_face[original]) +
+               "); remove them (vessel-flatten --repair, or MeshLab 'Remove Duplicate Faces')");
+}
+
+// "(x, y, z)" of a vertex, to locate a defect in a message.
+std::string position(const Eigen::Vector3d& p)
+{
+    std::ostringstream out;
+    out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+    return out.str();
+}
+
+// Boundary vertices at exactly the same position as another boundary vertex: the surface was
+// split along a seam (e.g. vmtk's branch clipper) and its pieces only touch there.
+void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
+{
+    std::sort(border.begin(), border.end());
+    border.erase(std::unique(border.begin(), border.end()), border.end());
+    const auto& P = raw.points;
+    std::sort(border.begin(), border.end(), [&](int a, int b) {
+        return std::lexicographical_compare(P[a].data(), P[a].data() + 3, P[b].data(),
+                                            P[b].data() + 3);
+    });
+    std::size_t count = 0;
+    int first_a = -1, first_b = -1;
+    for (std::size_t i = 0; i < border.size();)
+    {
+        std::size_t j = i + 1;
+        while (j < border.size() && P[border[j]] == P[border[i]])
+            ++j;
+        if (j - i > 1)
+        {
+            // Report the group with the lowest vertex index, by its two lowest indices.
+            std::vector<int> group(border.begin() + i, border.begin() + j);
+            std::sort(group.begin(), group.end());
+            if (count == 0 || group[0] < first_a)
+                first_a = group[0], first_b = group[1];
+            count += j - i;
+        }
+        i = j;
+    }
+    if (count == 0)
+        return;
+    refuse("coincident boundary loops: " + plural(count, "boundary vertex") +
+           " lie exactly on other boundary vertices (first: vertices " + std::to_string(first_a) +
+           " and " + std::to_string(first_b) + " at " + position(P[first_a]) +
+           "), so pieces of the surface only touch along a seam; stitch them (vessel-flatten "
+           "--repair)");
+}
+
+// Checks edges and vertices for 2-manifoldness and consistent orientation and that no boundary
+// loops coincide; returns the edge-connected component of every triangle (a union-find root).
+std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
+{
+    const auto& T = tri.triangles;
+    const std::uint64_t n = raw.points.size();
+    std::vector<Corner> corners;
+    corners.reserve(3 * T.size());
+    for (std::size_t t = 0; t < T.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+        {
+            const std::uint64_t a = T[t][k], b = T[t][(k + 1) % 3];
+            corners.push_back({std::min(a, b) * n + std::max(a, b), static_cast<int>(t), k, a < b});
+        }
+    std::sort(corners.begin(), corners.end(),
+              [](const Corner& x, const Corner& y) { return x.key < y.key; });
+
+    // Calls visit(first, count) for the corners of every undirected edge.
+    const auto for_each_edge = [&](const auto& visit) {
+        for (std::size_t i = 0; i < corners.size();)
+        {
+            std::size_t j = i;
+            while (j < corners.size() && corners[j].key == corners[i].key)
+                ++j;
+            visit(i, j - i);
+            i = j;
+        }
+    };
+    // The name of the edge of corner i, for messages (made only when refusing).
+    const auto edge_name = [&](std::size_t i) {
+        return "(" + std::to_string(corners[i].key / n) + ", " +
+               std::to_string(corners[i].key % n) + ")";
+    };
+    // Faces per edge first: an edge with three faces also looks mis-oriented, and the
+    // non-manifold edge is the defect to report.
+    for_each_edge([&](std::size_t i, std::size_t count) {
+        if (count > 2)
+            refuse("non-manifold edge " + edge_name(i) + " (from " +
+                   position(raw.points[corners[i].key / n]) + " to " +
+                   position(raw.points[corners[i].key % n]) + ") is shared by " +
+                   plural(count, "face") +
+                   " (faces " + std::to_string(tri.source_face[corners[i].triangle]) + ", " +
+                   std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
+                   std::to_string(tri.source_face[corners[i + 2].triangle]) +
+                   "); repair the surface so each edge has at most two faces");
+    });
+
+    UnionFind faces(T.size());
+    UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
+    for_each_edge([&](std::size_t i, std::size_t count) {
+        if (count != 2)
+            return;
+        const Corner& c0 = corners[i];
+        const Corner& c1 = corners[i + 1];
+        if (c0.forward == c1.forward)
+            refuse("inconsistent orientation: faces " +
+                   std::to_string(tri.source_face[c0.triangle]) + " and " +
+                   std::to_string(tri.source_face[c1.triangle]) + " run the same way along edge " +
+                   edge_name(i) +
+                   "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
+                   "coherently')");
+        faces.unite(c0.triangle, c1.triangle);
+        // Opposite runs: corner `local` of c0 and corner `local + 1` of c1 are the same vertex.
+        fans.unite(3 * c0.triangle + c0.local, 3 * c1.triangle + (c1.local + 1) % 3);
+        fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
+    });
+
+    std::vector<int> first_fan(n, -1);
+    for (std::size_t t = 0; t < T.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+        {
+            const int root = fans.find(static_cast<int>(3 * t + k));
+            int& seen = first_fan[T[t][k]];
+            if (seen < 0)
+                seen = root;
+            else if (seen != root)
+                refuse("non-manifold vertex " + std::to_string(T[t][k]) + " at " +
+                       position(raw.points[T[t][k]]) + ": its faces form several fans that touch only at this vertex; split or "
+                       "remove the pinched part");
+        }
+
+    std::vector<int> border;
+    for_each_edge([&](std::size_t i, std::size_t count) {
+        if (count == 1)
+            border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
+                                         T[corners[i].triangle][(corners[i].local + 1) % 3]});
+    });
+    check_coincident_borders(raw, std::move(border));
+
+    std::vector<int> component(T.size());
+    for (std::size_t t = 0; t < T.size(); ++t)
+        component[t] = faces.find(static_cast<int>(t));
+    return component;
+}
+
+// Refuses several components or, with `keep_largest_component`, keeps the largest (noted).
+void select_component(Triangulated& tri, const std::vector<int>& component,
+                      const TreeSurfaceOptions& options, std::vector<std::string>& notes)
+{
+    std::vector<std::size_t> size(component.size(), 0);
+    std::vector<std::size_t> sizes;
+    for (const int root : component)
+        ++size[root];
+    for (const std::size_t n : size)
+        if (n > 0)
+            sizes.push_back(n);
+    if (sizes.size() < 2)
+        return;
+    std::sort(sizes.rbegin(), sizes.rend());
+    std::ostringstream list;
+    for (std::size_t i = 0; i < std::min<std::size_t>(sizes.size(), 4); ++i)
+        list << (i ? ", " : "") << sizes[i];
+    if (sizes.size() > 4)
+        list << ", ...";
+    if (!options.keep_largest_component)
+        refuse(plural(sizes.size(), "connected component") + " (faces per component: " +
+               list.str() + "); keep only the vessel surface (one piece), e.g. with "
+               "vessel-flatten --largest-component");
+    const int largest = static_cast<int>(std::max_element(size.begin(), size.end()) - size.begin());
+    Triangulated kept;
+    kept.polygons = tri.polygons;
+    for (std::size_t t = 0; t < component.size(); ++t)
+        if (component[t] == largest)
+        {
+            kept.triangles.push_back(tri.triangles[t]);
+            kept.source_face.push_back(tri.source_face[t]);
+        }
+    notes.push_back("kept the largest of " + plural(sizes.size(), "connected component") +
+                    " (faces per component: " + list.str() + "); dropped " +
+                    plural(tri.triangles.size() - kept.triangles.size(), "face"));
+    tri = std::move(kept);
+}
+
+Mesh build(const RawMesh& raw, const Triangulated& tri, bool reverse)
+{
+    const auto& T = tri.triangles;
+    Mesh mesh;
+    auto input_index = OpenMesh::VProp<int>(mesh, prop::input_index);
+    auto input_face = OpenMesh::FProp<int>(mesh, prop::input_face);
+    std::vector<int> handle(raw.points.size(), -1);
+    for (const auto& t : T)
+        for (int k = 0; k < 3; ++k)
+            if (handle[t[k]] < 0)
+            {
+                auto v = mesh.add_vertex(to_openmesh(raw.points[t[k]]));
+                handle[t[k]] = v.idx();
+                input_index[v] = t[k];
+            }
+    mesh.reserve(mesh.n_vertices(), 3 * T.size() / 2, T.size());
+    for (std::size_t i = 0; i < T.size(); ++i)
+    {
+        const auto& t = T[i];
+        VertexHandle a(handle[t[0]]), b(handle[t[1]]), c(handle[t[2]]);
+        if (reverse)
+            std::swap(b, c);
+        const auto f = mesh.add_face(a, b, c);
+        if (!f.is_valid())
+            throw TopologyError("make_tree_surface: OpenMesh refused a face that passed the "
+                                "manifold checks; please report this mesh");
+        input_face[f] = tri.source_face[i];
+    }
+    return mesh;
+}
+
+// Volume enclosed after closing every boundary loop with a fan around its centroid; positive
+// when the faces are wound so that normals point out of the lumen.
+double closed_volume(const Mesh& mesh, const std::vector<BoundaryLoop>& loops)
+{
+    double six_volume = 0.0;
+    for (auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        six_volume += to_eigen(mesh.point(h.from()))
+                          .dot(to_eigen(mesh.point(h.to())).cross(to_eigen(mesh.point(h.next().to()))));
+    }
+    for (const auto& loop : loops)
+        for (auto h : loop.halfedges)
+            six_volume += to_eigen(mesh.point(mesh.from_vertex_handle(h)))
+                              .dot(to_eigen(mesh.point(mesh.to_vertex_handle(h))).cross(loop.centroid));
+    return six_volume / 6.0;
+}
+
+// Winds all faces alike (issue 6: inconsistent orientation is fixed with a warning); refuses a
+// surface that cannot be (a Moebius strip).
+void orient(Triangulated& tri, std::size_t n_vertices, TreeSurface& out)
+{
+    const detail::Orientation o = detail::orient_consistently(tri.triangles, n_vertices);
+    if (o.conflict_a >= 0)
+        refuse("the surface is not orientable (like a Moebius strip): faces " +
+               std::to_string(tri.source_face[o.conflict_a]) + " and " +
+               std::to_string(tri.source_face[o.conflict_b]) +
+               " cannot both be wound to agree with their neighbours, so no side of the wall is "
+               "outside; check the segmentation for a twisted or self-glued piece");
+    if (o.reversed == 0)
+        return;
+    out.reoriented_faces = o.reversed;
+    out.notes.push_back("re-oriented " + plural(static_cast<std::size_t>(o.reversed), "face") +
+                        " to agree with their neighbours");
+}
+
+}  // namespace
+
+TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options)
+{
+    if (raw.faces.empty())
+        refuse("the mesh has no faces; expected a triangulated vessel wall");
+    check_coordinates(raw);
+    Triangulated tri = triangulate(raw, options);
+    check_degenerate(raw, tri, options);
+    check_duplicates(tri);
+    TreeSurface out;
+    if (options.orient_consistently)
+        orient(tri, raw.points.size(), out);
+    select_component(tri, check_manifold(raw, tri), options, out.notes);
+
+    out.input_vertices = static_cast<int>(raw.points.size());
+    out.mesh = build(raw, tri, false);
+    const auto loops = boundary_loops(out.mesh);
+    if (loops.empty())
+        refuse("the surface is closed (no open ends); remove the caps at the inlet and outlets "
+               "so each vessel end is an open boundary loop");
+    const long chi = static_cast<long>(out.mesh.n_vertices()) -
+                     static_cast<long>(out.mesh.n_edges()) +
+                     static_cast<long>(out.mesh.n_faces());
+    const long genus = (2 - chi - static_cast<long>(loops.size())) / 2;
+    if (genus > 0)
+        refuse("genus " + std::to_string(genus) + " (Euler characteristic " +
+               std::to_string(chi) + " with " + plural(loops.size(), "boundary loop") +
+               "): the surface has handles (e.g. touching branches fused together); remove them");
+
+    if (tri.polygons > 0)
+        out.notes.push_back("triangulated " + plural(tri.polygons, "polygon") +
+                            " with more than 3 corners");
+    const std::size_t unused = raw.points.size() - out.mesh.n_vertices();
+    if (unused > 0)
+        out.notes.push_back("ignored " + plural(unused, "vertex") + " not used by any face");
+    if (options.orient_outward && closed_volume(out.mesh, loops) < 0.0)
+    {
+        out.mesh = build(raw, tri, true);
+        out.notes.push_back("the surface was wound inward (normals into the lumen); reversed the "
+                            "winding of all faces");
+    }
+    return out;
+}
+
+TreeSurface load_tree_surface(const std::string& path, const TreeSurfaceOptions& options)
+{
+    return make_tree_surface(read_raw_mesh(path), options);
+}
+
+}  // namespace vessel

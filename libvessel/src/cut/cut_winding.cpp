@@ -1,0 +1,276 @@
+#include "vessel/cut/cut_winding.h"
+
+#include "vessel/core/errors.h"
+#include "detail/edge_distance.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace vessel {
+
+void WindingOptions::validate() const
+{
+    if (!(band > 0.0) || !std::isfinite(band))
+        throw InvalidInputError("WindingOptions: band must be finite and > 0 mean edges, got " +
+                                std::to_string(band));
+    if (min_ring_vertices < 3)
+        throw InvalidInputError("WindingOptions: min_ring_vertices must be >= 3, got " +
+                                std::to_string(min_ring_vertices));
+    if (!(max_spread > 0.0) || !std::isfinite(max_spread))
+        throw InvalidInputError("WindingOptions: max_spread must be finite and > 0, got " +
+                                std::to_string(max_spread));
+    if (!(min_offset >= 0.0 && min_offset < 1.0))
+        throw InvalidInputError("WindingOptions: min_offset must be in [0, 1), got " +
+                                std::to_string(min_offset));
+}
+
+struct WindingMeter::Ring
+{
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // unit, along increasing u
+    double radius = 0.0;                              // mean distance from the axis
+    std::vector<VertexHandle> vertices;
+};
+
+WindingMeter::WindingMeter(const Mesh& mesh, const CutGraph* graph,
+                           const Eigen::VectorXd& longitudinal, const WindingOptions& options)
+    : mesh_(mesh), graph_(graph), u_(longitudinal), options_(options)
+{
+    options_.validate();
+    if (static_cast<std::size_t>(longitudinal.size()) != mesh.n_vertices())
+        throw InvalidInputError("WindingMeter: " + std::to_string(longitudinal.size()) +
+                                " longitudinal values for " + std::to_string(mesh.n_vertices()) +
+                                " vertices; pass one per vertex, indexed by v.idx()");
+    stamp_.assign(mesh.n_vertices(), -1);
+    fit_of_.assign(mesh.n_vertices(), -1);
+    direction_.assign(mesh.n_vertices(),
+                      Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+}
+
+WindingMeter::WindingMeter(const Mesh& mesh, const Eigen::VectorXd& longitudinal,
+                           const WindingOptions& options)
+    : WindingMeter(mesh, nullptr, longitudinal, options)
+{
+    half_width_ = options_.band * mean_edge_length(mesh);
+}
+
+WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
+                           double mean_edge, const WindingOptions& options)
+    : WindingMeter(graph.mesh(), &graph, longitudinal, options)
+{
+    if (!(mean_edge >= 0.0) || !std::isfinite(mean_edge))
+        throw InvalidInputError("WindingMeter: mean edge length " + std::to_string(mean_edge) +
+                                " must be finite and >= 0; pass mean_edge_length(graph.mesh())");
+    half_width_ = options_.band * mean_edge;
+}
+
+WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
+                           double mean_edge, const Eigen::MatrixX3d& axis_direction,
+                           const WindingOptions& options)
+    : WindingMeter(graph, longitudinal, mean_edge, options)
+{
+    if (static_cast<std::size_t>(axis_direction.rows()) != mesh_.n_vertices())
+        throw InvalidInputError("WindingMeter: " + std::to_string(axis_direction.rows()) +
+                                " axis directions for " + std::to_string(mesh_.n_vertices()) +
+                                " vertices; pass one row per vertex, e.g. minus "
+                                "descent_direction(mesh, longitudinal)");
+    for (std::size_t v = 0; v < direction_.size(); ++v)
+        direction_[v] = axis_direction.row(static_cast<Eigen::Index>(v)).transpose();
+}
+
+namespace {
+
+// Area-weighted gradient of the piecewise-linear u over the faces around v (unnormalized).
+Eigen::Vector3d gradient_at(const Mesh& mesh, const Eigen::VectorXd& u, VertexHandle v)
+{
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (auto f : mesh.vf_range(v))
+    {
+        Eigen::Vector3d p[3];
+        double value[3];
+        int k = 0;
+        for (auto w : mesh.fv_range(f))
+        {
+            p[k] = to_eigen(mesh.point(w));
+            value[k++] = u[w.idx()];
+        }
+        const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+        const double norm = n.norm();
+        if (!(norm > 0.0))
+            continue;
+        // area * grad u = 1/2 sum_i u_i (n^ x e_i), e_i the edge opposite corner i.
+        const Eigen::Vector3d unit = n / norm;
+        for (int i = 0; i < 3; ++i)
+            sum += 0.5 * value[i] * unit.cross(p[(i + 2) % 3] - p[(i + 1) % 3]);
+    }
+    return sum;
+}
+
+// The minimal rotation taking unit a onto unit b, applied to x.
+Eigen::Vector3d transport(const Eigen::Vector3d& x, const Eigen::Vector3d& a,
+                          const Eigen::Vector3d& b)
+{
+    return Eigen::Quaterniond::FromTwoVectors(a, b) * x;
+}
+
+}  // namespace
+
+bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
+{
+    ++round_;
+    const double lo = u_[p.idx()] - half_width_, hi = u_[p.idx()] + half_width_;
+    ring.vertices.assign(1, p);
+    stamp_[p.idx()] = round_;
+    const auto enter = [&](int w) {
+        if (stamp_[w] != round_ && u_[w] >= lo && u_[w] <= hi)
+        {
+            stamp_[w] = round_;
+            ring.vertices.push_back(VertexHandle(w));
+        }
+    };
+    // Breadth first; the graph's arcs list the neighbours in vv_range() order, so both walks
+    // give the same ring in the same order (and the same sums below).
+    for (std::size_t head = 0; head < ring.vertices.size(); ++head)
+        if (graph_)
+            detail::graph_neighbours(*graph_)(ring.vertices[head].idx(), enter);
+        else
+            detail::mesh_neighbours(mesh_)(ring.vertices[head].idx(), enter);
+    const auto n = static_cast<double>(ring.vertices.size());
+    if (ring.vertices.size() < static_cast<std::size_t>(options_.min_ring_vertices))
+        return false;
+    ring.centre.setZero();
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    for (auto v : ring.vertices)
+    {
+        ring.centre += to_eigen(mesh_.point(v));
+        Eigen::Vector3d& unit = direction_[static_cast<std::size_t>(v.idx())];
+        if (std::isnan(unit.x()))
+        {
+            const Eigen::Vector3d g = gradient_at(mesh_, u_, v);
+            const double length = g.norm();
+            unit = length > 0.0 ? Eigen::Vector3d(g / length) : Eigen::Vector3d::Zero();
+        }
+        axis += unit;
+    }
+    ring.centre /= n;
+    if (!(axis.norm() > 0.0))
+        return false;
+    ring.axis = axis.normalized();
+    double sum = 0.0, squares = 0.0;
+    for (auto v : ring.vertices)
+    {
+        Eigen::Vector3d q = to_eigen(mesh_.point(v)) - ring.centre;
+        q -= q.dot(ring.axis) * ring.axis;
+        const double r = q.norm();
+        sum += r;
+        squares += r * r;
+    }
+    ring.radius = sum / n;
+    const double spread = std::sqrt(std::max(0.0, squares / n - ring.radius * ring.radius));
+    return ring.radius > 0.0 && spread < options_.max_spread * ring.radius;
+}
+
+const WindingMeter::RingFit& WindingMeter::ring_fit(VertexHandle p, Ring& scratch) const
+{
+    int& slot = fit_of_[static_cast<std::size_t>(p.idx())];
+    if (slot < 0)
+    {
+        RingFit fit;
+        fit.ok = ring_at(p, scratch);
+        fit.centre = scratch.centre;
+        fit.axis = scratch.axis;
+        fit.radius = scratch.radius;
+        slot = static_cast<int>(fits_.size());
+        fits_.push_back(fit);
+    }
+    return fits_[static_cast<std::size_t>(slot)];
+}
+
+PathWinding WindingMeter::measure(const CutPath& path) const
+{
+    std::vector<VertexHandle> vertices{path.start};
+    for (auto h : path.halfedges)
+        vertices.push_back(mesh_.to_vertex_handle(h));
+    return measure(vertices);
+}
+
+PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
+{
+    PathWinding result;
+    result.vertices = static_cast<int>(path.size());
+    for (auto v : path)
+        if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= mesh_.n_vertices())
+            throw InvalidInputError("WindingMeter: the path passes vertex " +
+                                    std::to_string(v.idx()) + " of a mesh with " +
+                                    std::to_string(mesh_.n_vertices()) +
+                                    " vertices; measure on the mesh the cut was planned on");
+    for (std::size_t i = 1; i < path.size(); ++i)
+        result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
+
+    Ring scratch;
+    bool framed = false;  // a reference and a previous angle exist (the last vertex was measured)
+    Eigen::Vector3d reference, previous_axis;
+    double previous_angle = 0.0, total = 0.0, low = 0.0, high = 0.0;
+    for (auto p : path)
+    {
+        Eigen::Vector3d d;
+        const RingFit& ring = ring_fit(p, scratch);
+        bool ok = ring.ok;
+        if (ok)
+        {
+            d = to_eigen(mesh_.point(p)) - ring.centre;
+            d -= d.dot(ring.axis) * ring.axis;
+            ok = d.norm() > options_.min_offset * ring.radius;
+        }
+        if (!ok)  // a junction, a sac, an end: no angle across it
+        {
+            framed = false;
+            continue;
+        }
+        ++result.measured;
+        d.normalize();
+        if (!framed)
+        {
+            reference = d;
+            previous_angle = 0.0;
+        }
+        else
+        {
+            reference = transport(reference, previous_axis, ring.axis);
+            reference -= reference.dot(ring.axis) * ring.axis;
+            reference.normalize();
+            const double angle =
+                std::atan2(reference.cross(d).dot(ring.axis), reference.dot(d));
+            total += std::remainder(angle - previous_angle, 2.0 * M_PI);
+            low = std::min(low, total);
+            high = std::max(high, total);
+            previous_angle = angle;
+        }
+        framed = true;
+        previous_axis = ring.axis;
+    }
+    result.winding_deg = total * 180.0 / M_PI;
+    result.span_deg = (high - low) * 180.0 / M_PI;
+    return result;
+}
+
+SeamWinding seam_winding(const std::vector<PathWinding>& paths)
+{
+    SeamWinding all;
+    double length = 0.0;
+    for (const auto& one : paths)
+    {
+        all.mean_abs_deg += std::abs(one.winding_deg) * one.length;
+        all.max_abs_deg = std::max(all.max_abs_deg, std::abs(one.winding_deg));
+        length += one.length;
+    }
+    if (length > 0.0)
+        all.mean_abs_deg /= length;
+    return all;
+}
+
+}  // namespace vessel

@@ -1,0 +1,475 @@
+#include "vessel/io/io.h"
+
+#include "vessel/core/errors.h"
+#include "vessel/io/vtk_io.h"
+
+#include "detail/off_reader.h"
+#include "detail/read_text.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <sstream>
+
+namespace vessel {
+
+namespace {
+
+using detail::printable;
+using detail::trimmed;
+using detail::truncated;
+using detail::kMaxElements;
+
+using ScratchMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
+
+// Records every vertex and face the reader emits before OpenMesh's importer sees them; the
+// importer duplicates vertices of faces it cannot add (non-manifold, mis-oriented) and drops
+// faces with repeated corners, which would hide exactly the defects we must report.
+class RecordingImporter : public OpenMesh::IO::ImporterT<ScratchMesh>
+{
+public:
+    RecordingImporter(ScratchMesh& scratch, RawMesh& raw) : ImporterT(scratch), raw_(raw) {}
+
+    VertexHandle add_vertex(const OpenMesh::Vec3f& p) override
+    {
+        return record(ImporterT::add_vertex(p), {p[0], p[1], p[2]});
+    }
+    VertexHandle add_vertex(const OpenMesh::Vec3d& p) override
+    {
+        return record(ImporterT::add_vertex(p), {p[0], p[1], p[2]});
+    }
+    VertexHandle add_vertex() override
+    {
+        return record(ImporterT::add_vertex(), Eigen::Vector3d::Zero());
+    }
+    void set_point(VertexHandle v, const OpenMesh::Vec3f& p) override
+    {
+        if (v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_index_.size())
+            raw_.points[raw_index_[v.idx()]] = {p[0], p[1], p[2]};
+        ImporterT::set_point(v, p);
+    }
+    FaceHandle add_face(const VHandles& corners) override
+    {
+        std::vector<int>& face = raw_.faces.emplace_back();
+        face.reserve(corners.size());
+        for (auto v : corners)
+            face.push_back(v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_index_.size()
+                               ? raw_index_[v.idx()]
+                               : -1);
+        return ImporterT::add_face(corners);
+    }
+
+private:
+    // The importer adds scratch vertices of its own for faces it cannot add, so scratch handles
+    // and file indices diverge after the first bad face; faces are recorded in file indices.
+    VertexHandle record(VertexHandle scratch, const Eigen::Vector3d& p)
+    {
+        if (static_cast<std::size_t>(scratch.idx()) >= raw_index_.size())
+            raw_index_.resize(scratch.idx() + 1, -1);
+        raw_index_[scratch.idx()] = static_cast<int>(raw_.points.size());
+        raw_.points.push_back(p);
+        return scratch;
+    }
+
+    RawMesh& raw_;
+    std::vector<int> raw_index_;
+};
+
+
+// Truncated files: OpenMesh's PLY reader loops forever on a header cut before `end_header`, its
+// OFF and ASCII PLY readers turn missing lines into faces with invalid corners, and its STL reader
+// takes a binary STL whose size does not match its triangle count for ASCII and finds no faces.
+// So the sizes a header declares are checked against the file before OpenMesh reads it.
+
+// Counts the non-empty lines left in \p in (comments starting with '#' excluded).
+std::uintmax_t count_data_lines(std::istream& in)
+{
+    std::uintmax_t n = 0;
+    std::string line;
+    while (std::getline(in, line))
+    {
+        line = trimmed(line);
+        if (!line.empty() && line[0] != '#')
+            ++n;
+    }
+    return n;
+}
+
+int ply_type_size(const std::string& type)
+{
+    static const std::map<std::string, int> sizes = {
+        {"char", 1},  {"int8", 1},   {"uchar", 1},   {"uint8", 1},   {"short", 2},
+        {"int16", 2}, {"ushort", 2}, {"uint16", 2},  {"int", 4},     {"int32", 4},
+        {"uint", 4},  {"uint32", 4}, {"float", 4},   {"float32", 4}, {"double", 8},
+        {"float64", 8}};
+    const auto it = sizes.find(type);
+    return it == sizes.end() ? 0 : it->second;
+}
+
+void check_ply(const std::string& path, std::uintmax_t file_size)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::getline(in, line);
+    if (trimmed(line) != "ply")
+        throw IoError("read_raw_mesh: " + path + " is not a PLY file (the first line is not 'ply')");
+    std::string format;
+    struct Element
+    {
+        std::string name;
+        std::uintmax_t count = 0;
+        std::uintmax_t min_bytes = 0;  // per element; 0 with an unknown property type
+        bool known = true;
+    };
+    std::vector<Element> elements;
+    bool ended = false;
+    while (std::getline(in, line))
+    {
+        if (in.eof())
+            break;  // a header line cut by the end of the file: reported as truncated below
+        std::istringstream words(trimmed(line));
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "end_header")
+        {
+            ended = true;
+            break;
+        }
+        if (keyword == "format")
+            words >> format;
+        else if (keyword == "property" && elements.empty())
+            truncated(path, "the PLY header has a property before any element");
+        else if (keyword != "element" && keyword != "property" && keyword != "comment" &&
+                 keyword != "obj_info" && !keyword.empty())
+            truncated(path, "the PLY header has an unknown line '" + printable(line) + "'");
+        else if (keyword == "element")
+        {
+            Element e;
+            long long count = -1;
+            if (!(words >> e.name >> count) || count < 0 || count > kMaxElements)
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' does not declare a valid element count");
+            e.count = static_cast<std::uintmax_t>(count);
+            elements.push_back(e);
+        }
+        else if (keyword == "property" && !elements.empty())
+        {
+            std::string type, index_type, name;
+            words >> type;
+            // OpenMesh's PLY reader can loop forever on a type it does not know.
+            if (ply_type_size(type) == 0 && type != "list")
+                truncated(path, "the PLY header line '" + printable(line) +
+                                    "' has an unknown property type");
+            Element& e = elements.back();
+            if (type == "list")
+            {
+                words >> type >> index_type >> name;
+                if (ply_type_size(type) == 0 || ply_type_size(index_type) == 0)
+                    truncated(path, "the PLY header line '" + printable(line) +
+                                        "' has an unknown list type");
+                // A face lists at least three corners; other lists may be empty.
+                const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
+                e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
+                e.min_bytes += ply_type_size(type) + corners * ply_type_size(index_type);
+            }
+            else
+            {
+                e.known = e.known && ply_type_size(type) > 0;
+                e.min_bytes += ply_type_size(type);
+            }
+        }
+    }
+    if (!ended)
+        truncated(path, "the PLY header has no 'end_header' line");
+    if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+        truncated(path, "the PLY header has no valid 'format' line");
+    std::string counts;
+    for (const auto& e : elements)
+        counts += (counts.empty() ? "elements " : ", ") + e.name + " " + std::to_string(e.count);
+    if (format == "ascii")
+    {
+        std::uintmax_t lines = 0;
+        for (const auto& e : elements)
+            lines += e.count;
+        const std::uintmax_t found = count_data_lines(in);
+        if (found < lines)
+            truncated(path, "the PLY header declares " + counts + " (" + std::to_string(lines) +
+                                " lines) but only " + std::to_string(found) + " lines follow it");
+        return;
+    }
+    const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
+    std::uintmax_t min_bytes = 0;
+    for (const auto& e : elements)
+    {
+        if (!e.known)
+            return;  // OpenMesh refuses unknown types itself
+        min_bytes += e.count * e.min_bytes;
+    }
+    const std::uintmax_t data = file_size - std::min(file_size, header_bytes);
+    if (data < min_bytes)
+        truncated(path, "the binary PLY header declares " + counts + " (at least " +
+                            std::to_string(min_bytes) + " bytes of data) but only " +
+                            std::to_string(data) + " bytes follow it");
+}
+
+void check_stl(const std::string& path, std::uintmax_t file_size)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string head(84, '\0');
+    in.read(head.data(), 84);
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    // ASCII STL starts with "solid" and is text; a binary header may also start with "solid",
+    // but its triangle count (bytes 80-83) is binary.
+    const bool text = std::all_of(head.begin(), head.end(), [](char c) {
+        const auto u = static_cast<unsigned char>(c);
+        return u == '\t' || u == '\n' || u == '\r' || (u >= 0x20 && u < 0x7f);
+    });
+    if (text && trimmed(head).rfind("solid", 0) == 0)
+        return;
+    if (head.size() < 84)
+        truncated(path, "a binary STL needs an 84-byte header but the file has " +
+                            std::to_string(file_size) + " bytes");
+    const auto* b = reinterpret_cast<const unsigned char*>(head.data() + 80);
+    const std::uintmax_t triangles = static_cast<std::uintmax_t>(b[0]) | (b[1] << 8) |
+                                     (b[2] << 16) | (static_cast<std::uintmax_t>(b[3]) << 24);
+    const std::uintmax_t expected = 84 + 50 * triangles;
+    if (expected != file_size)
+        truncated(path, "the binary STL header declares " + std::to_string(triangles) +
+                            " triangles (" + std::to_string(expected) + " bytes) but the file has " +
+                            std::to_string(file_size) + " bytes");
+}
+
+// ASCII PLY: the x, y, z columns of the vertex element (after the lines of earlier elements).
+void check_ply_coordinates(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line, format;
+    std::vector<std::pair<std::string, std::uintmax_t>> elements;
+    std::vector<int> columns;  // of x, y, z in the vertex element
+    int column = 0;
+    while (std::getline(in, line))
+    {
+        std::istringstream words(trimmed(line));
+        std::string keyword, type, name;
+        words >> keyword;
+        if (keyword == "end_header")
+            break;
+        if (keyword == "format")
+            words >> format;
+        else if (keyword == "element")
+        {
+            std::uintmax_t count = 0;
+            words >> name >> count;
+            elements.emplace_back(name, count);
+            column = 0;
+        }
+        else if (keyword == "property" && !elements.empty())
+        {
+            words >> type >> name;
+            if (elements.back().first == "vertex" && type != "list" &&
+                (name == "x" || name == "y" || name == "z"))
+                columns.push_back(column);
+            ++column;
+        }
+    }
+    if (format != "ascii" || columns.empty())
+        return;
+    for (const auto& [name, count] : elements)
+    {
+        for (std::uintmax_t i = 0; i < count; ++i)
+        {
+            if (!std::getline(in, line))
+                return;  // check_ply reports the missing lines
+            if (name == "vertex")
+                detail::coordinates(path, detail::words_of(line), i, columns);
+        }
+        if (name == "vertex")
+            return;
+    }
+}
+
+// An OBJ reference \p word to one of \p count earlier elements: 1-based, or negative counting
+// back from the last; the 0-based index, or -1 if \p word is not one.
+long obj_reference(const std::string& word, long count)
+{
+    char* end = nullptr;
+    const long i = std::strtol(word.c_str(), &end, 10);
+    const long index = i < 0 ? count + i : i - 1;
+    if (word.empty() || *end != '\0' || i == 0 || index < 0 || index >= count)
+        return -1;
+    return index;
+}
+
+[[noreturn]] void bad_obj_face(const std::string& path, std::size_t face, const std::string& what)
+{
+    throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " + path + " " + what +
+                  "; the file is corrupt");
+}
+
+// OBJ: `v` lines, and `f` lines whose corners (`v`, `v/vt`, `v/vt/vn`, `v//vn`) do not refer to
+// earlier `v`, `vt` and `vn` lines (OpenMesh's reader asserts on vertex indices it cannot
+// resolve) or name a vertex twice (OpenMesh's reader drops such a face without a word, which
+// leaves a hole that would be reported as something else).
+void check_obj(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    long vertices = 0, texcoords = 0, normals = 0;
+    std::size_t face = 0;
+    while (std::getline(in, line))
+    {
+        std::istringstream words(line);
+        std::string keyword;
+        words >> keyword;
+        if (keyword == "vt")
+            ++texcoords;
+        else if (keyword == "vn")
+            ++normals;
+        else if (keyword == "v")
+            detail::coordinates(path, detail::words_of(line.substr(line.find('v') + 1)),
+                                static_cast<std::size_t>(vertices++), {0, 1, 2});
+        else if (keyword == "f")
+        {
+            std::vector<long> corners;
+            for (std::string word; words >> word;)
+            {
+                std::vector<std::string> parts{""};
+                for (const char c : word)
+                {
+                    if (c == '/')
+                        parts.emplace_back();
+                    else
+                        parts.back().push_back(c);
+                }
+                const long index = obj_reference(parts[0], vertices);
+                if (index < 0)
+                    bad_obj_face(path, face, "refers to vertex '" + detail::printable(word) +
+                                                 "', which is not one of the " +
+                                                 std::to_string(vertices) + " vertices before it");
+                if (parts.size() > 3 || (parts.size() == 2 && parts[1].empty()) ||
+                    (parts.size() == 3 && parts[2].empty()))
+                    bad_obj_face(path, face, "has the corner '" + detail::printable(word) +
+                                                 "', which is not v, v/vt, v/vt/vn or v//vn");
+                if (parts.size() >= 2 && !parts[1].empty() && obj_reference(parts[1], texcoords) < 0)
+                    bad_obj_face(path, face, "refers to texture coordinate '" +
+                                                 detail::printable(parts[1]) + "' (corner '" +
+                                                 detail::printable(word) + "'), which is not one of the " +
+                                                 std::to_string(texcoords) + " 'vt' lines before it");
+                if (parts.size() == 3 && obj_reference(parts[2], normals) < 0)
+                    bad_obj_face(path, face, "refers to normal '" + detail::printable(parts[2]) +
+                                                 "' (corner '" + detail::printable(word) +
+                                                 "'), which is not one of the " +
+                                                 std::to_string(normals) + " 'vn' lines before it");
+                corners.push_back(index);
+            }
+            if (corners.size() < 3)
+                bad_obj_face(path, face, "has " + std::to_string(corners.size()) +
+                                             " corners; a face needs at least 3");
+            for (std::size_t a = 0; a < corners.size(); ++a)
+                for (std::size_t b = a + 1; b < corners.size(); ++b)
+                    if (corners[a] == corners[b])
+                        throw IoError("read_raw_mesh: face " + std::to_string(face) + " of " +
+                                      path + " uses vertex " + std::to_string(corners[a]) +
+                                      " twice (degenerate face); remove degenerate faces first");
+            ++face;
+        }
+    }
+}
+
+// OpenMesh's readers and writers are process-wide singletons that keep per-file state (the PLY
+// reader's elements, the OFF reader's options) and omerr() is one global stream: one file at a
+// time, whichever thread asks.
+std::mutex& openmesh_io_mutex()
+{
+    static std::mutex mutex;
+    return mutex;
+}
+
+// OBJ, PLY and STL after the checks above, through OpenMesh's readers.
+RawMesh read_with_openmesh(const std::string& path, const std::string& ext)
+{
+    const std::uintmax_t size = std::filesystem::file_size(path);
+    if (ext == ".ply")
+    {
+        check_ply(path, size);
+        check_ply_coordinates(path);
+    }
+    else if (ext == ".obj")
+        check_obj(path);
+    else
+        check_stl(path, size);
+    RawMesh raw;
+    ScratchMesh scratch;
+    RecordingImporter importer(scratch, raw);
+    OpenMesh::IO::Options options;
+    const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
+    // OpenMesh prints warnings for the defects we report ourselves; keep stderr for our messages.
+    const bool was_enabled = omerr().is_enabled();
+    omerr().disable();
+    const bool ok = OpenMesh::IO::IOManager().read(path, importer, options);
+    if (was_enabled)
+        omerr().enable();
+    if (!ok)
+        throw IoError("read_raw_mesh: OpenMesh could not read " + path +
+                      " (truncated or malformed file?)");
+    return raw;
+}
+
+}  // namespace
+
+RawMesh read_raw_mesh(const std::string& path)
+{
+    if (!std::filesystem::exists(path))
+        throw IoError("read_raw_mesh: file not found: " + path);
+    if (std::filesystem::file_size(path) == 0)
+        throw IoError("read_raw_mesh: file is empty: " + path);
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+    if (ext == ".vtp" || ext == ".vtk")
+        return read_polydata(path).mesh;
+    if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+        throw IoError("read_raw_mesh: unknown file format '" + ext + "' (" + path +
+                      "); use .obj, .off, .ply, .stl, .vtp or .vtk");
+    const RawMesh raw = ext == ".off" ? detail::read_off(path) : read_with_openmesh(path, ext);
+    if (raw.faces.empty())
+        throw IoError("read_raw_mesh: no faces in " + path + "; expected a triangulated surface");
+    return raw;
+}
+
+RawMesh to_raw_mesh(const Mesh& mesh)
+{
+    RawMesh raw;
+    raw.points.reserve(mesh.n_vertices());
+    for (auto v : mesh.vertices())
+        raw.points.push_back(to_eigen(mesh.point(v)));
+    raw.faces.reserve(mesh.n_faces());
+    for (auto f : mesh.faces())
+    {
+        auto& face = raw.faces.emplace_back();
+        for (auto v : f.vertices())
+            face.push_back(v.idx());
+    }
+    return raw;
+}
+
+void write_mesh(const Mesh& mesh, const std::string& path)
+{
+    OpenMesh::IO::Options options;
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".ply" || ext == ".stl")
+        options += OpenMesh::IO::Options::Binary;
+    const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
+    if (!OpenMesh::IO::write_mesh(mesh, path, options))
+        throw IoError("write_mesh: could not write " + path);
+}
+
+}  // namespace vessel

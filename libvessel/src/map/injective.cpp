@@ -1,0 +1,882 @@
+#include "vessel/map/injective.h"
+
+#include "vessel/cut/boundary.h"
+#include "vessel/map/embedding.h"
+#include "vessel/core/errors.h"
+#include "detail/centre_pull.h"
+#include "detail/face_jacobian.h"
+#include "solve/paired_cholmod.h"
+#include "detail/scaffold.h"
+#include "solve/serial_openmp.h"
+#include "vessel/quality/metrics.h"
+#include "detail/uv_rows.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <thread>
+#include <vector>
+
+
+namespace vessel {
+
+void InjectiveOptions::validate() const
+{
+    if (max_iterations < 1)
+        throw InvalidInputError("InjectiveOptions: max_iterations must be >= 1");
+    if (!(tolerance > 0.0))
+        throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
+    if (!(scaffold_weight > 0.0))
+        throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
+    if (!(scaffold_tolerance > 0.0))
+        throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be > 0");
+    if (crossing_patience < 1)
+        throw InvalidInputError("InjectiveOptions: crossing_patience must be >= 1, got " +
+                                std::to_string(crossing_patience));
+    if (!(momentum >= 0.0 && momentum < 1.0))
+        throw InvalidInputError("InjectiveOptions: momentum must be in [0, 1), got " +
+                                std::to_string(momentum));
+    if (scaffold_passes < 1)
+        throw InvalidInputError("InjectiveOptions: scaffold_passes must be >= 1, got " +
+                                std::to_string(scaffold_passes));
+    if (scaffold_rebuild_every < 1)
+        throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
+                                std::to_string(scaffold_rebuild_every));
+    validate_centre_pulls(centre_pulls, "InjectiveOptions");
+}
+
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
+{
+    const auto loops = boundary_loops(mesh);
+    if (loops.size() != 1)
+        throw TopologyError("tutte_embedding: the mesh has " + std::to_string(loops.size()) +
+                            " boundary loops; a disk (one loop) is required — cut it first");
+    const auto& loop = loops[0];
+    // Boundary halfedges run clockwise around the disk; walking them backwards is
+    // counter-clockwise, which makes the faces counter-clockwise.
+    const double radius = loop.arc_length / (2.0 * M_PI);
+    double s = 0.0;
+    Pins boundary;
+    for (std::size_t i = 0; i < loop.halfedges.size(); ++i)
+    {
+        const double angle = -2.0 * M_PI * s / loop.arc_length;
+        boundary.push_back({loop.vertices[i], {radius * std::cos(angle), radius * std::sin(angle)}});
+        s += mesh.calc_edge_length(loop.halfedges[i]);
+    }
+    return tutte_embedding(mesh, boundary);
+}
+
+Eigen::MatrixX2d tutte_embedding(const Mesh& mesh, const Pins& boundary)
+{
+    const int n = static_cast<int>(mesh.n_vertices());
+    Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(n, 2);
+    std::vector<int> slot(n, -1);  // index among the free vertices, -1 on the boundary
+    std::vector<char> on_boundary(n, 0);
+    const std::vector<int> pinned = pin_index(mesh, boundary, "tutte_embedding");
+    for (const Pin& pin : boundary)
+    {
+        if (!mesh.is_boundary(pin.vertex))
+            throw InvalidInputError("tutte_embedding: pinned vertex " +
+                                    std::to_string(pin.vertex.idx()) +
+                                    " is not on the boundary; pin the boundary vertices only");
+        on_boundary[pin.vertex.idx()] = 1;
+        uv.row(pin.vertex.idx()) = pin.uv.transpose();
+    }
+    for (auto v : mesh.vertices())
+        if (mesh.is_boundary(v) && pinned[v.idx()] < 0)
+            throw InvalidInputError("tutte_embedding: boundary vertex " + std::to_string(v.idx()) +
+                                    " has no position; pin every boundary vertex");
+    int n_free = 0;
+    for (int v = 0; v < n; ++v)
+        if (!on_boundary[v])
+            slot[v] = n_free++;
+    if (n_free == 0)
+        return uv;
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(n_free, 2);
+    for (auto v : mesh.vertices())
+    {
+        const int i = slot[v.idx()];
+        if (i < 0)
+            continue;
+        double degree = 0.0;
+        for (auto w : v.vertices())
+        {
+            degree += 1.0;
+            if (slot[w.idx()] >= 0)
+                triplets.emplace_back(i, slot[w.idx()], -1.0);
+            else
+                rhs.row(i) += uv.row(w.idx());
+        }
+        triplets.emplace_back(i, i, degree);
+    }
+    Eigen::SparseMatrix<double> L(n_free, n_free);
+    L.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+    {
+        const detail::SerialOpenMp serial;
+        solver.compute(L);
+    }
+    if (solver.info() != Eigen::Success)
+        throw SolverError("tutte_embedding: CHOLMOD could not factor the graph Laplacian");
+    const Eigen::MatrixX2d x = solver.solve(rhs);
+    if (solver.info() != Eigen::Success || !x.allFinite())
+        throw SolverError("tutte_embedding: CHOLMOD solve failed");
+    for (int v = 0; v < n; ++v)
+        if (slot[v] >= 0)
+            uv.row(v) = x.row(slot[v]);
+    // A circle of the boundary's perimeter encloses far more than the surface's area; scale to
+    // the 3D area so that a distortion energy starts from the right size.
+    scale_to_surface_area(mesh, uv);
+    return uv;
+}
+
+namespace {
+
+using detail::FaceOperator;
+using detail::face_operators;
+using detail::face_threads;
+using detail::parallel_chunks;
+
+Eigen::Matrix2d jacobian(const FaceOperator& op, const Eigen::VectorXd& x)
+{
+    return detail::jacobian(op, x.data());
+}
+
+// Symmetric Dirichlet energy; +infinity if a triangle is flipped or collapsed.
+double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x, int threads)
+{
+    std::array<double, 2> partial{0.0, 0.0};
+    const int used = std::min(threads, 2);
+    parallel_chunks(ops.size(), used, [&](std::size_t begin, std::size_t end, int t) {
+        double e = 0.0;
+        for (std::size_t f = begin; f < end; ++f)
+        {
+            const FaceOperator& op = ops[f];
+            const Eigen::Matrix2d J = jacobian(op, x);
+            const double det = J.determinant();
+            if (!(det > 0.0))
+            {
+                e = INFINITY;
+                break;
+            }
+            const double frob = J.squaredNorm();
+            e += op.area * (frob + frob / (det * det));
+        }
+        partial[t] = e;
+    });
+    return partial[0] + partial[1];
+}
+
+// Largest step t in (0, 1] along d that keeps every triangle positively oriented (Smith and
+// Schaefer 2015): det of the corner-difference matrix is quadratic in t; stop short of its first
+// positive root.
+// Only ops[first ..] count (the scaffold's triangles: first = the surface's face count).
+double max_injective_step(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x,
+                          const Eigen::VectorXd& d, int threads, std::size_t first = 0)
+{
+    std::array<double, 2> partial{1.0, 1.0};
+    const int used = std::min(threads, 2);
+    const std::size_t count = ops.size() - std::min(first, ops.size());
+    parallel_chunks(count, used, [&](std::size_t begin, std::size_t end, int t) {
+        double t_max = 1.0;
+        for (std::size_t f = first + begin; f < first + end; ++f)
+        {
+            const FaceOperator& op = ops[f];
+            const int i = op.corner[0], j = op.corner[1], k = op.corner[2];
+            const double a1 = x[2 * j] - x[2 * i], a2 = x[2 * j + 1] - x[2 * i + 1];
+            const double b1 = x[2 * k] - x[2 * i], b2 = x[2 * k + 1] - x[2 * i + 1];
+            const double da1 = d[2 * j] - d[2 * i], da2 = d[2 * j + 1] - d[2 * i + 1];
+            const double db1 = d[2 * k] - d[2 * i], db2 = d[2 * k + 1] - d[2 * i + 1];
+            const double qa = da1 * db2 - da2 * db1;
+            const double qb = a1 * db2 + da1 * b2 - a2 * db1 - da2 * b1;
+            const double qc = a1 * b2 - a2 * b1;
+            double root = INFINITY;
+            if (std::abs(qa) < 1e-300)
+            {
+                if (qb < 0.0)
+                    root = -qc / qb;
+            }
+            else
+            {
+                const double disc = qb * qb - 4.0 * qa * qc;
+                if (disc >= 0.0)
+                {
+                    const double sq = std::sqrt(disc);
+                    // Numerically stable pair of roots.
+                    const double q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
+                    for (double r : {q / qa, qc / q})
+                        if (r > 0.0)
+                            root = std::min(root, r);
+                }
+            }
+            t_max = std::min(t_max, 0.8 * root);
+        }
+        partial[t] = t_max;
+    });
+    return std::min(partial[0], partial[1]);
+}
+
+// The global step's normal matrix has a fixed pattern: the u and v of a face's three corners
+// couple in a 6 x 6 block. Only one triangle is stored (CHOLMOD reads no more). With the
+// corners in increasing vertex order, local unknown l = 2 * (sorted corner) + (0 for u, 1 for
+// v) increases with the global one, so the block's lower triangle is a >= b: 21 entries. They
+// are stored transposed, as the upper triangle: CHOLMOD then spends less of each supernodal
+// factorization transposing its input (cholmod_transpose_sym 5.4% -> 4.3% of the perf samples
+// of a 44k phantom run; its SLIM factorizations 6% faster, the map bit-identical).
+struct FaceBlock
+{
+    std::array<int, 21> slot{};  //!< value index of (a, b), a >= b, in order a = 0..5, b <= a
+    std::array<int, 3> corner{};  //!< corner of the face operator at each sorted position
+    //! area * (D0_k D0_l + D1_k D1_l) over sorted corners (k, l): (0,0) (1,0) (1,1) (2,0) (2,1) (2,2)
+    std::array<double, 6> gram{};
+};
+
+struct NormalMatrix
+{
+    Eigen::SparseMatrix<double> A;  // upper triangle (see FaceBlock)
+    std::vector<FaceBlock> blocks;  // per face
+    std::vector<int> diagonal;      // value index of (i, i)
+};
+
+NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
+{
+    NormalMatrix M;
+    M.blocks.resize(ops.size());
+    for (std::size_t f = 0; f < ops.size(); ++f)
+    {
+        const FaceOperator& op = ops[f];
+        FaceBlock& block = M.blocks[f];
+        block.corner = {0, 1, 2};
+        std::sort(block.corner.begin(), block.corner.end(),
+                  [&](int p, int q) { return op.corner[p] < op.corner[q]; });
+        int g = 0;
+        for (int k = 0; k < 3; ++k)
+            for (int l = 0; l <= k; ++l)
+            {
+                const int p = block.corner[k], q = block.corner[l];
+                block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
+            }
+    }
+    const auto dof = [&](std::size_t f, int l) {
+        return 2 * ops[f].corner[M.blocks[f].corner[l / 2]] + l % 2;
+    };
+    // The pattern, built directly (no triplets to sort): vertex I couples with vertex J >= I
+    // when they share a face; then the u and v of both couple, upper triangle only.
+    std::vector<int> vertex_start(n + 1, 0);
+    for (std::size_t f = 0; f < ops.size(); ++f)
+        for (int k = 1; k < 3; ++k)
+            vertex_start[ops[f].corner[M.blocks[f].corner[k]] + 1] += k;
+    for (int J = 0; J < n; ++J)
+        vertex_start[J + 1] += vertex_start[J];
+    std::vector<int> vertex_rows(vertex_start[n]);
+    {
+        std::vector<int> fill(vertex_start.begin(), vertex_start.end() - 1);
+        for (std::size_t f = 0; f < ops.size(); ++f)
+            for (int k = 1; k < 3; ++k)
+                for (int l = 0; l < k; ++l)
+                {
+                    const int J = ops[f].corner[M.blocks[f].corner[k]];
+                    vertex_rows[fill[J]++] = ops[f].corner[M.blocks[f].corner[l]];
+                }
+    }
+    std::vector<int> outer(2 * n + 1, 0), inner;
+    inner.reserve(4 * vertex_rows.size() + 3 * n);
+    for (int J = 0; J < n; ++J)
+    {
+        const auto begin = vertex_rows.begin() + vertex_start[J];
+        auto end = vertex_rows.begin() + vertex_start[J + 1];
+        std::sort(begin, end);
+        end = std::unique(begin, end);
+        for (int k = 0; k < 2; ++k)  // columns 2J (u) and 2J + 1 (v)
+        {
+            for (auto I = begin; I != end; ++I)
+            {
+                inner.push_back(2 * *I);
+                inner.push_back(2 * *I + 1);
+            }
+            inner.push_back(2 * J);
+            if (k == 1)
+                inner.push_back(2 * J + 1);
+            outer[2 * J + 1 + k] = static_cast<int>(inner.size());
+        }
+    }
+    M.A.resize(2 * n, 2 * n);
+    M.A.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), M.A.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), M.A.innerIndexPtr());
+    std::fill(M.A.valuePtr(), M.A.valuePtr() + inner.size(), 0.0);
+    const auto index_of = [&](int row, int col) {
+        const int* begin = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col];
+        const int* end = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col + 1];
+        return static_cast<int>(std::lower_bound(begin, end, row) - M.A.innerIndexPtr());
+    };
+    for (std::size_t f = 0; f < ops.size(); ++f)
+    {
+        int s = 0;
+        for (int a = 0; a < 6; ++a)
+            for (int b = 0; b <= a; ++b)
+                M.blocks[f].slot[s++] = index_of(dof(f, b), dof(f, a));
+    }
+    M.diagonal.resize(2 * n);
+    for (int i = 0; i < 2 * n; ++i)
+        M.diagonal[i] = index_of(i, i);
+    return M;
+}
+
+// SLIM's local step on one face: the proxy ||W (J - R)||^2 with R the closest rotation to J
+// and W = U diag(w) U^T (J = U diag(sigma) V^T) enters the normal equations as
+// area * kron(Gram, W^2) and the right-hand side as area * W^2 R D_k. The 2 x 2 polar and
+// singular value decompositions are closed-form: with E, F, G, H the conformal and
+// anti-conformal halves of J, sigma = sqrt(E^2 + H^2) +- sqrt(F^2 + G^2), R rotates by
+// atan2(H, E), and U by half the sum of atan2(G, F) and atan2(H, E).
+void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::VectorXd& x,
+              double* values, double* rhs)
+{
+    const Eigen::Matrix2d J = jacobian(op, x);
+    const double E = 0.5 * (J(0, 0) + J(1, 1)), F = 0.5 * (J(0, 0) - J(1, 1));
+    const double G = 0.5 * (J(1, 0) + J(0, 1)), H = 0.5 * (J(1, 0) - J(0, 1));
+    const double q = std::sqrt(E * E + H * H), r = std::sqrt(F * F + G * G);
+    // Clamped: on a Tutte start, deep branches are compressed by orders of magnitude, and
+    // weights ~ sigma^-1.5 would make the system numerically indefinite. A weaker proxy still
+    // descends: the line search uses the true energy.
+    const auto weight = [](double sigma) {
+        const double s = std::max(sigma, 1e-2);
+        return std::sqrt(1.0 + 1.0 / s + 1.0 / (s * s) + 1.0 / (s * s * s));
+    };
+    const double w0 = weight(q + r), w1 = weight(q - r);
+    const double w_mean = 0.5 * (w0 + w1), w_half = 0.5 * (w0 - w1);
+    // U diag(w) U^T = w_mean I + w_half S, S = [[cos 2phi, sin 2phi], [sin 2phi, -cos 2phi]];
+    // S^2 = I, so W^2 = (w_mean^2 + w_half^2) I + 2 w_mean w_half S.
+    double c2 = 1.0, s2 = 0.0;
+    if (r > 0.0 && q > 0.0)
+    {
+        c2 = (F * E - G * H) / (r * q);
+        s2 = (G * E + F * H) / (r * q);
+    }
+    const double iso = w_mean * w_mean + w_half * w_half, aniso = 2.0 * w_mean * w_half;
+    Eigen::Matrix2d W2;
+    W2 << iso + aniso * c2, aniso * s2, aniso * s2, iso - aniso * c2;
+    Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
+    if (q > 0.0)
+        R << E / q, -H / q, H / q, E / q;
+    const Eigen::Matrix2d T = op.area * (W2 * R);  // rhs of corner k: T (D0_k, D1_k)
+    int corner_dof[3];
+    for (int k = 0; k < 3; ++k)
+    {
+        const int p = block.corner[k];
+        corner_dof[k] = 2 * op.corner[p];
+        rhs[corner_dof[k]] += T(0, 0) * op.d0[p] + T(0, 1) * op.d1[p];
+        rhs[corner_dof[k] + 1] += T(1, 0) * op.d0[p] + T(1, 1) * op.d1[p];
+    }
+    const double w00 = W2(0, 0), w10 = W2(1, 0), w11 = W2(1, 1);
+    const int* slot = block.slot.data();
+    const double* gram = block.gram.data();
+    // Rows a = 2k + i, columns b = 2l + j <= a; gram index of (k, l), l <= k: k (k + 1) / 2 + l.
+    for (int k = 0; k < 3; ++k)
+    {
+        const double* g = gram + k * (k + 1) / 2;
+        // Row 2k (u of corner k): columns 2l, 2l + 1 for l < k, then 2k.
+        for (int l = 0; l < k; ++l)
+        {
+            values[*slot++] += g[l] * w00;
+            values[*slot++] += g[l] * w10;
+        }
+        values[*slot++] += g[k] * w00;
+        // Row 2k + 1 (v of corner k): columns 2l, 2l + 1 for l < k, then 2k, 2k + 1.
+        for (int l = 0; l < k; ++l)
+        {
+            values[*slot++] += g[l] * w10;
+            values[*slot++] += g[l] * w11;
+        }
+        values[*slot++] += g[k] * w10;
+        values[*slot++] += g[k] * w11;
+    }
+}
+
+}  // namespace
+
+namespace {
+
+// Scaffold faces (Jiang et al. 2017) between the map's boundary and a box around it, rebuilt
+// every iteration. None may flip (the line search sees them), so the boundary cannot run into
+// itself; their energy, small against the surface's, keeps them in shape.
+class Scaffold
+{
+public:
+    Scaffold(const Mesh& mesh, int n, double weight) : n_(n), weight_(weight)
+    {
+        const auto loops = boundary_loops(mesh);
+        if (loops.size() != 1)
+            throw TopologyError("injective_refine: a scaffold needs a disk (one boundary loop), "
+                                "got " + std::to_string(loops.size()) + " loops");
+        for (auto v : loops[0].vertices)
+            boundary_.push_back(v.idx());
+        for (auto v : mesh.fv_range(mesh.face_handle(0)))
+            inside_face_.push_back(v.idx());
+    }
+
+    //! Box corner vertices are n .. n + 3, then come the Steiner vertices (free).
+    std::array<int, 4> box() const { return {n_, n_ + 1, n_ + 2, n_ + 3}; }
+
+    //! Places the box around the map and the Steiner vertices in \p x (resized) and returns
+    //! the scaffold's face operators.
+    std::vector<FaceOperator> rebuild(Eigen::VectorXd& x)
+    {
+        reused_count_ = -1;  // the new triangulation may drop slivers
+        Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+        for (int v : boundary_)
+        {
+            lo = lo.cwiseMin(x.segment<2>(2 * v));
+            hi = hi.cwiseMax(x.segment<2>(2 * v));
+        }
+        const double margin = 0.5 * (hi - lo).maxCoeff();
+        lo.array() -= margin;
+        hi.array() += margin;
+        const std::array<int, 4> box = this->box();
+        x.conservativeResize(2 * (n_ + 4));
+        x.segment<2>(2 * box[0]) << lo.x(), lo.y();
+        x.segment<2>(2 * box[1]) << hi.x(), lo.y();
+        x.segment<2>(2 * box[2]) << hi.x(), hi.y();
+        x.segment<2>(2 * box[3]) << lo.x(), hi.y();
+        Eigen::Vector2d inside = Eigen::Vector2d::Zero();
+        for (int v : inside_face_)
+            inside += x.segment<2>(2 * v) / 3.0;
+        detail::ScaffoldMesh scaffold =
+            detail::scaffold_triangles(x, boundary_, box, inside, n_ + 4);
+        x.conservativeResize(2 * (n_ + 4 + static_cast<int>(scaffold.steiner.size())));
+        for (std::size_t j = 0; j < scaffold.steiner.size(); ++j)
+            x.segment<2>(2 * (n_ + 4 + j)) = scaffold.steiner[j];
+        triangles_ = std::move(scaffold.triangles);
+        return *reshape(x);
+    }
+
+    //! The same scaffold triangles (box and Steiner vertices where the steps took them), with
+    //! their rest shapes set to their current shapes: no new triangulation, so the global
+    //! step's sparsity pattern stays the same. Empty if a triangle has become degenerate (then
+    //! rebuild).
+    std::optional<std::vector<FaceOperator>> reshape(const Eigen::VectorXd& x) const
+    {
+        if (triangles_.empty())
+            return std::nullopt;  // not triangulated yet
+        std::vector<FaceOperator> ops;
+        ops.reserve(triangles_.size());
+        for (const auto& t : triangles_)
+        {
+            FaceOperator op;
+            op.corner = t;
+            const Eigen::Vector2d e1 = x.segment<2>(2 * t[1]) - x.segment<2>(2 * t[0]);
+            const Eigen::Vector2d e2 = x.segment<2>(2 * t[2]) - x.segment<2>(2 * t[0]);
+            Eigen::Matrix2d P;
+            P << e1, e2;
+            const double det = P.determinant();
+            if (!(det > 0.0) && reused_count_ >= 0)
+                return std::nullopt;  // dropping it would change the pattern: rebuild
+            if (!(det > 0.0))
+                continue;  // a sliver at the scale of rounding: nothing can pass through it
+            // Rest shape: the triangle's current shape (Jiang et al.), so the scaffold does not
+            // resist the map's motion; but for slivers (twice the area below 1/20 of the longest
+            // edge squared) the equilateral triangle of the same area, since their own shape would
+            // make the global step ill-conditioned.
+            const double longest = std::max({e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm()});
+            if (det < 0.05 * longest)
+            {
+                const double side = std::sqrt(2.0 * det / std::sqrt(3.0));
+                P << side, 0.5 * side, 0.0, 0.5 * std::sqrt(3.0) * side;
+            }
+            const Eigen::Matrix2d Pi = P.inverse();
+            op.d0 = {-(Pi(0, 0) + Pi(1, 0)), Pi(0, 0), Pi(1, 0)};
+            op.d1 = {-(Pi(0, 1) + Pi(1, 1)), Pi(0, 1), Pi(1, 1)};
+            ops.push_back(op);
+        }
+        // All of them together weigh `weight_` (a fraction of the surface), each the same: a
+        // sliver between two parts of the boundary that nearly touch then counts as much in
+        // the step's direction as a large triangle, so the step slides those parts along each
+        // other instead of pushing them together and stopping at its collapse (weighted by
+        // area, slivers would count for nothing and the steps would shrink to nothing).
+        for (auto& op : ops)
+            op.area = weight_ / static_cast<double>(ops.size());
+        reused_count_ = static_cast<int>(ops.size());
+        return ops;
+    }
+
+    //! Sets the Steiner vertices' entries of the displacement \p d (sized for the current
+    //! triangulation; the map's and the box's entries given) to its harmonic extension over
+    //! the scaffold's edges (uniform weights): the free space follows the boundary's motion.
+    void extend(Eigen::VectorXd& d) const
+    {
+        const int first = n_ + 4;
+        const int m = static_cast<int>(d.size() / 2) - first;
+        if (m <= 0)
+            return;
+        std::vector<Eigen::Triplet<double>> triplets;
+        Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
+        const auto couple = [&](int p, int q) {
+            if (p < first)
+                return;
+            triplets.emplace_back(p - first, p - first, 1.0);
+            if (q >= first)
+                triplets.emplace_back(p - first, q - first, -1.0);
+            else
+                rhs.row(p - first) += d.segment<2>(2 * q).transpose();
+        };
+        for (const auto& t : triangles_)
+            for (int a = 0; a < 3; ++a)
+            {
+                couple(t[a], t[(a + 1) % 3]);
+                couple(t[(a + 1) % 3], t[a]);
+            }
+        Eigen::SparseMatrix<double> L(m, m);
+        L.setFromTriplets(triplets.begin(), triplets.end());
+        const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
+        const Eigen::MatrixX2d steiner = solver.solve(rhs);
+        if (solver.info() != Eigen::Success || !steiner.allFinite())
+        {
+            d.tail(2 * m).setZero();  // no extension: the line search keeps them in place
+            return;
+        }
+        for (int j = 0; j < m; ++j)
+            d.segment<2>(2 * (first + j)) = steiner.row(j).transpose();
+    }
+
+private:
+    int n_;
+    double weight_;
+    std::vector<std::array<int, 3>> triangles_;
+    mutable int reused_count_ = -1;
+    std::vector<int> boundary_;
+    std::vector<int> inside_face_;
+};
+
+}  // namespace
+
+InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                                  const InjectiveOptions& options)
+{
+    options.validate();
+    const int n = static_cast<int>(mesh.n_vertices());
+    detail::require_uv_rows(mesh, uv, "injective_refine");
+    pin_index(mesh, pins, "injective_refine");
+    detail::require_centre_pull_vertices(options.centre_pulls, n, "injective_refine");
+
+    const std::vector<FaceOperator> surface = face_operators(mesh);
+    const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
+                                              [](double s, const FaceOperator& op) { return s + op.area; });
+    int n_all = n;  // with the scaffold's vertices after each rebuild
+    Eigen::VectorXd x = detail::interleaved(uv);
+    for (const auto& pin : pins)
+        x.segment<2>(2 * pin.vertex.idx()) = pin.uv;
+    // Soft pins: the given ones, and the scaffold's box corners where they are.
+    std::vector<int> pinned;
+    for (const auto& pin : pins)
+        pinned.push_back(pin.vertex.idx());
+    std::optional<Scaffold> scaffold;
+    const auto start_scaffold = [&] {
+        scaffold.emplace(mesh, n, options.scaffold_weight * total_area);
+        for (int v : scaffold->box())
+            pinned.push_back(v);
+    };
+    if (options.scaffold)
+        start_scaffold();
+    // With scaffold_on_contact, the boundary of each step is checked; the scaffold can only
+    // start from a map whose boundary is simple.
+    Eigen::MatrixX2d probe = uv;
+    const auto crosses = [&](const Eigen::VectorXd& y) {
+        detail::deinterleave(y, probe);
+        return boundary_self_intersection(mesh, probe).first >= 0;
+    };
+    bool watch = !scaffold && options.scaffold_on_contact && !crosses(x);
+
+    InjectiveSummary summary;
+    const int threads = face_threads(surface.size());
+    summary.initial_energy = energy(surface, x, threads);
+    if (!std::isfinite(summary.initial_energy))
+        throw InvalidInputError("injective_refine: the start map has a flipped or collapsed "
+                                "triangle; start from a map without flips (e.g. tutte_embedding)");
+
+    // SLIM (Rabinovich et al. 2017): each iteration fits, per face, the rotation R and weights
+    // W of a quadratic proxy ||W (J - R)||^2 whose gradient matches the symmetric Dirichlet
+    // energy's, solves the proxy globally, and line-searches toward its minimizer without
+    // letting a triangle (of the surface or of the scaffold) flip. Pins are soft constraints
+    // with a large weight; a small proximal term removes the free translation.
+    const double pin_weight = 1e6 * total_area / n;
+    const double proximal = 1e-8 * total_area / n;
+    std::vector<FaceOperator> ops = surface;
+    NormalMatrix M;
+    detail::PairedCholmod solver;
+    const auto analyse = [&] {
+        M = normal_matrix_pattern(ops, n_all);
+        const detail::SerialOpenMp serial;
+        solver.analyze_pairs(M.A);
+        if (solver.info() != Eigen::Success)
+            throw SolverError("injective_refine: CHOLMOD could not analyse the global step");
+    };
+    if (!scaffold)
+        analyse();  // the pattern never changes
+    std::vector<std::vector<double>> partial_values(threads - 1);
+    Eigen::VectorXd line_trial;  // the line search's trial point, kept (no 2|V|-vector per try)
+    std::vector<Eigen::VectorXd> partial_rhs(threads);
+
+    // Largest step along d that flips no triangle, halved until the energy does not grow:
+    // (step, the flip bound, energy there, and 1 if the step stopped at that bound and the
+    // bound is a scaffold triangle's (faces past the surface's), else 0).
+    // The energy minimized: the faces' and the centre pulls'.
+    const auto total_energy = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) {
+        const double e = energy(faces, y, threads);
+        return options.centre_pulls.empty() ? e
+                                            : e + detail::centre_pull_energy(options.centre_pulls, y);
+    };
+    const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
+                                 const Eigen::VectorXd& dir, double e0) {
+        const double bound = max_injective_step(faces, y, dir, threads);
+        double step = bound;
+        line_trial = y + step * dir;
+        double e1 = total_energy(faces, line_trial);
+        while (!(e1 <= e0) && step > 1e-12)
+        {
+            step *= 0.5;
+            line_trial = y + step * dir;
+            e1 = total_energy(faces, line_trial);
+        }
+        const bool at_bound = step < 1.0 && step == bound;
+        const bool by_scaffold =
+            at_bound && faces.size() > surface.size() &&
+            (options.scaffold_continue_surface_blocked ||
+             max_injective_step(faces, y, dir, threads, surface.size()) <= bound);
+        return std::array<double, 4>{step, bound, e1, by_scaffold ? 1.0 : 0.0};
+    };
+    double e_surface = summary.initial_energy;
+    int slow = 0;  // consecutive iterations below the tolerance
+    // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
+    Eigen::VectorXd last_simple = x;
+    int last_simple_it = 0;
+    int since_rebuild = 0;  // scaffold iterations since its last triangulation
+    // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
+    // continued step triangulated anew), and whether the last step stopped at a collapsing
+    // scaffold triangle (then a new triangulation is due).
+    bool pattern_stale = false;
+    bool blocked_by_scaffold = true;
+    Eigen::VectorXd momentum;  // the last iteration's motion of the surface's vertices
+    for (int phase = 0; phase < 2; ++phase)
+    {
+    const int done = summary.iterations;
+    for (int it = 0; it < options.max_iterations; ++it)
+    {
+        if (scaffold)
+        {
+            // A new triangulation (and symbolic factorization) only every few iterations; in
+            // between the same scaffold triangles, reshaped to where the steps took them.
+            std::optional<std::vector<FaceOperator>> extra;
+            if (since_rebuild + 1 < options.scaffold_rebuild_every ||
+                (options.scaffold_keep_unblocked && !blocked_by_scaffold))
+                extra = scaffold->reshape(x);
+            ops = surface;
+            if (extra)
+                ++since_rebuild;
+            else
+            {
+                extra = scaffold->rebuild(x);
+                since_rebuild = 0;
+                ++summary.scaffold_rebuilds;
+            }
+            ops.insert(ops.end(), extra->begin(), extra->end());
+            if (since_rebuild == 0 || pattern_stale)
+            {
+                pattern_stale = false;
+                n_all = static_cast<int>(x.size() / 2);
+                analyse();
+            }
+        }
+        for (auto& r : partial_rhs)
+            r.resize(2 * n_all);
+        const Eigen::Index nnz = M.A.nonZeros();
+        for (auto& values : partial_values)
+            values.resize(nnz);
+        double* values = M.A.valuePtr();
+        parallel_chunks(ops.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+            double* v = t == 0 ? values : partial_values[t - 1].data();
+            std::fill(v, v + nnz, 0.0);
+            partial_rhs[t].setZero();
+            double* r = partial_rhs[t].data();
+            for (std::size_t f = begin; f < end; ++f)
+                add_face(ops[f], M.blocks[f], x, v, r);
+        });
+        Eigen::VectorXd rhs = partial_rhs[0];
+        for (int t = 1; t < threads; ++t)
+        {
+            const double* v = partial_values[t - 1].data();
+            for (Eigen::Index i = 0; i < nnz; ++i)
+                values[i] += v[i];
+            rhs += partial_rhs[t];
+        }
+        for (int i = 0; i < 2 * n_all; ++i)
+        {
+            values[M.diagonal[i]] += proximal;
+            rhs[i] += proximal * x[i];
+        }
+        for (int v : pinned)
+            for (int k = 0; k < 2; ++k)
+            {
+                const int i = 2 * v + k;
+                values[M.diagonal[i]] += pin_weight;
+                rhs[i] += pin_weight * x[i];
+            }
+        detail::add_centre_pulls(options.centre_pulls, x, M.diagonal, values, rhs);
+        // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal
+        // term (a Levenberg-style damping: the line search still uses the true energy) fixes it.
+        for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
+        {
+            if (damping > 0.0)
+            {
+                double largest = 0.0;
+                for (int i = 0; i < 2 * n_all; ++i)
+                    largest = std::max(largest, values[M.diagonal[i]]);
+                for (int i = 0; i < 2 * n_all; ++i)
+                    values[M.diagonal[i]] += damping * largest;
+            }
+            const detail::SerialOpenMp serial;
+            solver.factorize(M.A);
+            if (solver.info() == Eigen::Success || damping > 1e-3)
+                break;
+        }
+        if (solver.info() != Eigen::Success)
+            throw SolverError("injective_refine: CHOLMOD could not factor the global step");
+        const Eigen::VectorXd target = solver.solve(rhs);
+        if (solver.info() != Eigen::Success || !target.allFinite())
+            throw SolverError("injective_refine: CHOLMOD solve failed");
+
+        Eigen::VectorXd d = target - x;
+        if (scaffold)
+            for (int v : scaffold->box())
+                d.segment<2>(2 * v).setZero();  // the box stays put
+        const double e = total_energy(ops, x);
+        auto [t, t_bound, e_new, t_scaffold] = line_search(ops, x, d, e);
+        if (options.momentum > 0.0 && momentum.size() == 2 * n)
+        {
+            // Heavy ball: the proxy's direction plus a share of the last iteration's motion
+            // (the scaffold's Steiner vertices follow it, extended), kept when its line
+            // search ends lower. SLIM's slow tail is a smooth drift of area along the
+            // branches that every step repeats; the momentum carries it on.
+            Eigen::VectorXd m = Eigen::VectorXd::Zero(x.size());
+            m.head(2 * n) = options.momentum * momentum;
+            if (scaffold)
+                scaffold->extend(m);
+            Eigen::VectorXd dm = d + m;
+            const auto [tm, tm_bound, em, tm_scaffold] = line_search(ops, x, dm, e);
+            if (em < e_new)
+            {
+                d = dm;
+                t = tm;
+                t_bound = tm_bound;
+                e_new = em;
+                t_scaffold = tm_scaffold;
+                ++summary.accelerated;
+            }
+        }
+        const Eigen::VectorXd x_before = x.head(2 * n);
+        summary.iterations = done + it + 1;
+        if (!(e_new <= e))
+        {
+            summary.converged = true;  // no descent left along the proxy's direction
+            break;
+        }
+        x += t * d;
+        // Only a step that a scaffold triangle stopped gets a new triangulation (here and at
+        // the next iteration): where a surface triangle stops it, the new scaffold would not
+        // let it go further.
+        blocked_by_scaffold = t_scaffold > 0.0;
+        if (scaffold && options.scaffold_passes > 1)
+        {
+            // The step stopped where a scaffold triangle would collapse. A new triangulation
+            // of the free space there usually lets the same direction go further: line search
+            // the rest of it again (no new factorization, only the CGAL mesher), a few times.
+            // The Steiner vertices are new: their motion is the boundary's, extended.
+            bool blocked = blocked_by_scaffold;
+            double left = 1.0 - t;
+            for (int pass = 1; pass < options.scaffold_passes && blocked && left > 0.05; ++pass)
+            {
+                const std::vector<FaceOperator> extra = scaffold->rebuild(x);
+                ++summary.scaffold_rebuilds;
+                // The next iteration triangulates anew unless this one stays unblocked
+                // (scaffold_keep_unblocked); its pattern is new either way.
+                since_rebuild = options.scaffold_rebuild_every;
+                pattern_stale = true;
+                blocked_by_scaffold = false;  // a new triangulation at x
+                ops = surface;
+                ops.insert(ops.end(), extra.begin(), extra.end());
+                Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
+                rest.head(2 * n) = left * d.head(2 * n);
+                scaffold->extend(rest);
+                const double e_pass = total_energy(ops, x);
+                const auto [s, s_bound, e_pass_new, s_scaffold] = line_search(ops, x, rest, e_pass);
+                if (!(e_pass_new < e_pass))
+                    break;
+                x += s * rest;
+                ++summary.scaffold_passes;
+                blocked = s_scaffold > 0.0;
+                blocked_by_scaffold = blocked;
+                left *= 1.0 - s;
+            }
+        }
+        momentum = x.head(2 * n) - x_before;
+        if (watch && !crosses(x))
+        {
+            last_simple = x;
+            last_simple_it = summary.iterations;
+        }
+        else if (watch && summary.iterations - last_simple_it >= options.crossing_patience)
+            break;  // crossed for that long: it will not come apart by itself
+        const double e_surface_new =
+            scaffold || !options.centre_pulls.empty() ? energy(surface, x, threads) : e_new;
+        const double decrease = (e_surface - e_surface_new) / e_surface;
+        e_surface = e_surface_new;
+        // One small step can come from a short line search (a nearly collapsed triangle in
+        // the way), not from convergence; three in a row cannot.
+        slow = decrease < (scaffold ? options.scaffold_tolerance : options.tolerance) ? slow + 1 : 0;
+        if (slow == 3)
+        {
+            summary.converged = true;
+            break;
+        }
+    }
+    // Unconstrained SLIM may move the boundary across itself (branches relaxing into each
+    // other). Then go back to the last iterate without that and go on with a scaffold, which
+    // keeps the free space between the boundary's parts open: the end map is one-to-one.
+    if (!watch || !crosses(x))
+        break;
+    watch = false;
+    x = last_simple;
+    summary.scaffold_from = last_simple_it;
+    summary.converged = false;
+    e_surface = energy(surface, x, threads);
+    slow = 0;
+    start_scaffold();
+    momentum.resize(0);
+    }
+    detail::deinterleave(x, uv);
+    summary.final_energy = e_surface;
+    summary.report = std::string(!scaffold ? "SLIM"
+                                 : summary.scaffold_from >= 0
+                                     ? "SLIM (boundary crossed; scaffold from iterate " +
+                                           std::to_string(summary.scaffold_from) + ")"
+                                     : "SLIM with scaffold") +
+                     " symmetric Dirichlet: " + std::to_string(summary.iterations) +
+                     " iterations, energy " + std::to_string(summary.initial_energy) + " -> " +
+                     std::to_string(summary.final_energy) +
+                     (summary.converged ? " (converged)" : " (iteration limit)") +
+                     (scaffold ? ", " + std::to_string(summary.scaffold_rebuilds) +
+                                     " scaffold triangulations, " +
+                                     std::to_string(summary.scaffold_passes) + " continued steps"
+                               : std::string()) +
+                     (summary.accelerated > 0
+                          ? ", " + std::to_string(summary.accelerated) + " steps with momentum"
+                          : std::string());
+    return summary;
+}
+
+}  // namespace vessel

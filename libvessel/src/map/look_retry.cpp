@@ -1,0 +1,129 @@
+#include "detail/look_retry.h"
+
+#include "detail/refine_map.h"
+#include "vessel/map/embedding.h"
+#include "vessel/core/errors.h"
+#include "vessel/quality/metrics.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace vessel {
+
+bool LookRetryOptions::look_broken(const MapLook& look) const
+{
+    const double pairs = 0.5 * look.outlets * (look.outlets - 1);
+    return look.outlets_below_inlet > 0 ||
+           look.walk_inversions > max_walk_inversion_fraction * pairs;
+}
+
+void LookRetryOptions::validate() const
+{
+    if (!(pull > 0.0 && std::isfinite(pull)))
+        throw InvalidInputError("LookRetryOptions: pull must be > 0 and finite, got " +
+                                std::to_string(pull));
+    if (!(max_walk_inversion_fraction >= 0.0 && max_walk_inversion_fraction <= 1.0))
+        throw InvalidInputError(
+            "LookRetryOptions: max_walk_inversion_fraction must be in [0, 1], got " +
+            std::to_string(max_walk_inversion_fraction));
+    if (!(max_area_over_keep >= 1.0 && std::isfinite(max_area_over_keep)))
+        throw InvalidInputError("LookRetryOptions: max_area_over_keep must be >= 1 and finite, got " +
+                                std::to_string(max_area_over_keep));
+}
+
+namespace detail {
+
+namespace {
+
+std::string look_line(const MapLook& look)
+{
+    return std::to_string(look.outlets_below_inlet) + " of " + std::to_string(look.outlets) +
+           " outlets below the inlet, " + std::to_string(look.walk_inversions) +
+           " walk inversions";
+}
+
+// Fewer outlets below the inlet, or as many and fewer walk inversions.
+bool look_better(const MapLook& look, const MapLook& than)
+{
+    return look.outlets_below_inlet < than.outlets_below_inlet ||
+           (look.outlets_below_inlet == than.outlets_below_inlet &&
+            look.walk_inversions < than.walk_inversions);
+}
+
+}  // namespace
+
+void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
+                const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
+                const LayoutResult& placed)
+{
+    const LookRetryOptions& retry = options.look_retry;
+    if (retry.mode == LookRetry::Off || options.look_pull > 0.0 ||
+        options.overlaps == OverlapPolicy::Keep)  // `keep` is the retry's own reference
+        return;
+    LookRetrySummary& summary = result.look_retry;
+    summary.default_look = map_look(mesh, result.uv, layout.segments, placed);
+    if (summary.default_look.outlets == 0 ||
+        (retry.mode == LookRetry::Auto && !retry.look_broken(summary.default_look)))
+        return;
+    summary.tried = true;
+    const FlatQuality before = flat_quality(mesh, result.uv);
+    summary.default_area = before.mean_abs_log_area_normalized;
+
+    FlattenOptions pulled = options;
+    pulled.look_pull = retry.pull;
+    FlattenResult trial;
+    trial.uv = result.uv;
+    refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
+    const FlatQuality quality = flat_quality(mesh, trial.uv);
+    summary.pulled_area = quality.mean_abs_log_area_normalized;
+    const MapLook look = map_look(mesh, trial.uv, layout.segments, placed);
+
+    std::string verdict;
+    const MapLook& was = summary.default_look;
+    if (quality.flipped_triangles > 0 || quality.overlapping_triangles > 0 ||
+        boundary_self_intersection(mesh, trial.uv).first >= 0)
+        verdict = "not one-to-one";
+    else if (!look_better(look, was))
+        verdict = "look not better";
+    else if (summary.pulled_area > summary.default_area ||
+             quality.mean_abs_log_area > before.mean_abs_log_area)
+    {
+        FlattenOptions keep = options;
+        keep.overlaps = OverlapPolicy::Keep;
+        FlattenResult unconstrained;
+        unconstrained.uv = initial;
+        refine_map(mesh, pins, keep, "", "", unconstrained, &layout, &placed);
+        const FlatQuality keep_quality = flat_quality(mesh, unconstrained.uv);
+        summary.keep_area = keep_quality.mean_abs_log_area_normalized;
+        // Both measures (the normalized one is flatcheck's): the bound holds for either.
+        if (summary.pulled_area > retry.max_area_over_keep * summary.keep_area ||
+            quality.mean_abs_log_area >
+                retry.max_area_over_keep * keep_quality.mean_abs_log_area)
+            verdict = "area above the bound";
+    }
+    summary.kept = verdict.empty();
+    char areas[160];
+    std::snprintf(areas, sizeof areas, "look retry (pull %g): ", retry.pull);
+    std::string line = areas + look_line(summary.default_look) + " -> " + look_line(look);
+    std::snprintf(areas, sizeof areas, "; mean |log area| %.4f -> %.4f", summary.default_area,
+                  summary.pulled_area);
+    line += areas;
+    if (summary.keep_area > 0.0)
+    {
+        std::snprintf(areas, sizeof areas, " (keep %.4f)", summary.keep_area);
+        line += areas;
+    }
+    summary.report = line +
+                     (summary.kept ? "; kept the pulled map"
+                                   : "; " + verdict + ", kept the default map");
+    result.notes.push_back(summary.report);
+    if (summary.kept)
+    {
+        result.uv = std::move(trial.uv);
+        result.injective = trial.injective;
+    }
+}
+
+}  // namespace detail
+
+}  // namespace vessel

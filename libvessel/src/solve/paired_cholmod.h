@@ -1,0 +1,179 @@
+#pragma once
+
+#include "solve/cholmod_common.h"
+#include "solve/serial_openmp.h"
+#include "solve/subtree_factorization.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+
+#include <memory>
+#include <vector>
+
+namespace vessel::detail {
+
+//! Eigen's CholmodSupernodalLLT with a symbolic analysis in a given elimination order (e.g. from
+//! a VertexOrdering shared by several factorizations) instead of CHOLMOD's own choice, and its
+//! numeric factorization on two threads (SubtreeFactorization; the solves are CHOLMOD's).
+template <int UpLo>
+class OrderedCholmod : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>
+{
+    using Base = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, UpLo>;
+
+public:
+    //! Threads of factorize() (1 or 2; the same factor either way).
+    void set_threads(int threads) { threads_ = threads; }
+
+    //! Eigen's analyzePattern() (CHOLMOD's ordering), then made ready for factorize().
+    void analyzePattern(const Eigen::SparseMatrix<double>& A)
+    {
+        Base::analyzePattern(A);
+        prepare(A);
+    }
+
+    //! analyzePattern(), then factorize().
+    void compute(const Eigen::SparseMatrix<double>& A)
+    {
+        analyzePattern(A);
+        if (this->info() == Eigen::Success)
+            factorize(A);
+    }
+
+    //! Numeric factorization of \p A, whose pattern analyze_given() or analyzePattern()
+    //! analysed.
+    //! Check info(): NumericalIssue if A is not positive definite.
+    void factorize(const Eigen::SparseMatrix<double>& A)
+    {
+        const SerialOpenMp serial;  // one BLAS thread per factorization thread
+        if (!subtree_ || !A.isCompressed())
+        {
+            Base::factorize(A);
+            return;
+        }
+        cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+        const bool ok =
+            subtree_->factorize(view, *this->m_cholmodFactor, this->cholmod(), threads_);
+        this->m_info = ok ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_factorizationIsOk = true;
+    }
+
+    //! Symbolic analysis of \p A (the UpLo triangle, compressed) eliminating its unknowns in
+    //! \p order (each once). Check info().
+    void analyze_given(const Eigen::SparseMatrix<double>& A, std::vector<int> order)
+    {
+        if (this->m_cholmodFactor)
+        {
+            cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
+            this->m_cholmodFactor = nullptr;
+        }
+        cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+        this->m_cholmodFactor = analyze_in_order(view, &order, this->cholmod());
+        this->m_isInitialized = true;
+        this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
+        this->m_factorizationIsOk = false;
+        prepare(A);
+    }
+
+private:
+    // The numeric factorization's plan for the analysed pattern of A (none for a simplicial
+    // factor or a matrix not compressed: factorize() then calls CHOLMOD's).
+    void prepare(const Eigen::SparseMatrix<double>& A)
+    {
+        subtree_.reset();
+        if (this->m_cholmodFactor && this->m_cholmodFactor->is_super && A.isCompressed())
+        {
+            cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
+            subtree_ = std::make_unique<SubtreeFactorization>(view, *this->m_cholmodFactor);
+        }
+    }
+
+    std::unique_ptr<SubtreeFactorization> subtree_;
+    int threads_ = 2;
+};
+
+//! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
+//! come in pairs (u, v of one vertex: unknowns 2i and 2i + 1) that share their sparsity.
+//! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
+//! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the
+//! whole matrix: the same kind of ordering for a fraction of the symbolic analysis's cost, which
+//! matters where the pattern changes every iteration (SLIM's scaffold), and from kMetisVertices
+//! on a factor with far fewer flops (the area polish's Newton Hessian too; LSCM's single
+//! factorization keeps AMD). factorize() and solve() are Eigen's.
+class PairedCholmod : public OrderedCholmod<Eigen::Upper>
+{
+public:
+    //! Vertex count from which the vertex graph is ordered by METIS instead of AMD. METIS's
+    //! nested dissection fills less (carotid-1M, 500k vertices, SLIM: peak RSS 2752 -> 2431 MB)
+    //! but costs far more to compute, and SLIM with a scaffold orders a new pattern at every
+    //! new triangulation: with AMD instead, Glenn split4 (139k vertices, 225 triangulations)
+    //! flattened in 191 s against 285 s, carotid-300k (150k) in 19.0 s against 20.3 s (peak
+    //! RSS 876 against 810 MB), the same maps' figures (docs/benchmarks.md).
+    static constexpr int kMetisVertices = 400000;
+
+    //! Symbolic analysis of \p A (upper triangle, compressed, even size). Check info().
+    //! \p metis_vertices: the vertex count from which METIS orders (a single factorization,
+    //! e.g. LSCM's, is better served by AMD's cheaper ordering at every size).
+    //! \p given_order: an elimination order of the pairs (each pair index once) to use instead
+    //! of ordering them here.
+    void analyze_pairs(const Eigen::SparseMatrix<double>& A, int metis_vertices = kMetisVertices,
+                       const std::vector<int>* given_order = nullptr)
+    {
+        const int n = static_cast<int>(A.cols()) / 2;
+        if (given_order)
+        {
+            analyze_given(A, paired(*given_order));
+            return;
+        }
+        // Upper pattern of the vertex graph: vertex I <= J for each stored (i, j).
+        std::vector<int> column_start(n + 1, 0);
+        std::vector<int> rows;
+        rows.reserve(static_cast<std::size_t>(A.nonZeros()) / 3);
+        std::vector<int> seen(n, -1);
+        for (int J = 0; J < n; ++J)
+        {
+            for (int j = 2 * J; j < 2 * J + 2; ++j)
+                for (Eigen::SparseMatrix<double>::InnerIterator entry(A, j); entry; ++entry)
+                {
+                    const int I = static_cast<int>(entry.row()) / 2;
+                    if (I <= J && seen[I] != J)
+                    {
+                        seen[I] = J;
+                        rows.push_back(I);
+                    }
+                }
+            column_start[J + 1] = static_cast<int>(rows.size());
+        }
+        cholmod_sparse graph = upper_pattern(column_start, rows);
+        std::vector<int> vertex_order(n);
+        // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
+        // fill on large maps (carotid-1M, SLIM: peak RSS 2752 -> 2431 MB, page faults 11.0M
+        // -> 8.9M; branch fspeed6, docs/benchmarks.md); below it AMD, far cheaper to compute
+        // (see kMetisVertices).
+        const bool ok =
+            n >= metis_vertices
+                ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())
+                : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &this->cholmod());
+        if (!ok)
+        {
+            this->m_info = Eigen::NumericalIssue;
+            return;
+        }
+        analyze_given(A, paired(vertex_order));
+    }
+
+private:
+    // Each pair's two unknowns in the pairs' order.
+    static std::vector<int> paired(const std::vector<int>& pair_order)
+    {
+        std::vector<int> order(2 * pair_order.size());
+        for (std::size_t k = 0; k < pair_order.size(); ++k)
+        {
+            order[2 * k] = 2 * pair_order[k];
+            order[2 * k + 1] = 2 * pair_order[k] + 1;
+        }
+        return order;
+    }
+};
+
+}  // namespace vessel::detail

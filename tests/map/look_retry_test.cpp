@@ -1,0 +1,112 @@
+#include <doctest/doctest.h>
+
+#include "support/meshes.h"
+#include "vessel/map/embedding.h"
+#include "vessel/core/errors.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/pipeline.h"
+#include "vessel/check/validation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+using namespace vessel;
+
+TEST_CASE("look retry: bad options are refused and the broken-look rule counts outlet pairs")
+{
+    LookRetryOptions retry;
+    CHECK_NOTHROW(retry.validate());
+    retry.pull = 0.0;
+    CHECK_THROWS_AS(retry.validate(), InvalidInputError);
+    retry.pull = 100.0;
+    retry.max_area_over_keep = 0.9;
+    CHECK_THROWS_AS(retry.validate(), InvalidInputError);
+    retry.max_area_over_keep = std::nan("");
+    CHECK_THROWS_AS(retry.validate(), InvalidInputError);
+    retry = LookRetryOptions();
+    retry.max_walk_inversion_fraction = 1.5;
+    FlattenOptions options;
+    options.look_retry = retry;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+
+    LookRetryOptions rule;  // 0.05 of the pairs
+    MapLook look;
+    look.outlets = 20;  // 190 pairs: broken above 9.5 inversions
+    look.walk_inversions = 9;
+    CHECK_FALSE(rule.look_broken(look));
+    look.walk_inversions = 10;
+    CHECK(rule.look_broken(look));
+    look.walk_inversions = 0;
+    look.outlets_below_inlet = 1;
+    CHECK(rule.look_broken(look));
+}
+
+TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets above the inlet "
+          "and near the walk order, one-to-one, within 1.5x the unconstrained map's area")
+{
+    // Measured (docs/overlaps.md, "The adaptive look"): the default map before the retry has
+    // 1 of 20 outlets below the inlet and 22 walk inversions; the retry (hinges 100) keeps a map
+    // with 0 below and 7 inversions, mean |log area| 1.27x `keep`'s.
+    const TreeSurface surface = load_tree_surface(std::string(VESSEL_SHARED_DATA) +
+                                                  "/svfsi-tests/pulmonary-glenn-wall.ply");
+    const FlattenResult r = flatten(surface.mesh, FlattenOptions());
+    FlattenOptions keep;
+    keep.overlaps = OverlapPolicy::Keep;
+    const FlattenResult kept = flatten(surface.mesh, keep);
+    REQUIRE(r.look_retry.tried);
+    CHECK(r.look_retry.kept);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);
+    CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    CHECK(r.look.outlets == 20);
+    CHECK(r.look.outlets_below_inlet == 0);
+    CHECK(r.look.walk_inversions <= 10);  // measured 7; the broken-look rule's 0.05 x 190 pairs
+    CHECK(2 * r.look.walk_inversions <= r.look_retry.default_look.walk_inversions);
+    CHECK(r.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
+    CHECK(r.quality.mean_abs_log_area_normalized <=
+          1.5 * kept.quality.mean_abs_log_area_normalized);
+    MESSAGE("Glenn: before the retry " << r.look_retry.default_look.outlets_below_inlet
+                                       << " below, " << r.look_retry.default_look.walk_inversions
+                                       << " walk inversions, mean |log area| "
+                                       << r.look_retry.default_area << "; after "
+                                       << r.look.outlets_below_inlet << ", "
+                                       << r.look.walk_inversions << ", "
+                                       << r.quality.mean_abs_log_area_normalized << "; keep "
+                                       << kept.quality.mean_abs_log_area_normalized);
+}
+
+TEST_SUITE("slow")
+{
+    // "overlaps" in the name: the slow overlap tests run together (ctest -L slow -R overlap).
+    TEST_CASE("overlaps: look retry on a 30-outlet phantom whose pulled map is over the area "
+              "bound keeps the default map")
+    {
+        // Measured (docs/overlaps.md, "The adaptive look"): seed 32 (edge 0.75) has 2 outlets
+        // below the inlet by default, so the retry runs; the pulled map is 2x `keep`'s mean
+        // |log area|, above max_area_over_keep, and the default map stays, bit for bit.
+        TreePhantomOptions tree;
+        tree.outlets = 30;
+        tree.seed = 32;
+        tree.edge_length = 0.75;
+        const Mesh mesh = tree_phantom(tree);
+        const FlattenResult r = flatten(mesh, FlattenOptions());
+        FlattenOptions off;
+        off.look_retry.mode = LookRetry::Off;
+        const FlattenResult plain = flatten(mesh, off);
+        REQUIRE(r.look_retry.tried);
+        CHECK_FALSE(r.look_retry.kept);
+        CHECK(r.look_retry.keep_area > 0.0);
+        CHECK(r.look_retry.pulled_area >
+              FlattenOptions().look_retry.max_area_over_keep * r.look_retry.keep_area);
+        REQUIRE(r.uv.rows() == plain.uv.rows());
+        CHECK((r.uv - plain.uv).cwiseAbs().maxCoeff() == 0.0);
+        CHECK(r.look.outlets_below_inlet == plain.look.outlets_below_inlet);
+        CHECK(r.quality.mean_abs_log_area == plain.quality.mean_abs_log_area);
+        CHECK(r.quality.overlapping_triangles == 0);
+        CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+            return note.find("kept the default map") != std::string::npos;
+        }));
+        MESSAGE("30 outlets, seed 32: " << r.look_retry.report);
+    }
+}

@@ -1,0 +1,74 @@
+#include <doctest/doctest.h>
+
+#include "support/checks.h"
+#include "support/meshes.h"
+#include "vessel/map/embedding.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/pipeline.h"
+
+using namespace vessel;
+
+namespace {
+
+// The pipeline on a seeded tree phantom (edge 0.75, as test::test_tree_phantom); with
+// `overlaps` = Keep, the unconstrained map (the layout's map, overlaps and all) for comparison.
+FlattenResult flatten_tree(int outlets, std::uint32_t seed, OverlapPolicy overlaps)
+{
+    TreePhantomOptions tree;
+    tree.outlets = outlets;
+    tree.seed = seed;
+    tree.edge_length = 0.75;
+    FlattenOptions options;
+    options.overlaps = overlaps;
+    return flatten(tree_phantom(tree), options);
+}
+
+// With default options the map of one phantom is one-to-one, and its area distortion is
+// within 1.5x of the unconstrained map's with the same options (the area polish included in
+// both).
+void check_one_to_one(int outlets, std::uint32_t seed)
+{
+    CAPTURE(outlets);
+    CAPTURE(seed);
+    const FlattenResult r = flatten_tree(outlets, seed, FlattenOptions().overlaps);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);  // exact pairwise test (overlap.h)
+    CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    CHECK(r.quality.area_ratio >= 0.95);
+    CHECK(r.quality.area_ratio <= 1.05);
+    const FlattenResult keep = flatten_tree(outlets, seed, OverlapPolicy::Keep);
+    CHECK(r.quality.mean_abs_log_area <= 1.5 * keep.quality.mean_abs_log_area);
+    MESSAGE(outlets << " outlets, seed " << seed << ": mean |log area| "
+                    << r.quality.mean_abs_log_area << " (unconstrained "
+                    << keep.quality.mean_abs_log_area << ", " << keep.quality.overlapping_triangles
+                    << " overlapping faces; ratio "
+                    << r.quality.mean_abs_log_area / keep.quality.mean_abs_log_area
+                    << "), mean conformal " << r.quality.mean_conformal << " (unconstrained "
+                    << keep.quality.mean_conformal << ")");
+}
+
+}  // namespace
+
+TEST_CASE("overlaps: by default, tree phantoms with 3, 10 and 30 outlets map one-to-one within "
+          "1.5x of the unconstrained map's area distortion")
+{
+    // Issue 7's bound, by default: the area polish (lambda 0.99, Newton steps) runs on both
+    // maps. Without it 1.65x on 10 outlets and 1.93x on 30 (docs/overlaps.md).
+    for (int outlets : {3, 10, 30})
+        check_one_to_one(outlets, static_cast<std::uint32_t>(outlets));
+}
+
+TEST_SUITE("slow")
+{
+    // No comma in the name: doctest_discover_tests looks up the suite (the `slow` label) with
+    // the name unescaped, so a name with a comma would lose its label.
+    TEST_CASE("overlaps: the 1.5x bound holds by default on two more seeds of 10 and 30 outlets")
+    {
+        // With the default case's seeds 10 and 30, three seeds each; docs/overlaps.md: 0.98-1.13x
+        // on 10 outlets, 1.22-1.32x on 30 (before the polish was the default: 1.60-2.26x).
+        for (std::uint32_t seed : {11u, 12u})
+            check_one_to_one(10, seed);
+        for (std::uint32_t seed : {32u, 33u})
+            check_one_to_one(30, seed);
+    }
+}

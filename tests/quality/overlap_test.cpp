@@ -1,0 +1,177 @@
+#include <doctest/doctest.h>
+
+#include "support/checks.h"
+#include "support/meshes.h"
+#include "vessel/core/errors.h"
+#include "vessel/quality/metrics.h"
+#include "vessel/quality/overlap.h"
+#include "vessel/phantom/phantom.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace vessel;
+
+namespace {
+
+// Two triangles covering the axis-aligned square [x0, x0 + s] x [y0, y0 + s].
+void add_square(std::vector<Triangle2>& soup, double x0, double y0, double s)
+{
+    const Eigen::Vector2d a(x0, y0), b(x0 + s, y0), c(x0 + s, y0 + s), d(x0, y0 + s);
+    soup.push_back({a, b, c});
+    soup.push_back({a, c, d});
+}
+
+
+}  // namespace
+
+TEST_CASE("overlap: two squares overlapping by a known area")
+{
+    std::vector<Triangle2> soup;
+    add_square(soup, 0.0, 0.0, 2.0);
+    add_square(soup, 1.0, 1.5, 2.0);  // overlap [1, 2] x [1.5, 2]: area 0.5
+    const OverlapReport r = find_overlaps(soup);
+    CHECK(r.overlap_area == doctest::Approx(0.5).epsilon(1e-12));
+    CHECK(r.map_area == doctest::Approx(8.0));
+    CHECK(r.overlap_fraction == doctest::Approx(0.5 / 8.0));
+    CHECK(r.overlapping_triangles() == 4);
+    for (const auto& [f, g] : r.pairs)
+        CHECK(f / 2 != g / 2);  // never the two halves of one square
+}
+
+TEST_CASE("overlap: shared edges, shared corners and touching boundaries are not overlaps")
+{
+    std::vector<Triangle2> soup;
+    add_square(soup, 0.0, 0.0, 1.0);
+    add_square(soup, 1.0, 0.0, 1.0);  // shares an edge
+    add_square(soup, 2.0, 1.0, 1.0);  // shares a corner
+    add_square(soup, 0.3, 1.0, 0.1);  // lies on the top edge
+    CHECK(find_overlaps(soup).pairs.empty());
+    // Coordinates that are not representable exactly: the shared edge is still exact.
+    const Eigen::Vector2d p(0.1, 0.2), q(0.3 + 1e-17, 0.7 / 3.0);
+    CHECK_FALSE(interiors_intersect({p, q, Eigen::Vector2d(0.0, 1.0)},
+                                    {q, p, Eigen::Vector2d(1.0, -1.0)}));
+    CHECK(interiors_intersect({p, q, Eigen::Vector2d(0.0, 1.0)},
+                              {q, p, Eigen::Vector2d(0.0, 0.9)}));
+    // A zero-area triangle has no interior.
+    CHECK_FALSE(interiors_intersect({Eigen::Vector2d(0, 0), Eigen::Vector2d(1, 1),
+                                     Eigen::Vector2d(2, 2)},
+                                    {Eigen::Vector2d(0, 1), Eigen::Vector2d(2, 1),
+                                     Eigen::Vector2d(1, 0)}));
+}
+
+TEST_CASE("overlap: a strip folded back over itself overlaps by the folded area")
+{
+    // A 8 x 8 grid of side 4, folded at x = 3: the last column of quads (x in [3, 4]) is mirrored
+    // onto [2, 3] and covers it a second time: overlap area 1 x 4, and those faces are flipped.
+    const Mesh grid = plane_grid(4.0, 8);
+    Eigen::MatrixX2d uv = test::planar_uv(grid);
+    for (Eigen::Index i = 0; i < uv.rows(); ++i)
+        if (uv(i, 0) > 3.0)
+            uv(i, 0) = 6.0 - uv(i, 0);
+    const OverlapReport r = find_overlaps(grid, uv);
+    CHECK(r.overlap_area == doctest::Approx(4.0).epsilon(1e-9));
+    const FlatQuality q = flat_quality(grid, uv);
+    CHECK(q.flipped_triangles == 2 * 2 * 8);  // two columns of quads beyond x = 3
+    CHECK(q.overlapping_triangles == 4 * 2 * 8);  // they and the two columns they cover
+    CHECK(q.overlap_area == doctest::Approx(4.0).epsilon(1e-9));
+    CHECK(q.overlap_fraction == doctest::Approx(4.0 / 16.0).epsilon(1e-9));
+}
+
+TEST_CASE("overlap: an unrolled cut cylinder has none, a cylinder wrapped past 360 degrees does")
+{
+    const int n_around = 20, n_along = 6;
+    const double radius = 1.0, length = 3.0;
+    const Mesh cylinder = test::cut_cylinder(radius, length, n_around, n_along);
+    Eigen::MatrixX2d unrolled(cylinder.n_vertices(), 2), wrapped(cylinder.n_vertices(), 2);
+    for (int j = 0; j <= n_along; ++j)
+        for (int i = 0; i <= n_around; ++i)
+        {
+            const int v = j * (n_around + 1) + i;
+            const double z = length * j / n_along;
+            unrolled.row(v) << 2.0 * M_PI * radius * i / n_around, z;
+            // An annulus of radii [4, 4 + length] swept through 450 degrees; column i + 16
+            // gets exactly column i's corners (angles taken modulo 360 degrees).
+            const double angle = 2.5 * M_PI * (i % 16) / n_around, r = 4.0 + z;
+            wrapped.row(v) << r * std::cos(angle), r * std::sin(angle);
+        }
+    CHECK(find_overlaps(cylinder, unrolled).pairs.empty());
+    const OverlapReport r = find_overlaps(cylinder, wrapped);
+    // Columns 16..19 (the last 90 degrees) cover columns 0..3 a second time, triangle on
+    // triangle; each column's quads are chord trapezoids of total area (7^2 - 4^2) sin(step) / 2.
+    const double quarter = 4 * 0.5 * (7.0 * 7.0 - 4.0 * 4.0) * std::sin(2.5 * M_PI / n_around);
+    CHECK(r.overlap_area == doctest::Approx(quarter).epsilon(1e-9));
+    CHECK(r.pairs.size() == 4 * 2 * n_along);
+    CHECK(r.overlapping_triangles() == 2 * 4 * 2 * n_along);
+}
+
+TEST_CASE("overlap: the grid finds exactly the pairs an all-pairs search finds")
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> position(0.0, 10.0), offset(-0.6, 0.6);
+    std::vector<Triangle2> soup;
+    for (int i = 0; i < 400; ++i)
+    {
+        const Eigen::Vector2d c(position(rng), position(rng));
+        soup.push_back({c + Eigen::Vector2d(offset(rng), offset(rng)),
+                        c + Eigen::Vector2d(offset(rng), offset(rng)),
+                        c + Eigen::Vector2d(offset(rng), offset(rng))});
+    }
+    std::vector<std::pair<int, int>> expected;
+    double area = 0.0;
+    for (int f = 0; f < 400; ++f)
+        for (int g = f + 1; g < 400; ++g)
+            if (interiors_intersect(soup[f], soup[g]))
+            {
+                expected.emplace_back(f, g);
+                area += intersection_area(soup[f], soup[g]);
+            }
+    const OverlapReport r = find_overlaps(soup);
+    CHECK(expected.size() > 50);  // the soup is dense enough to exercise the grid
+    CHECK(r.pairs == expected);
+    CHECK(r.overlap_area == doctest::Approx(area));
+    // intersection_area agrees with the symmetric computation.
+    for (const auto& [f, g] : expected)
+        CHECK(intersection_area(soup[f], soup[g]) ==
+              doctest::Approx(intersection_area(soup[g], soup[f])));
+}
+
+TEST_CASE("overlap: bad input is refused")
+{
+    const Mesh grid = plane_grid(1.0, 2);
+    CHECK_THROWS_AS(find_overlaps(grid, Eigen::MatrixX2d(3, 2)), InvalidInputError);
+    Eigen::MatrixX2d uv = test::planar_uv(grid);
+    uv(0, 0) = NAN;
+    CHECK_THROWS_AS(find_overlaps(grid, uv), InvalidInputError);
+    CHECK(find_overlaps(std::vector<Triangle2>{}).pairs.empty());
+}
+
+TEST_CASE("overlap: the report's exact fraction agrees with flatcheck.py's raster on real maps")
+{
+    // Independent yardstick: flatcheck rasterizes the map at a quarter edge and counts pixels
+    // covered more than once; ours is exact (sum of pairwise areas / map area).
+    for (const char* relative : {"vmtk-test-data/aorta-surface-open-ends.ply",
+                                 "x-ray-angio-data/coronary-phantom-tri3-coarse.ply"})
+    {
+        const std::string input = std::string(VESSEL_SHARED_DATA) + "/" + relative;
+        REQUIRE_MESSAGE(std::filesystem::exists(input), "missing shared data: " << input);
+        const std::string dir = test::temp_dir("overlap_flatcheck");
+        REQUIRE(test::run(std::string(VESSEL_FLATTEN_EXE) + " " + input + " -o " + dir +
+                          "/flat.obj --report " + dir + "/report.json -q") == 0);
+        REQUIRE(test::run("/usr/bin/python3 " + std::string(VESSEL_SHARED_TOOLS) +
+                          "/flatcheck.py " + input + " " + dir + "/flat.obj --json > " + dir +
+                          "/check.json") == 0);
+        const auto report = nlohmann::json::parse(std::ifstream(dir + "/report.json"));
+        const auto check = nlohmann::json::parse(std::ifstream(dir + "/check.json"));
+        const double exact = report["quality"]["overlap_fraction"];
+        const double raster = check["overlap_fraction"];
+        MESSAGE(std::string(relative) << ": exact " << exact << ", flatcheck " << raster << ", "
+                         << report["quality"]["overlapping_triangles"] << " faces");
+        CHECK(std::abs(exact - raster) <= 0.002 + 0.1 * raster);
+        CHECK((exact > 0) == (report["overlaps"]["triangles"].size() > 0));
+    }
+}
