@@ -117,9 +117,9 @@ struct Settings
     std::string cuts = "default";        // the cut rule: see pipeline_options()
 };
 
-// The options of the timed pipeline: the library's defaults; with --method paper the paper's
-// F (LSCM at the layout, then ARAP with the inlet pinned; no untangling, no SLIM, no area polish,
-// overlaps allowed) and only the paper's cuts (no relief cuts); with --method paper-untangled
+// The options of the timed pipeline: the library's defaults; with --method paper
+// FlattenOptions::paper() (F = LSCM at the layout, then ARAP with the inlet pinned; no
+// untangling, no SLIM, no area polish, overlaps allowed; no relief cuts); with --method paper-untangled
 // the same, then the flipped triangles untangled locally (untangle.h; no SLIM, no polish), so
 // the map has no flipped triangle. Z, GC, AC and L are the library's in every case; VC too,
 // unless --cuts paper: the paper's cut rule, the cheapest path per outlet, later cuts ending
@@ -128,17 +128,12 @@ struct Settings
 // winds less (CutRoute::Aligned, CutJoin::Approach).
 vessel::FlattenOptions pipeline_options(const Settings& s)
 {
-    vessel::FlattenOptions o;
+    vessel::FlattenOptions o =
+        s.method == "default" ? vessel::FlattenOptions{} : vessel::FlattenOptions::paper();
     if (s.cuts == "paper")
     {
         o.cuts.route = vessel::CutRoute::ShortestPath;
         o.cuts.join = vessel::CutJoin::Cheapest;
-    }
-    if (s.method != "default")
-    {
-        o.refinement = vessel::Refinement::Arap;
-        o.overlaps = vessel::OverlapPolicy::Keep;
-        o.relief.max_cuts = 0;
     }
     if (s.method == "paper-untangled")
     {

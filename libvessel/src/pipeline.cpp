@@ -20,6 +20,15 @@
 
 namespace vessel {
 
+FlattenOptions FlattenOptions::paper()
+{
+    FlattenOptions o;
+    o.refinement = Refinement::Arap;
+    o.overlaps = OverlapPolicy::Keep;
+    o.relief.max_cuts = 0;
+    return o;
+}
+
 void FlattenOptions::validate() const
 {
     curvature.validate();

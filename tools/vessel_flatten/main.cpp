@@ -51,6 +51,18 @@ int main(int argc, char** argv)
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
+    // First, so that the options below (whose callbacks run in this order, and only when given)
+    // override the preset's values.
+    app.add_option_function<std::string>(
+           "--preset",
+           [&](const std::string& name) {
+               options = name == "paper" ? vessel::FlattenOptions::paper() : vessel::FlattenOptions{};
+           },
+           "Options to start from: default (one-to-one map) or paper (the paper's method, "
+           "FlattenOptions::paper(): LSCM + ARAP, overlaps kept, no relief cuts); the options "
+           "below change it")
+        ->check(CLI::IsMember({"default", "paper"}))
+        ->default_str("default");
     auto* input_option =
         app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl, .vtp, .vtk), "
                                         "open at inlet and outlets; arrays of a .vtp/.vtk are "
@@ -349,30 +361,39 @@ int main(int argc, char** argv)
             throw vessel::InvalidInputError("the output must be .obj (seam form), .vtp or .ply, "
                                             "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
-        options.refinement = refine == "none"  ? vessel::Refinement::None
-                             : refine == "arap" ? vessel::Refinement::Arap
-                                                : vessel::Refinement::Injective;
-        options.overlaps = overlaps == "keep"    ? vessel::OverlapPolicy::Keep
-                           : overlaps == "scaffold" ? vessel::OverlapPolicy::RestartWithScaffold
-                           : overlaps == "restart"  ? vessel::OverlapPolicy::Restart
-                                                    : vessel::OverlapPolicy::Prevent;
-        options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
-                       : cost == "blend"  ? vessel::CostKind::Blend
-                                          : vessel::CostKind::Curvature;
-        options.arap.solver =
-            solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
-        options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
-                              : cut_route == "aligned" ? vessel::CutRoute::Aligned
-                                                       : vessel::CutRoute::ShortestPath;
-        options.cuts.join =
-            join == "cheapest" ? vessel::CutJoin::Cheapest
-            : join == "approach" ? vessel::CutJoin::Approach
-                                 : vessel::CutJoin::Closest;
-        options.cuts.stream_field = stream_field == "direction" ? vessel::StreamField::Direction
-                                                                : vessel::StreamField::Harmonic;
-        options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
-                                 : init == "tutte"  ? vessel::Initialization::Tutte
-                                                    : vessel::Initialization::LayoutLscm;
+        // Only the options given change the preset's values.
+        if (app.count("--refine"))
+            options.refinement = refine == "none"   ? vessel::Refinement::None
+                                 : refine == "arap" ? vessel::Refinement::Arap
+                                                    : vessel::Refinement::Injective;
+        if (app.count("--overlaps"))
+            options.overlaps = overlaps == "keep"       ? vessel::OverlapPolicy::Keep
+                               : overlaps == "scaffold" ? vessel::OverlapPolicy::RestartWithScaffold
+                               : overlaps == "restart"  ? vessel::OverlapPolicy::Restart
+                                                        : vessel::OverlapPolicy::Prevent;
+        if (app.count("--cost"))
+            options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
+                           : cost == "blend"  ? vessel::CostKind::Blend
+                                              : vessel::CostKind::Curvature;
+        if (app.count("--arap-solver"))
+            options.arap.solver =
+                solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
+        if (app.count("--cut-route"))
+            options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
+                                 : cut_route == "aligned"  ? vessel::CutRoute::Aligned
+                                                           : vessel::CutRoute::ShortestPath;
+        if (app.count("--join"))
+            options.cuts.join = join == "cheapest"   ? vessel::CutJoin::Cheapest
+                                : join == "approach" ? vessel::CutJoin::Approach
+                                                     : vessel::CutJoin::Closest;
+        if (app.count("--stream-field"))
+            options.cuts.stream_field = stream_field == "direction"
+                                            ? vessel::StreamField::Direction
+                                            : vessel::StreamField::Harmonic;
+        if (app.count("--init"))
+            options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
+                                     : init == "tutte"  ? vessel::Initialization::Tutte
+                                                        : vessel::Initialization::LayoutLscm;
         options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {

@@ -71,8 +71,19 @@ enum class OverlapPolicy
     Prevent,
 };
 
+//! Options of flatten(). A default-constructed FlattenOptions is the library's default method
+//! (one-to-one map: no flipped triangle, no overlap; relief cuts where the area distortion is
+//! high); FlattenOptions::paper() is the published method, for reproduction.
 struct FlattenOptions
 {
+    //! \brief The method of Eulzer et al. \cite eulzer_2021_automatic, for reproducing its
+    //! figures: stage F is LSCM with the inlet and outlets pinned at the layout, then ARAP with
+    //! the inlet pinned (Refinement::Arap), with no untangling, no SLIM, no area polish, overlaps
+    //! kept (OverlapPolicy::Keep), and only the vessel cuts (`relief.max_cuts = 0`). Stages Z to
+    //! L are the defaults'. The map may have flipped triangles and overlaps, as the paper's may.
+    //! CLI `vessel-flatten --preset paper`; `vessel-bench-table --method paper`.
+    static FlattenOptions paper();
+
     CurvatureOptions curvature;    //!< step 3: quadric-fit scale (5 x mean edge) etc.
     HeatGeodesicsOptions geodesic;  //!< step 3: heat-method time step
     //! step 3: where the curvature direction is trusted; elsewhere z leans to the harmonic
