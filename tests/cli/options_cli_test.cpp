@@ -1,10 +1,11 @@
-// vessel-flatten's presets; FlattenOptions::paper().
+// vessel-flatten's presets, help and --config; FlattenOptions::paper().
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
 #include "support/meshes.h"
 #include "vessel/pipeline.h"
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -30,6 +31,11 @@ std::pair<int, std::string> flatten_cli(const std::string& dir, const std::strin
     const std::string log = dir + "/log.txt";
     const int status = run(kFlatten + " " + args + " > " + log + " 2>&1");
     return {status, read_text(log)};
+}
+
+int count_lines(const std::string& text)
+{
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
 
 }  // namespace
@@ -68,4 +74,59 @@ TEST_CASE("cli: --preset paper writes the same OBJ bytes as the paper's options 
     REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/changed.obj --preset paper --refine "
                              "injective").first == 0);
     CHECK(preset != read_text(dir + "/changed.obj"));
+}
+
+TEST_CASE("cli: --config reads a JSON set of options and the command line wins over it")
+{
+    const std::string dir = temp_dir("config");
+    REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/preset.obj --preset paper").first == 0);
+    const std::string preset = read_text(dir + "/preset.obj");
+
+    std::ofstream(dir + "/paper.json") << R"({"preset": "paper", "quiet": true})";
+    const auto [status, log] =
+        flatten_cli(dir, kArtery + " -o " + dir + "/config.obj --config " + dir + "/paper.json");
+    REQUIRE_MESSAGE(status == 0, log);
+    CHECK(log.empty());  // "quiet": true
+    CHECK(read_text(dir + "/config.obj") == preset);
+
+    // The file asks for 5 relief cuts and SLIM; the command line for the paper's none and ARAP.
+    std::ofstream(dir + "/more.json")
+        << R"({"preset": "paper", "relief-cuts": 5, "refine": "injective"})";
+    REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/wins.obj --config " + dir +
+                                 "/more.json --relief-cuts 0 --refine arap")
+                .first == 0);
+    CHECK(read_text(dir + "/wins.obj") == preset);
+
+    std::ofstream(dir + "/typo.json") << R"({"relief-cut": 1})";
+    const auto [typo_status, typo_log] =
+        flatten_cli(dir, kArtery + " -o " + dir + "/typo.obj --config " + dir + "/typo.json");
+    CHECK(typo_status == 1);
+    CHECK(typo_log.find("relief-cut") != std::string::npos);
+    std::ofstream(dir + "/broken.json") << R"({"preset": )";
+    const auto [broken_status, broken_log] =
+        flatten_cli(dir, kArtery + " -o " + dir + "/broken.obj --config " + dir + "/broken.json");
+    CHECK(broken_status == 1);
+    CHECK(broken_log.find("JSON") != std::string::npos);
+}
+
+TEST_CASE("cli: --help fits one screen in groups, --help-all adds the tuning options, --version")
+{
+    const std::string dir = temp_dir("help");
+    const auto [status, help] = flatten_cli(dir, "--help");
+    CHECK(status == 0);
+    CHECK(count_lines(help) <= 40);
+    for (const char* shown : {"Input and output:", "Fields and images:", "Cut:", "Map:",
+                              "--preset", "--config", "--image", "--viewpoint", "--quiet"})
+        CHECK_MESSAGE(help.find(shown) != std::string::npos, shown);
+    CHECK(help.find("--slim-iterations") == std::string::npos);
+
+    const auto [all_status, all] = flatten_cli(dir, "--help-all");
+    CHECK(all_status == 0);
+    CHECK(count_lines(all) > count_lines(help));
+    for (const char* shown : {"--slim-iterations", "--join", "--repair", "--image-time"})
+        CHECK_MESSAGE(all.find(shown) != std::string::npos, shown);
+
+    const auto [version_status, version] = flatten_cli(dir, "--version");
+    CHECK(version_status == 0);
+    CHECK(version.find(VESSEL_VERSION) != std::string::npos);
 }

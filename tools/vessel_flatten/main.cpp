@@ -3,6 +3,7 @@
 #include "batch.h"
 #include "field_input.h"
 #include "images.h"
+#include "json_config.h"
 #include "viewer_fields.h"
 #include "vessel/core/errors.h"
 #include "vessel/fields/field_series.h"
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -33,315 +35,455 @@ double seconds_since(Clock::time_point start)
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+// CLI11 2.1's help has two blank lines between option groups; one keeps --help on one screen.
+class HelpFormatter : public CLI::Formatter
+{
+public:
+    std::string make_help(const CLI::App* app, std::string name,
+                          CLI::AppFormatMode mode) const override
+    {
+        std::string help = CLI::Formatter::make_help(app, std::move(name), mode);
+        for (std::size_t at = help.find("\n\n\n"); at != std::string::npos;
+             at = help.find("\n\n\n"))
+            help.erase(at, 1);
+        return help;
+    }
+};
+
+template <class T>
+struct Same
+{
+    using type = T;
+};
+
+// An option whose words name the values of \p target (an enum or a bool). \p target changes only
+// when the option is given, so a preset's value stands otherwise; the help shows the word of
+// its value now (the default's) as the default.
+template <class T>
+CLI::Option* add_choice(CLI::App& app, const std::string& name, T& target,
+                        const std::vector<std::pair<std::string, typename Same<T>::type>>& choices,
+                        const std::string& help)
+{
+    std::vector<std::string> words;
+    std::string current;
+    for (const auto& [word, value] : choices)
+    {
+        words.push_back(word);
+        if (value == target)
+            current = word;
+    }
+    std::string shown;
+    for (const auto& word : words)
+        shown += (shown.empty() ? "" : "|") + word;
+    return app
+        .add_option_function<std::string>(
+            name,
+            [&target, choices](const std::string& word) {
+                for (const auto& [w, value] : choices)
+                    if (w == word)
+                        target = value;
+            },
+            help)
+        ->check(CLI::IsMember(words).description(""))
+        ->type_name(shown)
+        ->default_str(current);
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"Cut a vessel tree surface open along natural vessel cuts and flatten it into "
-                 "one 2D patch.\nOUT.obj: seam form (v = input positions in input order, vt = "
-                 "(u, v) per cut vertex, f v/vt). OUT.vtp: the 3D cut mesh with uv texture "
-                 "coordinates and every field, plus OUT-map.vtp (the map, z = 0) and, for a time "
-                 "series, OUT.pvd. OUT.ply: cut mesh with u v and the fields."};
-    std::string input, output, report_path, html, cost = "curvature", solver = "local-global",
-                                            init = "layout-lscm", refine = "injective",
-                                            overlaps = "prevent", layout = "fan";
+    CLI::App app{"Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
+                 "2D map (README.md; every option: --help-all).",
+                 "vessel-flatten"};
+    app.formatter(std::make_shared<HelpFormatter>());
+    app.get_formatter()->column_width(35);
+    app.set_help_all_flag("--help-all", "Also list the tuning options");
+    app.set_version_flag("--version", std::string("vessel-flatten ") + VESSEL_VERSION);
+    // The tuning options are listed by --help-all only: an option in group "" is hidden.
+    const bool help_all = std::any_of(argv + 1, argv + argc,
+                                      [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
+    const auto tuning = [&](const std::string& group) { return help_all ? group : std::string(); };
+    const std::string io_group = "Input and output", fields_group = "Fields and images",
+                      cut_group = "Cut", map_group = "Map";
+    const std::string input_tuning = tuning("Input checks"),
+                      image_tuning = tuning("Fields and images, more"),
+                      cut_tuning = tuning("Cut, tuning"), map_tuning = tuning("Map, tuning");
+
+    std::string input, output, report_path, html, layout = "fan", preset = "default";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
     vessel::cli::ImageRequest images;
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
-    // First, so that the options below (whose callbacks run in this order, and only when given)
-    // override the preset's values.
-    app.add_option_function<std::string>(
-           "--preset",
-           [&](const std::string& name) {
-               options = name == "paper" ? vessel::FlattenOptions::paper() : vessel::FlattenOptions{};
-           },
-           "Options to start from: default (one-to-one map) or paper (the paper's method, "
-           "FlattenOptions::paper(): LSCM + ARAP, overlaps kept, no relief cuts); the options "
-           "below change it")
-        ->check(CLI::IsMember({"default", "paper"}))
-        ->default_str("default");
+
+    // Input and output.
     auto* input_option =
-        app.add_option("input", input, "Vessel surface (.obj, .off, .ply, .stl, .vtp, .vtk), "
-                                        "open at inlet and outlets; arrays of a .vtp/.vtk are "
-                                        "carried to the output")
-            ->check(CLI::ExistingFile);
-    app.add_option("-o,--output", output, "Flattened mesh (.obj, .vtp or .ply); with --batch, "
-                                          "the output directory")
-        ->required();
-    vessel::cli::FieldArgs field_args;
-    auto* fields_option =
-        vessel::cli::add_field_options(app, field_args, "to carry to the output");
-    app.add_option("--image", images.images,
-                   "Also draw --field (default: the first point field) on the map: .png, .svg or "
-                   ".pdf; a series shows step 0, "
-                   "--image-step or --image-time; repeat --image for several files")
-        ->allow_extra_args(false);
-    app.add_option("--image-units", images.units, "With --image: units after the colorbar title");
-    app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map");
-    auto* image_step = app.add_option("--image-step", images.step,
-                                      "With --image and a series: draw this step (0-based)")
-                           ->check(CLI::NonNegativeNumber);
-    app.add_option("--image-time", images.time, "With --image and a series: draw the field at "
-                                                "this time (s), interpolated between steps")
-        ->excludes(image_step);
-    app.add_option("--frames", images.frames,
-                   "With a --fields series: PNG frames of --field over time in this directory "
-                   "(25 fps, linear interpolation between steps)");
-    app.add_option("--batch", batch.inputs, "Flatten many meshes: a directory (its .obj/.off/"
-                                            ".ply/.stl files, recursively) or a text file with "
-                                            "one path per line; writes OUTDIR/<stem>.obj, "
-                                            "<stem>.json (<file name>.obj/.json where stems "
-                                            "repeat) and summary.csv/.json")
-        ->excludes(input_option)
-        ->excludes(fields_option);
+        app.add_option("input", input, "Vessel surface (.obj .off .ply .stl .vtp .vtk), open at "
+                                        "inlet and outlets")
+            ->check(CLI::ExistingFile)
+            ->option_text("MESH");
+    app.add_option("-o,--output", output, "Flat map: .obj (seam form), .vtp or .ply; with "
+                                          "--batch a directory")
+        ->required()
+        ->option_text("OUT (required)")
+        ->group(io_group);
+    auto* batch_option =
+        app.add_option("--batch", batch.inputs, "Flatten every mesh of a directory or list file "
+                                                "into OUT (a directory)")
+            ->excludes(input_option)
+            ->option_text("DIR|LIST")
+            ->group(io_group);
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+        ->option_text("N")
+        ->group(io_group);
+    app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)")
+        ->option_text("FILE.json")
+        ->group(io_group);
+    app.add_option("--html", html, "Also write an interactive HTML viewer of the result")
+        ->option_text("FILE.html")
+        ->group(io_group);
+    app.set_config("--config", "", "Read options from a JSON file {\"long-name\": value}; "
+                                   "the command line wins")
+        ->option_text("FILE.json")
+        ->group(io_group);
+    app.add_flag("-q,--quiet", quiet, "No progress or stage lines on stderr")->group(io_group);
     app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
-                                           "<stem>.json already exist in OUTDIR");
+                                           "<stem>.json already exist in OUTDIR")
+        ->group(input_tuning);
     vessel::TreeSurfaceOptions& surface_options = batch.surface;
     app.add_flag("--largest-component", surface_options.keep_largest_component,
                  "Keep only the largest connected component of the input (noted) instead of "
-                 "refusing a surface in several pieces");
+                 "refusing a surface in several pieces")
+        ->group(input_tuning);
     app.add_flag("--repair", batch.repair,
                  "Apply the safe repairs (CGAL): remove degenerate and duplicate faces, orient "
-                 "the faces consistently, stitch coincident borders; each is reported");
+                 "the faces consistently, stitch coincident borders; each is reported")
+        ->group(input_tuning);
     bool refuse_polygons = false;
     app.add_flag("--refuse-polygons", refuse_polygons,
-                 "Refuse faces with more than 3 corners instead of triangulating them (noted)");
-    app.add_option("--report", report_path, "Write a JSON report (timings, counts, quality)");
-    app.add_option("--html", html, "Also write an interactive HTML viewer of the result (single "
-                                   "input only; see vessel-view for more fields)");
-    app.add_option("--cost", cost, "Travel cost of the cuts: curvature (E_c), geodesic (E_g) or "
-                                   "blend (E_cg)")
-        ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
-        ->capture_default_str();
-    app.add_option("--blend", options.blend, "Weight a of E_c in E_cg = a E_c + (1 - a) E_g")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
-    app.add_option("--viewpoint", viewpoint, "Start/end cuts at the loop vertices nearest this "
-                                             "3D point (e.g. the camera), instead of the "
-                                             "cheapest loop point")
-        ->expected(3);
-    app.add_option("--alpha", options.alpha_deg, "Branch angle of the layout, degrees")
-        ->check(CLI::Range(0.0, 89.9))
-        ->capture_default_str();
-    app.add_option("--layout", layout, "Layout of the loops before the map: fan (the paper) or "
-                                       "sector (each subtree in its own angular sector; pinned "
-                                       "segments never cross)")
-        ->check(CLI::IsMember({"fan", "sector"}))
-        ->capture_default_str();
-    app.add_option("--split-at", split_at, "Cut off the subtree carrying these outlets (loop "
-                                           "indices, 1 = largest outlet; e.g. 3,5) just past "
-                                           "its branch point and flatten it as its own map; "
-                                           "repeat for several. Writes OUTPUT.pieceN.obj (the "
-                                           "last piece keeps the inlet)")
+                 "Refuse faces with more than 3 corners instead of triangulating them (noted)")
+        ->group(input_tuning);
+
+    // Fields and images.
+    vessel::cli::FieldArgs field_args;
+    auto* fields_option = vessel::cli::add_field_options(app, field_args, "to carry to the output");
+    fields_option->description("Fields to carry to the output: .vtp/.vtk, .pvd, numbered files "
+                               "or CSV (docs/fields.md)")
+        ->excludes(batch_option)
+        ->option_text("SPEC")
+        ->group(fields_group);
+    app.get_option("--field")
+        ->description("Keep only this array of --fields; the one --image draws")
+        ->option_text("NAME")
+        ->group(fields_group);
+    app.get_option("--time-step")->group(image_tuning);
+    app.add_option("--image", images.images,
+                   "Draw --field on the map: .png, .svg or .pdf (repeatable)")
+        ->allow_extra_args(false)
+        ->option_text("FILE")
+        ->group(fields_group);
+    app.add_option("--frames", images.frames,
+                   "With a --fields series: PNG frames of --field over time in this directory")
+        ->option_text("DIR")
+        ->group(fields_group);
+    app.add_option("--image-units", images.units, "With --image: units after the colorbar title")
+        ->group(image_tuning);
+    app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map")
+        ->group(image_tuning);
+    auto* image_step = app.add_option("--image-step", images.step,
+                                      "With --image and a series: draw this step (0-based)")
+                           ->check(CLI::NonNegativeNumber)
+                           ->group(image_tuning);
+    app.add_option("--image-time", images.time, "With --image and a series: draw the field at "
+                                                "this time (s), interpolated between steps")
+        ->excludes(image_step)
+        ->group(image_tuning);
+
+    // Cut.
+    add_choice(app, "--cost", options.cost,
+                            {{"curvature", vessel::CostKind::Curvature},
+                             {"geodesic", vessel::CostKind::Geodesic},
+                             {"blend", vessel::CostKind::Blend}},
+                            "Travel cost of the cuts (default curvature)")
+        ->option_text("curvature|geodesic|blend")
+        ->group(cut_group);
+    app.add_option("--viewpoint", viewpoint, "Start the cuts nearest this 3D point X Y Z (e.g. "
+                                             "the camera)")
+        ->expected(3)
+        ->option_text("X Y Z")
+        ->group(cut_group);
+    app.add_option("--split-at", split_at, "Flatten the subtree of these outlets (e.g. 3,5) as "
+                                           "its own map; repeatable")
         ->delimiter(',')
         ->type_size(1, -1)
-        ->allow_extra_args(false);
+        ->allow_extra_args(false)
+        ->option_text("I,J,...")
+        ->group(cut_group);
+    app.add_option("--relief-cuts", options.relief.max_cuts,
+                   "At most this many relief cuts where the map is squeezed (default " +
+                       std::to_string(vessel::FlattenOptions{}.relief.max_cuts) + ")")
+        ->check(CLI::NonNegativeNumber)
+        ->option_text("N")
+        ->group(cut_group);
+    app.add_option("--relief-target", options.relief.target_mean_abs_log_area,
+                   "Mean |log area ratio| above which relief cuts are tried")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--blend", options.blend, "Weight a of E_c in E_cg = a E_c + (1 - a) E_g")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str()
+        ->group(cut_tuning);
     app.add_option("--curvature-scale", options.curvature.scale,
                    "Curvature fitting radius in mean edge lengths")
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--direction-confidence", options.direction.confident_anisotropy,
+                   "Curvature anisotropy (0-1) from which the cut direction is the pure "
+                   "minimal curvature direction; below it the direction leans to the "
+                   "vessel's harmonic longitudinal descent (0 = the paper's pure field)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str()
+        ->group(cut_tuning);
+    add_choice(app, "--cut-route", options.cuts.route,
+                            {{"shortest", vessel::CutRoute::ShortestPath},
+                             {"streamline", vessel::CutRoute::Streamline},
+                             {"aligned", vessel::CutRoute::Aligned}},
+                            "How a cut runs to its end: shortest (the paper's cheapest path), "
+                            "streamline (the cheapest path in a band around a traced streamline "
+                            "of --stream-field; cuts whose streamline does not arrive keep the "
+                            "cheapest path) or aligned (per cut, whichever of the two follows "
+                            "--stream-field better)")
+        ->group(cut_tuning);
+    add_choice(app, "--stream-field", options.cuts.stream_field,
+                            {{"harmonic", vessel::StreamField::Harmonic},
+                             {"direction", vessel::StreamField::Direction}},
+                            "Field the streamline route traces: harmonic (descent of the "
+                            "harmonic longitudinal coordinate) or direction (the cut cost's "
+                            "vessel direction z)")
+        ->group(cut_tuning);
+    app.add_option("--band-rings", options.cuts.band_rings,
+                   "Streamline route: edge rings around the streamline the cut may use")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--join-rings", options.cuts.join_rings,
+                   "Streamline route: a later cut joins an earlier one once its streamline "
+                   "comes within this many edge rings of it")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    add_choice(app, "--join", options.cuts.join,
+                            {{"closest", vessel::CutJoin::Closest},
+                             {"cheapest", vessel::CutJoin::Cheapest},
+                             {"approach", vessel::CutJoin::Approach}},
+                            "Where later cuts end on the cut tree: approach (the cheapest path, "
+                            "cut back where it starts to run beside the tree, see --join-reach/"
+                            "--join-excess), cheapest (wherever the cheapest path meets the tree; "
+                            "can run down the parent beside a cut) or closest (a cut vertex "
+                            "nearest the outlet, within --join-slack plus the outlet's perimeter)")
+        ->group(cut_tuning);
+    app.add_option("--join-slack", options.cuts.join_slack,
+                   "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
+                   "closest one's distance from the outlet, plus the outlet's perimeter")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--join-reach", options.cuts.join_reach,
+                   "--join approach: a cut is cut back only at vertices within this many outlet "
+                   "radii of the cut tree")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--join-excess", options.cuts.join_excess,
+                   "--join approach: cut back only where the rest of the cut is longer than its "
+                   "distance to the tree by more than this many outlet radii")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+    app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
+                   "Slack (fraction of the mean arc cost) within which cut routes tie; the "
+                   "least winding one is taken (0 = plain Dijkstra)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(cut_tuning);
+
+    // Map.
+    app.add_option("--preset", preset, "Method to start from: default (one-to-one map) or paper "
+                                       "(the paper's LSCM + ARAP)")
+        ->check(CLI::IsMember({"default", "paper"}))
+        ->option_text("default|paper")
+        ->group(map_group);
+    app.add_option("--layout", layout, "Loops' layout: fan (the paper) or sector (subtrees in "
+                                       "their own sectors)")
+        ->check(CLI::IsMember({"fan", "sector"}))
+        ->option_text("fan|sector")
+        ->group(map_group);
+    add_choice(app, "--refine", options.refinement,
+                            {{"injective", vessel::Refinement::Injective},
+                             {"arap", vessel::Refinement::Arap},
+                             {"none", vessel::Refinement::None}},
+                            "Refinement: injective (no flips; default), arap (the paper's) or none")
+        ->option_text("injective|arap|none")
+        ->group(map_group);
+    add_choice(app, "--overlaps", options.overlaps,
+                            {{"prevent", vessel::OverlapPolicy::Prevent},
+                             {"keep", vessel::OverlapPolicy::Keep},
+                             {"restart", vessel::OverlapPolicy::Restart},
+                             {"scaffold", vessel::OverlapPolicy::RestartWithScaffold}},
+                            "With --refine injective, when the map at the layout overlaps "
+                            "itself: prevent (restart from a Tutte map; if SLIM's map would "
+                            "overlap, a scaffold from its last one-to-one iterate: no overlaps), "
+                            "keep it, restart (Tutte map, fast, overlaps not excluded) or "
+                            "scaffold (restart with a scaffold throughout)")
+        ->group(map_tuning);
+    app.add_option("--alpha", options.alpha_deg, "Branch angle of the fan layout, degrees")
+        ->check(CLI::Range(0.0, 89.9))
+        ->capture_default_str()
+        ->group(map_tuning);
+    add_choice(app, "--init", options.initialization,
+                            {{"layout-lscm", vessel::Initialization::LayoutLscm},
+                             {"spectral", vessel::Initialization::SpectralConformal},
+                             {"tutte", vessel::Initialization::Tutte}},
+                            "Start of the map: layout-lscm (the paper), spectral (free-boundary "
+                            "spectral conformal) or tutte")
+        ->group(map_tuning);
     app.add_option("--arap-iterations", options.arap.max_iterations,
                    "ARAP iterations with the inlet pinned (0 = no ARAP)")
         ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
+    add_choice(app, "--arap-solver", options.arap.solver,
+                            {{"local-global", vessel::ArapSolver::LocalGlobal},
+                             {"ceres", vessel::ArapSolver::Ceres}},
+                            "ARAP solver: local-global or ceres")
+        ->group(map_tuning);
     app.add_option("--slim-iterations", options.injective.max_iterations,
                    "With --refine injective: symmetric Dirichlet (SLIM) iterations after "
                    "untangling (0 = none)")
         ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--slim-momentum", options.injective.momentum,
                    "With --refine injective: heavy-ball momentum of the SLIM steps, in [0, 1) "
                    "(0 = plain SLIM)")
         ->check(CLI::Range(0.0, 0.999))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--scaffold-tolerance", options.injective.scaffold_tolerance,
                    "With --overlaps prevent/scaffold and --no-area-polish: SLIM stops once 3 "
                    "scaffold iterations in a row lower the energy by less than this fraction")
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--crossing-patience", options.injective.crossing_patience,
-                   "With --overlaps prevent: SLIM iterations the map's boundary may stay crossed "
-                   "before SLIM goes back to its last simple iterate and on with a scaffold")
-        ->check(CLI::PositiveNumber)
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--polished-scaffold-tolerance", options.polished_scaffold_tolerance,
                    "As --scaffold-tolerance when the area polish follows SLIM (the default): "
                    "the polish's Newton steps do the rest faster")
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--refine", refine, "Refinement: injective (ARAP, then flipped triangles "
-                                       "untangled, then SLIM; never flips), arap (the paper's "
-                                       "plain ARAP) or none (the initial map)")
-        ->check(CLI::IsMember({"injective", "arap", "none"}))
-        ->capture_default_str();
-    app.add_option("--overlaps", overlaps, "With --refine injective, when the map at the "
-                                           "layout overlaps itself: prevent (restart from a "
-                                           "Tutte map; if SLIM's map would overlap, a scaffold "
-                                           "from its last one-to-one iterate: no overlaps), "
-                                           "keep it, restart (Tutte map, fast, overlaps not "
-                                           "excluded) or scaffold (restart with a scaffold "
-                                           "throughout)")
-        ->check(CLI::IsMember({"keep", "restart", "prevent", "scaffold"}))
-        ->capture_default_str();
-    app.add_flag("--keep-look", options.keep_layout_look,
-                 "With --overlaps prevent, when the map at the layout overlaps itself, go on "
-                 "from a one-to-one map with the layout's look (the map before ARAP, else the "
-                 "fan start) instead of a Tutte circle; slower, not less distortion");
-    app.add_option_function<std::string>(
-           "--restart-circle",
-           [&](const std::string& v) { options.restart_on_layout_circle = v == "layout"; },
-           "Where the map restarts from a circle: layout (the inlet at the bottom, each outlet "
-           "at its layout bearing; layout_circle.h) or tutte (constant speed)")
-        ->check(CLI::IsMember({"layout", "tutte"}))
-        ->default_str("layout");
-    app.add_option("--look-pull", options.look_pull,
-                   "When the map restarts, SLIM and the area polish also keep the start's look "
-                   "(each outlet above the inlet and in walk order, or on its start ray: "
-                   "--look-pull-form; centre_pull.h); the weight, 0 = off")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option_function<std::string>(
-           "--look-pull-form",
-           [&](const std::string& v) {
-               options.look_pull_form =
-                   v == "rays" ? vessel::LookPullForm::Rays : vessel::LookPullForm::Hinges;
-           },
-           "The look pull's outlet terms: hinges (zero cost while each outlet stays above the "
-           "inlet and in walk order) or rays (each outlet held on its start ray)")
-        ->check(CLI::IsMember({"hinges", "rays"}))
-        ->default_str("hinges");
-    app.add_option("--look-hold", options.look_hold,
-                   "The look pull's inlet hold weight with hinges, if larger than --look-pull "
-                   "(a rigid motion: costs no area)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--look-margin", options.look_margin_deg,
-                   "The look pull's hinge margin, degrees (between consecutive outlets' "
-                   "bearings and above the inlet's line)")
-        ->check(CLI::Range(0.0, 89.9))
-        ->capture_default_str();
-    app.add_option_function<std::string>(
-           "--look-retry",
-           [&](const std::string& v) {
-               options.look_retry.mode = v == "off"     ? vessel::LookRetry::Off
-                                         : v == "force" ? vessel::LookRetry::Force
-                                                        : vessel::LookRetry::Auto;
-           },
-           "After a restarted map (--look-pull 0): auto redoes it with the hinge pull when its "
-           "look is broken (an outlet below the inlet, or many walk inversions) and keeps that "
-           "map if one-to-one and within the area bound (look_retry.h); force redoes it always; "
-           "off never")
-        ->check(CLI::IsMember({"auto", "off", "force"}))
-        ->default_str("auto");
-    app.add_option("--look-retry-pull", options.look_retry.pull,
-                   "The look retry's hinge weight")
+        ->capture_default_str()
+        ->group(map_tuning);
+    app.add_option("--crossing-patience", options.injective.crossing_patience,
+                   "With --overlaps prevent: SLIM iterations the map's boundary may stay crossed "
+                   "before SLIM goes back to its last simple iterate and on with a scaffold")
         ->check(CLI::PositiveNumber)
-        ->capture_default_str();
-    app.add_option("--look-retry-inversions", options.look_retry.max_walk_inversion_fraction,
-                   "The look is broken above this fraction of outlet pairs in walk inversion")
-        ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
-    app.add_option("--look-retry-area", options.look_retry.max_area_over_keep,
-                   "The pulled map is kept if its mean |log area| is at most this factor times "
-                   "the --overlaps keep map's")
-        ->check(CLI::Range(1.0, 1e9))
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--area-polish", options.area_polish.area_weight,
                    "After SLIM, lower the area distortion at the cost of conformal distortion "
                    "(area_polish.h; on by default); the value is the area term's weight in "
                    "[0, 1). One-to-one maps stay one-to-one (except with --overlaps keep)")
         ->each([&](const std::string&) { options.polish_area = true; })
-        ->capture_default_str();
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_flag_callback("--no-area-polish", [&] { options.polish_area = false; },
                           "Skip the area polish (SLIM's map: less conformal distortion, more "
-                          "area distortion)");
-    app.add_option("--arap-solver", solver, "ARAP solver: local-global or ceres")
-        ->check(CLI::IsMember({"ceres", "local-global"}))
-        ->capture_default_str();
-    app.add_option("--init", init, "Start of the map: layout-lscm (the paper) or spectral "
-                                   "(free-boundary spectral conformal)")
-        ->check(CLI::IsMember({"layout-lscm", "spectral", "tutte"}))
-        ->capture_default_str();
-    app.add_option("--direction-confidence", options.direction.confident_anisotropy,
-                   "Curvature anisotropy (0-1) from which the cut direction is the pure "
-                   "minimal curvature direction; below it the direction leans to the "
-                   "vessel's harmonic longitudinal descent (0 = the paper's pure field; 0.6 "
-                   "is the setting measured in docs/results.md)")
+                          "area distortion)")
+        ->group(map_tuning);
+    app.add_flag("--keep-look", options.keep_layout_look,
+                 "With --overlaps prevent, when the map at the layout overlaps itself, go on "
+                 "from a one-to-one map with the layout's look (the map before ARAP, else the "
+                 "fan start) instead of a Tutte circle; slower, not less distortion")
+        ->group(map_tuning);
+    add_choice(app, "--restart-circle", options.restart_on_layout_circle,
+                            {{"layout", true}, {"tutte", false}},
+                            "Where the map restarts from a circle: layout (the inlet at the "
+                            "bottom, each outlet at its layout bearing; layout_circle.h) or "
+                            "tutte (constant speed)")
+        ->group(map_tuning);
+    app.add_option("--look-pull", options.look_pull,
+                   "When the map restarts, SLIM and the area polish also keep the start's look "
+                   "(each outlet above the inlet and in walk order, or on its start ray: "
+                   "--look-pull-form; centre_pull.h); the weight, 0 = off")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(map_tuning);
+    add_choice(app, "--look-pull-form", options.look_pull_form,
+                            {{"hinges", vessel::LookPullForm::Hinges},
+                             {"rays", vessel::LookPullForm::Rays}},
+                            "The look pull's outlet terms: hinges (zero cost while each outlet "
+                            "stays above the inlet and in walk order) or rays (each outlet held "
+                            "on its start ray)")
+        ->group(map_tuning);
+    app.add_option("--look-hold", options.look_hold,
+                   "The look pull's inlet hold weight with hinges, if larger than --look-pull "
+                   "(a rigid motion: costs no area)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(map_tuning);
+    app.add_option("--look-margin", options.look_margin_deg,
+                   "The look pull's hinge margin, degrees (between consecutive outlets' "
+                   "bearings and above the inlet's line)")
+        ->check(CLI::Range(0.0, 89.9))
+        ->capture_default_str()
+        ->group(map_tuning);
+    add_choice(app, "--look-retry", options.look_retry.mode,
+                            {{"auto", vessel::LookRetry::Auto},
+                             {"off", vessel::LookRetry::Off},
+                             {"force", vessel::LookRetry::Force}},
+                            "After a restarted map (--look-pull 0): auto redoes it with the hinge "
+                            "pull when its look is broken (an outlet below the inlet, or many "
+                            "walk inversions) and keeps that map if one-to-one and within the "
+                            "area bound (look_retry.h); force redoes it always; off never")
+        ->group(map_tuning);
+    app.add_option("--look-retry-pull", options.look_retry.pull, "The look retry's hinge weight")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str()
+        ->group(map_tuning);
+    app.add_option("--look-retry-inversions", options.look_retry.max_walk_inversion_fraction,
+                   "The look is broken above this fraction of outlet pairs in walk inversion")
         ->check(CLI::Range(0.0, 1.0))
-        ->capture_default_str();
-    std::string cut_route = "aligned";
-    app.add_option("--cut-route", cut_route,
-                   "How a cut runs to its end: shortest (the paper's cheapest path), "
-                   "streamline (the cheapest path in a band around a traced streamline of "
-                   "--stream-field; cuts whose streamline does not arrive keep the cheapest "
-                   "path) or aligned (per cut, whichever of the two follows --stream-field "
-                   "better)")
-        ->check(CLI::IsMember({"shortest", "streamline", "aligned"}))
-        ->capture_default_str();
-    std::string stream_field = "harmonic";
-    app.add_option("--stream-field", stream_field,
-                   "Field the streamline route traces: harmonic (descent of the harmonic "
-                   "longitudinal coordinate) or direction (the cut cost's vessel direction z)")
-        ->check(CLI::IsMember({"harmonic", "direction"}))
-        ->capture_default_str();
-    app.add_option("--band-rings", options.cuts.band_rings,
-                   "Streamline route: edge rings around the streamline the cut may use")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--join-rings", options.cuts.join_rings,
-                   "Streamline route: a later cut joins an earlier one once its streamline "
-                   "comes within this many edge rings of it")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    std::string join = "approach";
-    app.add_option("--join", join,
-                   "Where later cuts end on the cut tree: approach (the cheapest path, cut back "
-                   "where it starts to run beside the tree, see --join-reach/--join-excess), "
-                   "cheapest (wherever the cheapest path meets the tree; can run down the parent "
-                   "beside a cut) or closest (a cut vertex nearest the outlet, within "
-                   "--join-slack plus the outlet's perimeter)")
-        ->check(CLI::IsMember({"closest", "cheapest", "approach"}))
-        ->capture_default_str();
-    app.add_option("--join-slack", options.cuts.join_slack,
-                   "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
-                   "closest one's distance from the outlet, plus the outlet's perimeter")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--join-reach", options.cuts.join_reach,
-                   "--join approach: a cut is cut back only at vertices within this many outlet "
-                   "radii of the cut tree")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--join-excess", options.cuts.join_excess,
-                   "--join approach: cut back only where the rest of the cut is longer than its "
-                   "distance to the tree by more than this many outlet radii")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
-                   "Slack (fraction of the mean arc cost) within which cut routes tie; the "
-                   "least winding one is taken (0 = plain Dijkstra)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--relief-cuts", options.relief.max_cuts,
-                   "At most this many relief cuts: slits from the most compressed point to the "
-                   "seam, added while mean |log area| stays above --relief-target (0 = the "
-                   "paper's cuts only)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_option("--relief-target", options.relief.target_mean_abs_log_area,
-                   "Mean |log area ratio| above which relief cuts are tried")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
-    app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
+        ->capture_default_str()
+        ->group(map_tuning);
+    app.add_option("--look-retry-area", options.look_retry.max_area_over_keep,
+                   "The pulled map is kept if its mean |log area| is at most this factor times "
+                   "the --overlaps keep map's")
+        ->check(CLI::Range(1.0, 1e9))
+        ->capture_default_str()
+        ->group(map_tuning);
+    app.config_formatter(std::make_shared<vessel::cli::JsonConfig>());
+    app.allow_config_extras(CLI::config_extras_mode::error);
     try
     {
+        // Twice: the first parse finds the preset (on the command line or in --config), the
+        // second writes the options given over it.
         app.parse(argc, argv);
+        options = preset == "paper" ? vessel::FlattenOptions::paper() : vessel::FlattenOptions{};
+        app.clear();
+        app.parse(argc, argv);
+    }
+    catch (const CLI::ConfigError& e)
+    {
+        std::string what = e.what();
+        const std::string unknown = "INI was not able to parse ";  // CLI11's words
+        if (what.rfind(unknown, 0) == 0)
+            what = "no option --" + what.substr(unknown.size()) +
+                   "; the keys are long option names without the dashes (see --help-all)";
+        std::fprintf(stderr, "vessel-flatten: --config: %s\n", what.c_str());
+        return 1;
     }
     catch (const CLI::ParseError& e)
     {
@@ -361,39 +503,6 @@ int main(int argc, char** argv)
             throw vessel::InvalidInputError("the output must be .obj (seam form), .vtp or .ply, "
                                             "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
-        // Only the options given change the preset's values.
-        if (app.count("--refine"))
-            options.refinement = refine == "none"   ? vessel::Refinement::None
-                                 : refine == "arap" ? vessel::Refinement::Arap
-                                                    : vessel::Refinement::Injective;
-        if (app.count("--overlaps"))
-            options.overlaps = overlaps == "keep"       ? vessel::OverlapPolicy::Keep
-                               : overlaps == "scaffold" ? vessel::OverlapPolicy::RestartWithScaffold
-                               : overlaps == "restart"  ? vessel::OverlapPolicy::Restart
-                                                        : vessel::OverlapPolicy::Prevent;
-        if (app.count("--cost"))
-            options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
-                           : cost == "blend"  ? vessel::CostKind::Blend
-                                              : vessel::CostKind::Curvature;
-        if (app.count("--arap-solver"))
-            options.arap.solver =
-                solver == "ceres" ? vessel::ArapSolver::Ceres : vessel::ArapSolver::LocalGlobal;
-        if (app.count("--cut-route"))
-            options.cuts.route = cut_route == "streamline" ? vessel::CutRoute::Streamline
-                                 : cut_route == "aligned"  ? vessel::CutRoute::Aligned
-                                                           : vessel::CutRoute::ShortestPath;
-        if (app.count("--join"))
-            options.cuts.join = join == "cheapest"   ? vessel::CutJoin::Cheapest
-                                : join == "approach" ? vessel::CutJoin::Approach
-                                                     : vessel::CutJoin::Closest;
-        if (app.count("--stream-field"))
-            options.cuts.stream_field = stream_field == "direction"
-                                            ? vessel::StreamField::Direction
-                                            : vessel::StreamField::Harmonic;
-        if (app.count("--init"))
-            options.initialization = init == "spectral" ? vessel::Initialization::SpectralConformal
-                                     : init == "tutte"  ? vessel::Initialization::Tutte
-                                                        : vessel::Initialization::LayoutLscm;
         options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {
