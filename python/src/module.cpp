@@ -340,6 +340,7 @@ const std::map<std::string, std::function<vessel::FlattenOptions()>>& presets()
 {
     static const std::map<std::string, std::function<vessel::FlattenOptions()>> table = {
         {"default", [] { return vessel::FlattenOptions{}; }},
+        {"paper", [] { return vessel::FlattenOptions::paper(); }},
     };
     return table;
 }

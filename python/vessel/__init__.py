@@ -232,8 +232,9 @@ def flatten(points, faces=None, preset: str = "default", **options) -> FlatMap:
     Args:
         points: (n, 3) vertex positions, or a :class:`Surface` (then ``faces`` is omitted).
         faces: (m, 3) triangle corner indices into ``points`` (0-based).
-        preset: the starting options: ``"default"`` (libvessel's defaults, as vessel-flatten)
-            and any other name :func:`presets` lists.
+        preset: the starting options, as vessel-flatten's ``--preset``: ``"default"``
+            (libvessel's defaults) or ``"paper"`` (the published method: the paper's cuts,
+            ARAP with the inlet pinned, no SLIM, no relief cuts; FlattenOptions::paper()).
         **options: single settings over the preset, named as vessel-flatten's flags with ``_``
             for ``-`` (:func:`flatten_options` lists them), e.g. ``cost="blend", blend=0.3,
             alpha=30, refine="arap", area_polish=False, viewpoint=(0, -200, 0)``.

@@ -95,11 +95,31 @@ def test_real_tree_same_map_as_cli(name, real_data, flatten_exe, tmp_path):
     assert_same_map_as_cli(flat, obj, surface.points)
 
 
+def test_paper_preset_same_map_as_cli(real_data, flatten_exe, tmp_path):
+    mesh = real_data / "vampy/artery-coarse.ply"
+    surface = vessel.read(mesh)
+    paper = vessel.flatten(surface, preset="paper")
+    obj = tmp_path / "paper.obj"
+    done = run_cli(flatten_exe, mesh, obj, "--preset", "paper")
+    assert done.returncode == 0, done.stderr
+    assert_same_map_as_cli(paper, obj, surface.points)
+    # The paper's method: ARAP ran, no SLIM and no relief cut; not the default's map.
+    assert paper.report["arap"]["iterations"] > 0 and paper.report["slim"]["iterations"] == 0
+    assert paper.relief_cuts == []
+    default = vessel.flatten(surface)
+    assert default.uv.shape != paper.uv.shape or not np.allclose(default.uv, paper.uv)
+    # Options given with the preset change it, as on the command line.
+    obj = tmp_path / "paper-alpha.obj"
+    done = run_cli(flatten_exe, mesh, obj, "--preset", "paper", "--alpha", "30")
+    assert done.returncode == 0, done.stderr
+    assert_same_map_as_cli(vessel.flatten(surface, preset="paper", alpha=30), obj, surface.points)
+
+
 def test_options_and_presets_listed():
     names = vessel.flatten_options()
     for name in ("cost", "blend", "alpha", "refine", "overlaps", "area_polish", "viewpoint"):
         assert name in names
-    assert "default" in vessel.presets()
+    assert {"default", "paper"} <= set(vessel.presets())
 
 
 def test_threads_give_the_same_maps(carotid, real_data):
