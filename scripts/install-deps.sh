@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages libvessel needs to build, test and render (idempotent).
-# python3-dev, pybind11-dev: the Python package (docs/python.md); python3-pytest runs its tests.
+# python3-dev, pybind11-dev: the Python package (docs/python.md); python3-pytest runs its tests;
+# snakemake runs the cohort workflow (docs/cohort.md).
 # chromium: the viewer's end-to-end test (headless). node and npm (for the viewer bundle) are
 # expected on the machine (CI has node 20); without them the viewer is left out of the build.
 # libopenblas0-pthread: becomes the libblas.so.3 alternative, so CHOLMOD's supernodal factorizations
@@ -15,7 +16,7 @@ packages=(
   libcairo2-dev
   libvtk9-dev
   python3 python3-numpy python3-matplotlib python3-vtk9
-  python3-dev pybind11-dev python3-pytest
+  python3-dev pybind11-dev python3-pytest snakemake
   chromium
 )
 missing=()
