@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <optional>
 
 namespace vessel {
 
@@ -36,6 +37,9 @@ void FlattenOptions::validate() const
     direction.validate();
     cuts.validate();
     relief.validate();
+    if (!(progress_interval_s >= 0.0 && std::isfinite(progress_interval_s)))
+        throw InvalidInputError("FlattenOptions: progress_interval_s must be >= 0 and finite, got " +
+                                std::to_string(progress_interval_s));
     if (refinement != Refinement::None && arap.max_iterations > 0)
         arap.validate();
     if (refinement == Refinement::Injective)
@@ -349,9 +353,60 @@ void add_timings(StageTimings& to, const StageTimings& from)
 
 }  // namespace
 
-FlattenResult flatten(Mesh mesh, const FlattenOptions& options)
+namespace detail {
+
+FlattenOptions with_progress(const FlattenOptions& options)
 {
-    options.validate();
+    if (!options.on_progress)
+        return options;
+    FlattenOptions wired = options;
+    using Clock = std::chrono::steady_clock;
+    // The last iteration report (none yet: the first is made at once).
+    auto last = std::make_shared<std::optional<Clock::time_point>>();
+    const auto report = [last, on_progress = options.on_progress,
+                         interval = options.progress_interval_s](const char* phase, int iteration,
+                                                                 int max_iterations) {
+        const Clock::time_point now = Clock::now();
+        if (*last && std::chrono::duration<double>(now - **last).count() < interval)
+            return;
+        *last = now;
+        Progress progress;
+        progress.stage = "F";
+        progress.phase = phase;
+        progress.iteration = iteration;
+        progress.max_iterations = max_iterations;
+        on_progress(progress);
+    };
+    // Ceres' ARAP would pay an energy evaluation per call: not reported.
+    if (options.arap.solver == ArapSolver::LocalGlobal)
+        wired.arap.on_iteration = [report, caller = options.arap.on_iteration,
+                                   limit = options.arap.max_iterations](int it, double energy) {
+            report("arap", it, limit);
+            return caller ? caller(it, energy) : true;
+        };
+    wired.injective.on_iteration = [report, caller = options.injective.on_iteration,
+                                     limit = options.injective.max_iterations](int it, bool scaffold) {
+        report(scaffold ? "scaffold" : "slim", it, limit);
+        if (caller)
+            caller(it, scaffold);
+    };
+    const AreaPolishOptions& polish = options.area_polish;
+    wired.area_polish.on_chunk = [report, caller = polish.on_chunk,
+                                  limit = polish.newton ? polish.newton_max_iterations
+                                                        : polish.max_iterations](int done) {
+        report("polish", done, limit);
+        if (caller)
+            caller(done);
+    };
+    return wired;
+}
+
+}  // namespace detail
+
+FlattenResult flatten(Mesh mesh, const FlattenOptions& caller_options)
+{
+    caller_options.validate();
+    const FlattenOptions options = detail::with_progress(caller_options);
     if (boundary_loops(mesh).size() == 1)  // a disk already: no cuts, no relief cuts
         return detail::flatten_disk(std::move(mesh), options);
     const ReliefCutOptions& relief = options.relief;

@@ -1,4 +1,4 @@
-// vessel-flatten's presets, help and --config; FlattenOptions::paper().
+// vessel-flatten's presets, help, --config and progress lines; FlattenOptions::paper().
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
@@ -129,4 +129,37 @@ TEST_CASE("cli: --help fits one screen in groups, --help-all adds the tuning opt
     const auto [version_status, version] = flatten_cli(dir, "--version");
     CHECK(version_status == 0);
     CHECK(version.find(VESSEL_VERSION) != std::string::npos);
+}
+
+TEST_CASE("cli: progress is drawn on a terminal, not in a pipe, and --quiet silences it")
+{
+    const std::string dir = temp_dir("progress");
+    const std::string mesh = std::string(VESSEL_SHARED_DATA) + "/vampy/artery.ply";
+    // script(1) runs the command on a pseudo-terminal and copies what it writes to stdout.
+    const auto on_terminal = [&](const std::string& args) {
+        const std::string log = dir + "/tty.txt";
+        const int status = run("script -qec '" + kFlatten + " " + args + "' /dev/null > " + log +
+                               " 2>&1 < /dev/null");
+        return std::make_pair(status, read_text(log));
+    };
+    const std::string redraw = "\r\033[K";  // the live line is redrawn in place
+    const auto [tty_status, tty] = on_terminal(mesh + " -o " + dir + "/tty.obj");
+    REQUIRE_MESSAGE(tty_status == 0, tty);
+    CHECK(tty.find(redraw) != std::string::npos);
+    CHECK(tty.find("[F ] ") != std::string::npos);
+    const bool iterations_shown = tty.find(" arap ") != std::string::npos ||
+                                  tty.find(" slim ") != std::string::npos ||
+                                  tty.find(" polish ") != std::string::npos;
+    CHECK(iterations_shown);
+
+    const auto [pipe_status, pipe] = flatten_cli(dir, mesh + " -o " + dir + "/pipe.obj");
+    REQUIRE(pipe_status == 0);
+    CHECK(pipe.find("\r") == std::string::npos);
+    CHECK(pipe.find("[F ] ") != std::string::npos);  // one line per stage, as ever
+    CHECK(read_text(dir + "/pipe.obj") == read_text(dir + "/tty.obj"));
+
+    const auto [quiet_status, quiet] = on_terminal(mesh + " -o " + dir + "/quiet.obj --quiet");
+    REQUIRE(quiet_status == 0);
+    CHECK(quiet.find("[F ") == std::string::npos);
+    CHECK(quiet.find(redraw) == std::string::npos);
 }

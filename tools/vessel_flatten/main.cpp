@@ -25,6 +25,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+
+#include <unistd.h>
 
 namespace {
 
@@ -524,11 +527,31 @@ int main(int argc, char** argv)
             {"AC", "applying the cuts"},
             {"L", "layout"},
             {"F", "initial map + refinement"}};
+        // On a terminal, stage F's solvers draw one line, redrawn in place (carriage return,
+        // erase to the end of the line) until the stage's own line replaces it; off a terminal
+        // (a log) only the stage lines.
+        const bool live = !quiet && isatty(fileno(stderr));
+        const char* erase = live ? "\r\033[K" : "";
         if (!quiet)
-            options.on_stage = [](const std::string& stage, double s) {
-                std::fprintf(stderr, "[%-2s] %-42s %8.3f s\n", stage.c_str(),
+            options.on_stage = [erase](const std::string& stage, double s) {
+                std::fprintf(stderr, "%s[%-2s] %-42s %8.3f s\n", erase, stage.c_str(),
                              stage_names.at(stage).c_str(), s);
             };
+        if (live)
+        {
+            auto stage_start = std::make_shared<Clock::time_point>(Clock::now());
+            options.on_progress = [stage_start](const vessel::Progress& p) {
+                if (p.stage_done)
+                {
+                    *stage_start = Clock::now();
+                    return;
+                }
+                std::fprintf(stderr, "\r\033[K[%-2s] %s: %s %d/%d %.1f s", p.stage.c_str(),
+                             stage_names.at(p.stage).c_str(), p.phase.c_str(), p.iteration,
+                             p.max_iterations, seconds_since(*stage_start));
+                std::fflush(stderr);
+            };
+        }
 
         auto start = Clock::now();
         const vessel::cli::FieldInput field_input =

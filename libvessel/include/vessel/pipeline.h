@@ -71,6 +71,20 @@ enum class OverlapPolicy
     Prevent,
 };
 
+//! What flatten() is doing, reported to FlattenOptions::on_progress.
+struct Progress
+{
+    //! The stage under its Table 1 name: "Z", "GC", "VC", "AC", "L" or "F".
+    std::string stage;
+    //! Within stage F, the solver iterating: "arap", "slim" (SLIM without a scaffold),
+    //! "scaffold" (SLIM with its scaffold) or "polish" (the area polish); empty for a stage's end.
+    std::string phase;
+    int iteration = 0;       //!< the phase's iterations so far (0 for a stage's end)
+    int max_iterations = 0;  //!< the phase's iteration limit (0 for a stage's end)
+    bool stage_done = false; //!< the stage has ended (`seconds` is then its time)
+    double seconds = 0.0;    //!< seconds since the stage began (since flatten() began for Z)
+};
+
 //! Options of flatten(). A default-constructed FlattenOptions is the library's default method
 //! (one-to-one map: no flipped triangle, no overlap; relief cuts where the area distortion is
 //! high); FlattenOptions::paper() is the published method, for reproduction.
@@ -173,6 +187,15 @@ struct FlattenOptions
     double polished_scaffold_tolerance = 3e-4;
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
+    //! Called at the end of every stage and, within stage F, after the solvers' outer
+    //! iterations (ARAP sweeps, SLIM iterations, area polish chunks), at most once per
+    //! `progress_interval_s` for the iterations, so that a display shows a long run going on
+    //! without slowing it. Called on the thread that called flatten(). Null (the default) = no
+    //! calls. The vessel-flatten CLI draws it as one line on a terminal.
+    std::function<void(const Progress&)> on_progress;
+    //! The least time, in seconds, between two of on_progress's iteration reports (stage ends
+    //! are always reported); 0 = every iteration.
+    double progress_interval_s = 0.1;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

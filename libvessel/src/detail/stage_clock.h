@@ -7,7 +7,7 @@
 namespace vessel::detail {
 
 //! Times the pipeline's stages under their Table 1 names and reports each to
-//! FlattenOptions::on_stage.
+//! FlattenOptions::on_stage and ::on_progress.
 class StageClock
 {
 public:
@@ -20,6 +20,14 @@ public:
         last_ = now;
         if (options_.on_stage)
             options_.on_stage(stage, seconds);
+        if (options_.on_progress)
+        {
+            Progress done;
+            done.stage = stage;
+            done.stage_done = true;
+            done.seconds = seconds;
+            options_.on_progress(done);
+        }
         return seconds;
     }
 
@@ -27,5 +35,11 @@ private:
     const FlattenOptions& options_;
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
+
+//! \p options with stage F's solver callbacks (ARAP's local/global sweeps, SLIM's iterations,
+//! the area polish's chunks) reporting to FlattenOptions::on_progress, at most once per
+//! `progress_interval_s`, after any callback the caller set there. \p options itself when it
+//! has no on_progress.
+FlattenOptions with_progress(const FlattenOptions& options);
 
 }  // namespace vessel::detail

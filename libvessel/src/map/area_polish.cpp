@@ -449,6 +449,8 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
             break;
         summary.iterations += done;
         summary.energy_after = after;
+        if (options.on_chunk)
+            options.on_chunk(summary.iterations);
         // The energy is at least 2 x the surface area (isometry); stop when a chunk removes
         // less than `tolerance` of what is left above that.
         if (before - after < options.tolerance * (before - 2.0 * area))

@@ -780,6 +780,8 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         }
         const Eigen::VectorXd x_before = x.head(2 * n);
         summary.iterations = done + it + 1;
+        if (options.on_iteration)
+            options.on_iteration(it + 1, static_cast<bool>(scaffold));
         if (!(e_new <= e))
         {
             summary.converged = true;  // no descent left along the proxy's direction

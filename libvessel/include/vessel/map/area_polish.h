@@ -3,6 +3,7 @@
 #include "vessel/map/centre_pull.h"
 #include "vessel/layout/pins.h"
 
+#include <functional>
 #include <string>
 
 namespace vessel {
@@ -44,6 +45,9 @@ struct AreaPolishOptions
     //! exact; the Newton steps' Hessian gets their diagonal proxy). Empty = none. The pipeline
     //! passes SLIM's (FlattenOptions::look_pull).
     std::vector<CentrePull> centre_pulls;
+    //! Called after every chunk with the Newton steps (or L-BFGS iterations) done so far, e.g.
+    //! for progress output. Null (the default) = no calls.
+    std::function<void(int iterations)> on_chunk;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

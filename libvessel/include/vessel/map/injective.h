@@ -3,6 +3,7 @@
 #include "vessel/map/centre_pull.h"
 #include "vessel/layout/pins.h"
 
+#include <functional>
 #include <string>
 
 namespace vessel {
@@ -94,6 +95,10 @@ struct InjectiveOptions
     //! is unchanged). Empty = none. The pipeline fills it on a restart to keep the start's look
     //! (FlattenOptions::look_pull); the summary's energies stay the surface's alone.
     std::vector<CentrePull> centre_pulls;
+    //! Called after every iteration with the current phase's iterations so far (1, 2, ...; at
+    //! most max_iterations) and whether that phase uses the scaffold, e.g. for progress output.
+    //! Null (the default) = no calls.
+    std::function<void(int iteration, bool scaffold)> on_iteration;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
