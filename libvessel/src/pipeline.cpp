@@ -38,8 +38,9 @@ void FlattenOptions::validate() const
     cuts.validate();
     relief.validate();
     if (!(progress_interval_s >= 0.0 && std::isfinite(progress_interval_s)))
-        throw InvalidInputError("FlattenOptions: progress_interval_s must be >= 0 and finite, got " +
-                                std::to_string(progress_interval_s));
+        throw InvalidInputError(
+            "FlattenOptions: progress_interval_s must be >= 0 and finite, got " +
+            std::to_string(progress_interval_s));
     if (refinement != Refinement::None && arap.max_iterations > 0)
         arap.validate();
     if (refinement == Refinement::Injective)
@@ -385,7 +386,8 @@ FlattenOptions with_progress(const FlattenOptions& options)
             return caller ? caller(it, energy) : true;
         };
     wired.injective.on_iteration = [report, caller = options.injective.on_iteration,
-                                     limit = options.injective.max_iterations](int it, bool scaffold) {
+                                    limit = options.injective.max_iterations](int it,
+                                                                              bool scaffold) {
         report(scaffold ? "scaffold" : "slim", it, limit);
         if (caller)
             caller(it, scaffold);

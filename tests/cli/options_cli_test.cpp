@@ -50,7 +50,7 @@ TEST_CASE("pipeline: FlattenOptions::paper() is the paper's options set one by o
     const FlattenResult paper = flatten(mesh, FlattenOptions::paper());
     const FlattenResult by_hand = flatten(mesh, explicit_options);
     CHECK(paper.uv == by_hand.uv);
-    CHECK(paper.arap.iterations > 0);       // the paper's ARAP ran ...
+    CHECK(paper.arap.iterations > 0);        // the paper's ARAP ran ...
     CHECK(paper.injective.iterations == 0);  // ... and no SLIM after it
     CHECK(paper.plan.relief.empty());
     CHECK(paper.uv != flatten(mesh).uv);  // the default is another method
@@ -71,8 +71,8 @@ TEST_CASE("cli: --preset paper writes the same OBJ bytes as the paper's options 
     REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/default.obj").first == 0);
     CHECK(preset != read_text(dir + "/default.obj"));
     // A flag after the preset changes it: the paper's method with SLIM is another map.
-    REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/changed.obj --preset paper --refine "
-                             "injective").first == 0);
+    const std::string changed = " -o " + dir + "/changed.obj --preset paper --refine injective";
+    REQUIRE(flatten_cli(dir, kArtery + changed).first == 0);
     CHECK(preset != read_text(dir + "/changed.obj"));
 }
 
@@ -115,8 +115,8 @@ TEST_CASE("cli: --help fits one screen in groups, --help-all adds the tuning opt
     const auto [status, help] = flatten_cli(dir, "--help");
     CHECK(status == 0);
     CHECK(count_lines(help) <= 40);
-    for (const char* shown : {"Input and output:", "Fields and images:", "Cut:", "Map:",
-                              "--preset", "--config", "--image", "--viewpoint", "--quiet"})
+    for (const char* shown : {"Input and output:", "Fields and images:", "Cut:", "Map:", "--preset",
+                              "--config", "--image", "--viewpoint", "--quiet"})
         CHECK_MESSAGE(help.find(shown) != std::string::npos, shown);
     CHECK(help.find("--slim-iterations") == std::string::npos);
 

@@ -23,7 +23,8 @@ std::vector<Progress> run_with_progress(const Mesh& mesh, FlattenOptions options
 
 }  // namespace
 
-TEST_CASE("pipeline: on_progress reports every stage's end and stage F's iterations, and changes no map")
+TEST_CASE(
+    "pipeline: on_progress reports every stage's end and stage F's iterations, and changes no map")
 {
     const Mesh mesh = test::test_tree_phantom(3);
     FlattenOptions every;
@@ -58,12 +59,13 @@ TEST_CASE("pipeline: on_progress reports every stage's end and stage F's iterati
     if (with.arap.iterations > 0)
         CHECK(phases.count("arap") == 1);
     for (const std::string& phase : phases)
-        CHECK_MESSAGE((phase == "arap" || phase == "slim" || phase == "scaffold" ||
-                       phase == "polish"),
-                      phase);
+        CHECK_MESSAGE(
+            (phase == "arap" || phase == "slim" || phase == "scaffold" || phase == "polish"),
+            phase);
 }
 
-TEST_CASE("pipeline: on_progress reports each of the paper's ARAP sweeps, and no more often than asked")
+TEST_CASE(
+    "pipeline: on_progress reports each of the paper's ARAP sweeps, and no more often than asked")
 {
     const Mesh mesh = test::test_tree_phantom(3);
     FlattenOptions every = FlattenOptions::paper();

@@ -43,8 +43,10 @@ std::vector<CLI::ConfigItem> JsonConfig::from_config(std::istream& input) const
         throw CLI::ConversionError(std::string("--config: not valid JSON: ") + e.what());
     }
     if (!j.is_object())
-        throw CLI::ConversionError("--config: the file must hold one JSON object "
-                                   "{\"option-name\": value, ...}, got " + std::string(j.type_name()));
+        throw CLI::ConversionError(
+            "--config: the file must hold one JSON object "
+            "{\"option-name\": value, ...}, got " +
+            std::string(j.type_name()));
     std::vector<CLI::ConfigItem> items;
     for (auto it = j.begin(); it != j.end(); ++it)
     {
@@ -60,8 +62,8 @@ std::vector<CLI::ConfigItem> JsonConfig::from_config(std::istream& input) const
     return items;
 }
 
-std::string JsonConfig::to_config(const CLI::App* app, bool default_also, bool /*write_description*/,
-                                  std::string /*prefix*/) const
+std::string JsonConfig::to_config(const CLI::App* app, bool default_also,
+                                  bool /*write_description*/, std::string /*prefix*/) const
 {
     json j = json::object();
     for (const CLI::Option* option : app->get_options())

@@ -4,16 +4,16 @@
 #include "field_input.h"
 #include "images.h"
 #include "json_config.h"
-#include "viewer_fields.h"
+#include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
+#include "vessel/cut/split.h"
 #include "vessel/fields/field_series.h"
 #include "vessel/io/flat_io.h"
 #include "vessel/io/flat_vtk.h"
 #include "vessel/io/io.h"
 #include "vessel/pipeline.h"
-#include "vessel/cut/split.h"
-#include "vessel/check/validation.h"
 #include "vessel/render/viewer.h"
+#include "viewer_fields.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -96,16 +96,17 @@ CLI::Option* add_choice(CLI::App& app, const std::string& name, T& target,
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
-                 "2D map (README.md; every option: --help-all).",
-                 "vessel-flatten"};
+    CLI::App app{
+        "Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
+        "2D map (README.md; every option: --help-all).",
+        "vessel-flatten"};
     app.formatter(std::make_shared<HelpFormatter>());
     app.get_formatter()->column_width(35);
     app.set_help_all_flag("--help-all", "Also list the tuning options");
     app.set_version_flag("--version", std::string("vessel-flatten ") + VESSEL_VERSION);
     // The tuning options are listed by --help-all only: an option in group "" is hidden.
-    const bool help_all = std::any_of(argv + 1, argv + argc,
-                                      [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
+    const bool help_all = std::any_of(
+        argv + 1, argv + argc, [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
     const auto tuning = [&](const std::string& group) { return help_all ? group : std::string(); };
     const std::string io_group = "Input and output", fields_group = "Fields and images",
                       cut_group = "Cut", map_group = "Map";
@@ -122,22 +123,23 @@ int main(int argc, char** argv)
     vessel::cli::BatchOptions batch;
 
     // Input and output.
-    auto* input_option =
-        app.add_option("input", input, "Vessel surface (.obj .off .ply .stl .vtp .vtk), open at "
+    auto* input_option = app.add_option("input", input,
+                                        "Vessel surface (.obj .off .ply .stl .vtp .vtk), open at "
                                         "inlet and outlets")
-            ->check(CLI::ExistingFile)
-            ->option_text("MESH");
-    app.add_option("-o,--output", output, "Flat map: .obj (seam form), .vtp or .ply; with "
-                                          "--batch a directory")
+                             ->check(CLI::ExistingFile)
+                             ->option_text("MESH");
+    app.add_option("-o,--output", output,
+                   "Flat map: .obj (seam form), .vtp or .ply; with "
+                   "--batch a directory")
         ->required()
         ->option_text("OUT (required)")
         ->group(io_group);
-    auto* batch_option =
-        app.add_option("--batch", batch.inputs, "Flatten every mesh of a directory or list file "
-                                                "into OUT (a directory)")
-            ->excludes(input_option)
-            ->option_text("DIR|LIST")
-            ->group(io_group);
+    auto* batch_option = app.add_option("--batch", batch.inputs,
+                                        "Flatten every mesh of a directory or list file "
+                                        "into OUT (a directory)")
+                             ->excludes(input_option)
+                             ->option_text("DIR|LIST")
+                             ->group(io_group);
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
         ->option_text("N")
@@ -148,13 +150,15 @@ int main(int argc, char** argv)
     app.add_option("--html", html, "Also write an interactive HTML viewer of the result")
         ->option_text("FILE.html")
         ->group(io_group);
-    app.set_config("--config", "", "Read options from a JSON file {\"long-name\": value}; "
-                                   "the command line wins")
+    app.set_config("--config", "",
+                   "Read options from a JSON file {\"long-name\": value}; "
+                   "the command line wins")
         ->option_text("FILE.json")
         ->group(io_group);
     app.add_flag("-q,--quiet", quiet, "No progress or stage lines on stderr")->group(io_group);
-    app.add_flag("--resume", batch.resume, "With --batch: keep the inputs whose <stem>.obj and "
-                                           "<stem>.json already exist in OUTDIR")
+    app.add_flag("--resume", batch.resume,
+                 "With --batch: keep the inputs whose <stem>.obj and "
+                 "<stem>.json already exist in OUTDIR")
         ->group(input_tuning);
     vessel::TreeSurfaceOptions& surface_options = batch.surface;
     app.add_flag("--largest-component", surface_options.keep_largest_component,
@@ -173,8 +177,10 @@ int main(int argc, char** argv)
     // Fields and images.
     vessel::cli::FieldArgs field_args;
     auto* fields_option = vessel::cli::add_field_options(app, field_args, "to carry to the output");
-    fields_option->description("Fields to carry to the output: .vtp/.vtk, .pvd, numbered files "
-                               "or CSV (docs/fields.md)")
+    fields_option
+        ->description(
+            "Fields to carry to the output: .vtp/.vtk, .pvd, numbered files "
+            "or CSV (docs/fields.md)")
         ->excludes(batch_option)
         ->option_text("SPEC")
         ->group(fields_group);
@@ -200,26 +206,29 @@ int main(int argc, char** argv)
                                       "With --image and a series: draw this step (0-based)")
                            ->check(CLI::NonNegativeNumber)
                            ->group(image_tuning);
-    app.add_option("--image-time", images.time, "With --image and a series: draw the field at "
-                                                "this time (s), interpolated between steps")
+    app.add_option("--image-time", images.time,
+                   "With --image and a series: draw the field at "
+                   "this time (s), interpolated between steps")
         ->excludes(image_step)
         ->group(image_tuning);
 
     // Cut.
     add_choice(app, "--cost", options.cost,
-                            {{"curvature", vessel::CostKind::Curvature},
-                             {"geodesic", vessel::CostKind::Geodesic},
-                             {"blend", vessel::CostKind::Blend}},
-                            "Travel cost of the cuts (default curvature)")
+               {{"curvature", vessel::CostKind::Curvature},
+                {"geodesic", vessel::CostKind::Geodesic},
+                {"blend", vessel::CostKind::Blend}},
+               "Travel cost of the cuts (default curvature)")
         ->option_text("curvature|geodesic|blend")
         ->group(cut_group);
-    app.add_option("--viewpoint", viewpoint, "Start the cuts nearest this 3D point X Y Z (e.g. "
-                                             "the camera)")
+    app.add_option("--viewpoint", viewpoint,
+                   "Start the cuts nearest this 3D point X Y Z (e.g. "
+                   "the camera)")
         ->expected(3)
         ->option_text("X Y Z")
         ->group(cut_group);
-    app.add_option("--split-at", split_at, "Flatten the subtree of these outlets (e.g. 3,5) as "
-                                           "its own map; repeatable")
+    app.add_option("--split-at", split_at,
+                   "Flatten the subtree of these outlets (e.g. 3,5) as "
+                   "its own map; repeatable")
         ->delimiter(',')
         ->type_size(1, -1)
         ->allow_extra_args(false)
@@ -253,21 +262,21 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(cut_tuning);
     add_choice(app, "--cut-route", options.cuts.route,
-                            {{"shortest", vessel::CutRoute::ShortestPath},
-                             {"streamline", vessel::CutRoute::Streamline},
-                             {"aligned", vessel::CutRoute::Aligned}},
-                            "How a cut runs to its end: shortest (the paper's cheapest path), "
-                            "streamline (the cheapest path in a band around a traced streamline "
-                            "of --stream-field; cuts whose streamline does not arrive keep the "
-                            "cheapest path) or aligned (per cut, whichever of the two follows "
-                            "--stream-field better)")
+               {{"shortest", vessel::CutRoute::ShortestPath},
+                {"streamline", vessel::CutRoute::Streamline},
+                {"aligned", vessel::CutRoute::Aligned}},
+               "How a cut runs to its end: shortest (the paper's cheapest path), "
+               "streamline (the cheapest path in a band around a traced streamline "
+               "of --stream-field; cuts whose streamline does not arrive keep the "
+               "cheapest path) or aligned (per cut, whichever of the two follows "
+               "--stream-field better)")
         ->group(cut_tuning);
     add_choice(app, "--stream-field", options.cuts.stream_field,
-                            {{"harmonic", vessel::StreamField::Harmonic},
-                             {"direction", vessel::StreamField::Direction}},
-                            "Field the streamline route traces: harmonic (descent of the "
-                            "harmonic longitudinal coordinate) or direction (the cut cost's "
-                            "vessel direction z)")
+               {{"harmonic", vessel::StreamField::Harmonic},
+                {"direction", vessel::StreamField::Direction}},
+               "Field the streamline route traces: harmonic (descent of the "
+               "harmonic longitudinal coordinate) or direction (the cut cost's "
+               "vessel direction z)")
         ->group(cut_tuning);
     app.add_option("--band-rings", options.cuts.band_rings,
                    "Streamline route: edge rings around the streamline the cut may use")
@@ -281,14 +290,14 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(cut_tuning);
     add_choice(app, "--join", options.cuts.join,
-                            {{"closest", vessel::CutJoin::Closest},
-                             {"cheapest", vessel::CutJoin::Cheapest},
-                             {"approach", vessel::CutJoin::Approach}},
-                            "Where later cuts end on the cut tree: approach (the cheapest path, "
-                            "cut back where it starts to run beside the tree, see --join-reach/"
-                            "--join-excess), cheapest (wherever the cheapest path meets the tree; "
-                            "can run down the parent beside a cut) or closest (a cut vertex "
-                            "nearest the outlet, within --join-slack plus the outlet's perimeter)")
+               {{"closest", vessel::CutJoin::Closest},
+                {"cheapest", vessel::CutJoin::Cheapest},
+                {"approach", vessel::CutJoin::Approach}},
+               "Where later cuts end on the cut tree: approach (the cheapest path, "
+               "cut back where it starts to run beside the tree, see --join-reach/"
+               "--join-excess), cheapest (wherever the cheapest path meets the tree; "
+               "can run down the parent beside a cut) or closest (a cut vertex "
+               "nearest the outlet, within --join-slack plus the outlet's perimeter)")
         ->group(cut_tuning);
     app.add_option("--join-slack", options.cuts.join_slack,
                    "--join closest: later cuts may end on cut vertices up to (1 + this) x the "
@@ -316,54 +325,56 @@ int main(int argc, char** argv)
         ->group(cut_tuning);
 
     // Map.
-    app.add_option("--preset", preset, "Method to start from: default (one-to-one map) or paper "
-                                       "(the paper's LSCM + ARAP)")
+    app.add_option("--preset", preset,
+                   "Method to start from: default (one-to-one map) or paper "
+                   "(the paper's LSCM + ARAP)")
         ->check(CLI::IsMember({"default", "paper"}))
         ->option_text("default|paper")
         ->group(map_group);
-    app.add_option("--layout", layout, "Loops' layout: fan (the paper) or sector (subtrees in "
-                                       "their own sectors)")
+    app.add_option("--layout", layout,
+                   "Loops' layout: fan (the paper) or sector (subtrees in "
+                   "their own sectors)")
         ->check(CLI::IsMember({"fan", "sector"}))
         ->option_text("fan|sector")
         ->group(map_group);
     add_choice(app, "--refine", options.refinement,
-                            {{"injective", vessel::Refinement::Injective},
-                             {"arap", vessel::Refinement::Arap},
-                             {"none", vessel::Refinement::None}},
-                            "Refinement: injective (no flips; default), arap (the paper's) or none")
+               {{"injective", vessel::Refinement::Injective},
+                {"arap", vessel::Refinement::Arap},
+                {"none", vessel::Refinement::None}},
+               "Refinement: injective (no flips; default), arap (the paper's) or none")
         ->option_text("injective|arap|none")
         ->group(map_group);
     add_choice(app, "--overlaps", options.overlaps,
-                            {{"prevent", vessel::OverlapPolicy::Prevent},
-                             {"keep", vessel::OverlapPolicy::Keep},
-                             {"restart", vessel::OverlapPolicy::Restart},
-                             {"scaffold", vessel::OverlapPolicy::RestartWithScaffold}},
-                            "With --refine injective, when the map at the layout overlaps "
-                            "itself: prevent (restart from a Tutte map; if SLIM's map would "
-                            "overlap, a scaffold from its last one-to-one iterate: no overlaps), "
-                            "keep it, restart (Tutte map, fast, overlaps not excluded) or "
-                            "scaffold (restart with a scaffold throughout)")
+               {{"prevent", vessel::OverlapPolicy::Prevent},
+                {"keep", vessel::OverlapPolicy::Keep},
+                {"restart", vessel::OverlapPolicy::Restart},
+                {"scaffold", vessel::OverlapPolicy::RestartWithScaffold}},
+               "With --refine injective, when the map at the layout overlaps "
+               "itself: prevent (restart from a Tutte map; if SLIM's map would "
+               "overlap, a scaffold from its last one-to-one iterate: no overlaps), "
+               "keep it, restart (Tutte map, fast, overlaps not excluded) or "
+               "scaffold (restart with a scaffold throughout)")
         ->group(map_tuning);
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the fan layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
         ->capture_default_str()
         ->group(map_tuning);
     add_choice(app, "--init", options.initialization,
-                            {{"layout-lscm", vessel::Initialization::LayoutLscm},
-                             {"spectral", vessel::Initialization::SpectralConformal},
-                             {"tutte", vessel::Initialization::Tutte}},
-                            "Start of the map: layout-lscm (the paper), spectral (free-boundary "
-                            "spectral conformal) or tutte")
+               {{"layout-lscm", vessel::Initialization::LayoutLscm},
+                {"spectral", vessel::Initialization::SpectralConformal},
+                {"tutte", vessel::Initialization::Tutte}},
+               "Start of the map: layout-lscm (the paper), spectral (free-boundary "
+               "spectral conformal) or tutte")
         ->group(map_tuning);
     app.add_option("--arap-iterations", options.arap.max_iterations,
                    "ARAP iterations with the inlet pinned (0 = no ARAP)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);
-    add_choice(app, "--arap-solver", options.arap.solver,
-                            {{"local-global", vessel::ArapSolver::LocalGlobal},
-                             {"ceres", vessel::ArapSolver::Ceres}},
-                            "ARAP solver: local-global or ceres")
+    add_choice(
+        app, "--arap-solver", options.arap.solver,
+        {{"local-global", vessel::ArapSolver::LocalGlobal}, {"ceres", vessel::ArapSolver::Ceres}},
+        "ARAP solver: local-global or ceres")
         ->group(map_tuning);
     app.add_option("--slim-iterations", options.injective.max_iterations,
                    "With --refine injective: symmetric Dirichlet (SLIM) iterations after "
@@ -402,9 +413,10 @@ int main(int argc, char** argv)
         ->each([&](const std::string&) { options.polish_area = true; })
         ->capture_default_str()
         ->group(map_tuning);
-    app.add_flag_callback("--no-area-polish", [&] { options.polish_area = false; },
-                          "Skip the area polish (SLIM's map: less conformal distortion, more "
-                          "area distortion)")
+    app.add_flag_callback(
+           "--no-area-polish", [&] { options.polish_area = false; },
+           "Skip the area polish (SLIM's map: less conformal distortion, more "
+           "area distortion)")
         ->group(map_tuning);
     app.add_flag("--keep-look", options.keep_layout_look,
                  "With --overlaps prevent, when the map at the layout overlaps itself, go on "
@@ -412,10 +424,10 @@ int main(int argc, char** argv)
                  "fan start) instead of a Tutte circle; slower, not less distortion")
         ->group(map_tuning);
     add_choice(app, "--restart-circle", options.restart_on_layout_circle,
-                            {{"layout", true}, {"tutte", false}},
-                            "Where the map restarts from a circle: layout (the inlet at the "
-                            "bottom, each outlet at its layout bearing; layout_circle.h) or "
-                            "tutte (constant speed)")
+               {{"layout", true}, {"tutte", false}},
+               "Where the map restarts from a circle: layout (the inlet at the "
+               "bottom, each outlet at its layout bearing; layout_circle.h) or "
+               "tutte (constant speed)")
         ->group(map_tuning);
     app.add_option("--look-pull", options.look_pull,
                    "When the map restarts, SLIM and the area polish also keep the start's look "
@@ -425,11 +437,10 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(map_tuning);
     add_choice(app, "--look-pull-form", options.look_pull_form,
-                            {{"hinges", vessel::LookPullForm::Hinges},
-                             {"rays", vessel::LookPullForm::Rays}},
-                            "The look pull's outlet terms: hinges (zero cost while each outlet "
-                            "stays above the inlet and in walk order) or rays (each outlet held "
-                            "on its start ray)")
+               {{"hinges", vessel::LookPullForm::Hinges}, {"rays", vessel::LookPullForm::Rays}},
+               "The look pull's outlet terms: hinges (zero cost while each outlet "
+               "stays above the inlet and in walk order) or rays (each outlet held "
+               "on its start ray)")
         ->group(map_tuning);
     app.add_option("--look-hold", options.look_hold,
                    "The look pull's inlet hold weight with hinges, if larger than --look-pull "
@@ -444,13 +455,13 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(map_tuning);
     add_choice(app, "--look-retry", options.look_retry.mode,
-                            {{"auto", vessel::LookRetry::Auto},
-                             {"off", vessel::LookRetry::Off},
-                             {"force", vessel::LookRetry::Force}},
-                            "After a restarted map (--look-pull 0): auto redoes it with the hinge "
-                            "pull when its look is broken (an outlet below the inlet, or many "
-                            "walk inversions) and keeps that map if one-to-one and within the "
-                            "area bound (look_retry.h); force redoes it always; off never")
+               {{"auto", vessel::LookRetry::Auto},
+                {"off", vessel::LookRetry::Off},
+                {"force", vessel::LookRetry::Force}},
+               "After a restarted map (--look-pull 0): auto redoes it with the hinge "
+               "pull when its look is broken (an outlet below the inlet, or many "
+               "walk inversions) and keeps that map if one-to-one and within the "
+               "area bound (look_retry.h); force redoes it always; off never")
         ->group(map_tuning);
     app.add_option("--look-retry-pull", options.look_retry.pull, "The look retry's hinge weight")
         ->check(CLI::PositiveNumber)

@@ -79,10 +79,10 @@ struct Progress
     //! Within stage F, the solver iterating: "arap", "slim" (SLIM without a scaffold),
     //! "scaffold" (SLIM with its scaffold) or "polish" (the area polish); empty for a stage's end.
     std::string phase;
-    int iteration = 0;       //!< the phase's iterations so far (0 for a stage's end)
-    int max_iterations = 0;  //!< the phase's iteration limit (0 for a stage's end)
-    bool stage_done = false; //!< the stage has ended (`seconds` is then its time)
-    double seconds = 0.0;    //!< seconds since the stage began (since flatten() began for Z)
+    int iteration = 0;        //!< the phase's iterations so far (0 for a stage's end)
+    int max_iterations = 0;   //!< the phase's iteration limit (0 for a stage's end)
+    bool stage_done = false;  //!< a stage's end (else an iteration report within stage F)
+    double seconds = 0.0;     //!< at a stage's end, its seconds (Z: since flatten() began); else 0
 };
 
 //! Options of flatten(). A default-constructed FlattenOptions is the library's default method
