@@ -73,7 +73,7 @@ TEST_CASE("validation: polygons are triangulated with a note, or refused by opti
     CHECK_THROWS_AS(make_tree_surface(raw, strict), InvalidInputError);
 }
 
-TEST_CASE("validation: faces wound against their neighbours are re-oriented with a note; a "
+TEST_CASE("validation: faces wound against their neighbours are re-oriented with a note and a "
           "Moebius strip is refused")
 {
     const RawMesh tube = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));

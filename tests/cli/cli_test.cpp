@@ -373,7 +373,7 @@ TEST_CASE("cli: a non-manifold vertex is refused")
     check_bad(dir, dir + "/in.obj", "not a valid vessel tree surface: non-manifold vertex ");
 }
 
-TEST_CASE("cli: inconsistent orientation is fixed with a warning; a Moebius strip is refused")
+TEST_CASE("cli: inconsistent orientation is fixed with a warning and a Moebius strip is refused")
 {
     const auto dir = temp_dir("cli_orientation");
     Soup s = tube();

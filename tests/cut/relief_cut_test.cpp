@@ -126,7 +126,7 @@ TEST_CASE("relief cut: starts at the most compressed vertex away from the seam a
     CHECK(euler == 1);
 }
 
-TEST_CASE("relief cut: none when no vertex is far enough from the seam; options validated")
+TEST_CASE("relief cut: none when no vertex is far enough from the seam and options are validated")
 {
     const Mesh mesh = open_cylinder(1.0, 1.0, 8, 2);
     const auto loops = boundary_loops(mesh);

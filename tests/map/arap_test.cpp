@@ -181,7 +181,7 @@ TEST_CASE("arap: on_iteration sees every iteration's energy and can stop the sol
     }
 }
 
-TEST_CASE("arap: a factorization made ahead gives the same map; one for other pins is refused")
+TEST_CASE("arap: a factorization made ahead gives the same map and one for other pins is refused")
 {
     const BumpedGridStart grid;
     const Mesh& mesh = grid.mesh;

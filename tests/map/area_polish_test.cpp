@@ -96,7 +96,7 @@ TEST_CASE("area polish: under --overlaps keep the map is polished without a scaf
     CHECK(keep.quality.mean_abs_log_area < flatten_tree3(false, OverlapPolicy::Keep).quality.mean_abs_log_area);
 }
 
-TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one; Newton ends lower")
+TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one and Newton ends lower")
 {
     const FlattenResult plain = flatten_tree3(false);
     AreaPolishOptions lbfgs;

@@ -131,7 +131,7 @@ TEST_CASE("centre pull: look_pulls holds the inlet and puts each outlet on its r
 }
 
 TEST_CASE(
-    "centre pull: a hinge that holds costs nothing; one that does not moves the centre "
+    "centre pull: a hinge that holds costs nothing and one that does not moves the centre "
     "to its side")
 {
     FreeRun run;

@@ -79,7 +79,7 @@ TEST_CASE("map_look: blind to a rotation, scale and shift of the map")
     CHECK(look.outlet_looks[0].map_bearing_deg == doctest::Approx(left_bearing));
 }
 
-TEST_CASE("map_look: mirrored outlets are inverted; an outlet below the inlet is seen")
+TEST_CASE("map_look: mirrored outlets are inverted and an outlet below the inlet is seen")
 {
     HandY y = hand_y();
     Eigen::MatrixX2d swapped = y.uv;

@@ -156,7 +156,7 @@ TEST_CASE("injective: on a map of more than 100k vertices (the global step order
     MESSAGE(s.report);
 }
 
-TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map; the "
+TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map and the "
           "scaffold ones do not overlap themselves")
 {
     const TreeSurface surface =

@@ -48,7 +48,7 @@ struct PinnedCylinder
 
 }  // namespace
 
-TEST_CASE("ordering: AMD orders every vertex once; a system's unknowns follow it")
+TEST_CASE("ordering: AMD orders every vertex once and a system's unknowns follow it")
 {
     const Mesh mesh = test::bumped_grid(2.0, 30, 0.4);
     const VertexOrdering ordering = laplacian_ordering(mesh);
