@@ -1,18 +1,24 @@
 # The HTML viewer's JavaScript (tools/viewer: three.js + our sources, bundled by esbuild) becomes
 # a generated C++ source, vessel::detail::viewer_bundle(), compiled into libvessel.
-# `npm ci` installs the pinned packages from package-lock.json (re-run when the lock changes);
-# without node/npm (or with VESSEL_BUILD_VIEWER=OFF) the bundle is empty and write_viewer_html()
-# throws a message saying so. Sets VESSEL_HAS_VIEWER and VESSEL_NODE for the tests.
+# `npm ci` installs the pinned packages from package-lock.json (re-run when the lock changes).
+# With VESSEL_BUILD_VIEWER=ON (the default) node and npm are required: a machine without them
+# fails to configure rather than build a library, and a test run, without the viewer. With
+# VESSEL_BUILD_VIEWER=OFF the bundle is empty and write_viewer_html() throws a message saying so.
+# Sets VESSEL_HAS_VIEWER and VESSEL_NODE for the tests.
 option(VESSEL_BUILD_VIEWER "Bundle the HTML viewer (needs node and npm at build time)" ON)
 set(VESSEL_VIEWER_DIR ${PROJECT_SOURCE_DIR}/tools/viewer)
-find_program(VESSEL_NODE node)
-find_program(VESSEL_NPM npm)
-if(VESSEL_BUILD_VIEWER AND VESSEL_NODE AND VESSEL_NPM)
+if(VESSEL_BUILD_VIEWER)
+  find_program(VESSEL_NODE node)
+  find_program(VESSEL_NPM npm)
+  if(NOT VESSEL_NODE OR NOT VESSEL_NPM)
+    message(FATAL_ERROR "libvessel: the HTML viewer needs node and npm (node: ${VESSEL_NODE}, "
+                        "npm: ${VESSEL_NPM}); install them (scripts/install-deps.sh: Debian's "
+                        "nodejs and npm) or configure with -DVESSEL_BUILD_VIEWER=OFF")
+  endif()
   set(VESSEL_HAS_VIEWER ON)
 else()
   set(VESSEL_HAS_VIEWER OFF)
-  message(STATUS "libvessel: node/npm not found or VESSEL_BUILD_VIEWER=OFF; the HTML viewer is "
-                 "disabled")
+  message(STATUS "libvessel: VESSEL_BUILD_VIEWER=OFF; the HTML viewer is disabled")
 endif()
 
 # Adds the generated viewer_bundle.cpp to `target` (called where the target is defined, since a

@@ -2,8 +2,9 @@
 # Installs the Debian packages libvessel needs to build, test and render (idempotent).
 # python3-dev, pybind11-dev: the Python package (docs/python.md); python3-pytest runs its tests;
 # snakemake runs the cohort workflow (docs/cohort.md).
-# chromium: the viewer's end-to-end test (headless). node and npm (for the viewer bundle) are
-# expected on the machine (CI has node 20); without them the viewer is left out of the build.
+# chromium: the viewer's end-to-end test (headless). nodejs and npm: the viewer bundle (npm ci,
+# esbuild) and that test's driver; Debian's are installed unless a node and an npm are already on
+# the PATH (e.g. NodeSource's nodejs, which bundles its own npm and conflicts with Debian's).
 # libopenblas0-pthread: becomes the libblas.so.3 alternative, so CHOLMOD's supernodal factorizations
 # run on OpenBLAS instead of ATLAS or the reference BLAS (1.3-1.5x less CPU for a whole run,
 # docs/design.md); libvessel holds it at one thread (solve/serial_openmp.h).
@@ -19,6 +20,9 @@ packages=(
   python3-dev pybind11-dev python3-pytest snakemake
   chromium
 )
+if ! command -v node > /dev/null || ! command -v npm > /dev/null; then
+  packages+=(nodejs npm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
