@@ -8,6 +8,7 @@ import pathlib
 import re
 import signal
 import subprocess
+import threading
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -37,20 +38,32 @@ def test_cohort_interrupted_and_resumed(tmp_path, flatten_exe):
     result = tmp_path / "result"
     statuses = lambda: sorted(result.glob("cases/*/status.json"))
 
-    # First run, interrupted (as Ctrl-C would) once two cases are done.
+    # First run, interrupted (as Ctrl-C would) once Snakemake has seen two cases finish.
     first = snakemake(tmp_path, cohort, flatten_exe)
+    lines = []
+
+    def read_log():
+        for line in first.stdout:
+            lines.append(line)
+
+    reader = threading.Thread(target=read_log, daemon=True)
+    reader.start()
+
+    def finished_cases():
+        log = "".join(lines)
+        outputs = dict(re.findall(r"output: (\S+/status\.json)\n\s+jobid: (\d+)", log))
+        outputs = {jobid: pathlib.Path(path) for path, jobid in outputs.items()}
+        return [outputs[j] for j in re.findall(r"Finished job (\d+)\.", log) if j in outputs]
+
     deadline = time.monotonic() + 600
-    while len(statuses()) < 2 and first.poll() is None and time.monotonic() < deadline:
+    while len(finished_cases()) < 2 and first.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)
     os.killpg(first.pid, signal.SIGINT)
-    log, _ = first.communicate(timeout=120)
-    # The cases whose jobs Snakemake saw finish ("Finished job N."); a job that was still
-    # ending when interrupted is incomplete to Snakemake and is redone, as it should be.
-    outputs = dict(re.findall(r"output: (\S+/status\.json)\n\s+jobid: (\d+)", log))
-    outputs = {jobid: pathlib.Path(path) for path, jobid in outputs.items()}
-    done_jobs = re.findall(r"Finished job (\d+)\.", log)
-    finished = {outputs[j]: outputs[j].stat().st_mtime_ns for j in done_jobs if j in outputs}
-    assert 1 <= len(finished) < len(cases), log
+    first.wait(timeout=120)
+    reader.join(timeout=60)
+    # A job still ending at the interrupt is incomplete to Snakemake and is redone, as it should.
+    finished = {p: p.stat().st_mtime_ns for p in finished_cases()}
+    assert 2 <= len(finished) < len(cases), "".join(lines)
     assert not (result / "summary.csv").exists()
 
     # Restarted: the finished cases are kept, the rest done.
