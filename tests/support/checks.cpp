@@ -156,6 +156,15 @@ int run(const std::string& command)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+nlohmann::json flatcheck(const std::string& input, const std::string& flat_obj)
+{
+    const std::string out = flat_obj + ".flatcheck.json";
+    if (run("/usr/bin/python3 " + std::string(VESSEL_SHARED_TOOLS) + "/flatcheck.py " + input +
+            " " + flat_obj + " --json > " + out) != 0)
+        throw std::runtime_error("flatcheck.py failed on " + flat_obj + " (from " + input + ")");
+    return nlohmann::json::parse(std::ifstream(out));
+}
+
 std::string temp_dir(const std::string& name)
 {
     // Per process: several checkouts of the project run their suites on one machine, and a

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include <array>
 #include <string>
@@ -44,6 +45,12 @@ std::vector<int> int_face_property(const Mesh& mesh, const char* name);
 
 //! Run a shell command; returns its exit status (0 = success).
 int run(const std::string& command);
+
+//! The JSON report of ../shared/tools/flatcheck.py (the independent check of a flattened map:
+//! topology, flips, raster overlap fraction, area and angle distortion, seam alignment) on
+//! \p flat_obj, flattened from \p input; written beside \p flat_obj. Throws
+//! std::runtime_error if the script fails.
+nlohmann::json flatcheck(const std::string& input, const std::string& flat_obj);
 
 //! Path to a fresh temporary directory for one test.
 std::string temp_dir(const std::string& name);
