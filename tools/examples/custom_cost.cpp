@@ -6,7 +6,8 @@
 // vertex properties prop::direction, prop::geodesic and prop::kmax before it calls the cost.
 //
 //   custom_cost_example [MESH] [OUT.obj]
-// Without arguments it flattens the built-in carotid phantom.
+// Without arguments it flattens the built-in carotid phantom. It also makes the default's cuts
+// and prints how many seam edges the two share, to show what the cost changed.
 #include "vessel/io/flat_io.h"
 #include "vessel/io/io.h"
 #include "vessel/phantom/phantom.h"
@@ -14,8 +15,11 @@
 #include "vessel/core/properties.h"
 #include "vessel/check/validation.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <iterator>
+#include <vector>
 
 namespace {
 
@@ -63,6 +67,24 @@ int main(int argc, char** argv)
         std::printf("flipped %d, area ratio %.4f, mean |log area| %.4f\n",
                     result.quality.flipped_triangles, result.quality.area_ratio,
                     result.quality.mean_abs_log_area);
+
+        // The default's cuts on the same surface: which seam edges the custom cost moved.
+        const vessel::FlattenResult by_default = vessel::flatten(surface.mesh);
+        auto seam = [&](const vessel::FlattenResult& r) {
+            std::vector<int> edges;
+            for (const auto e : r.plan.seam_edges(surface.mesh))
+                edges.push_back(e.idx());
+            std::sort(edges.begin(), edges.end());
+            return edges;
+        };
+        const std::vector<int> custom_seam = seam(result), default_seam = seam(by_default);
+        std::vector<int> shared;
+        std::set_intersection(custom_seam.begin(), custom_seam.end(), default_seam.begin(),
+                              default_seam.end(), std::back_inserter(shared));
+        std::printf("seam edges: custom cost %zu, default %zu, shared %zu; the custom cost moved "
+                    "%zu of the default's seam edges\n",
+                    custom_seam.size(), default_seam.size(), shared.size(),
+                    default_seam.size() - shared.size());
         if (argc > 2)
             vessel::write_flat_obj(argv[2], raw.points, result.mesh, result.uv);
         return 0;
