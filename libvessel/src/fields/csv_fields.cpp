@@ -47,7 +47,7 @@ bool parse_number(const std::string& text, double& value)
         return false;
     char* end = nullptr;
     value = std::strtod(text.c_str(), &end);
-    return *end == '\0';
+    return *end == '\0' && std::isfinite(value);  // nan and inf are no field values
 }
 
 class CsvTable

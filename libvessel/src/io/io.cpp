@@ -3,6 +3,7 @@
 #include "vessel/core/errors.h"
 #include "vessel/io/vtk_io.h"
 
+#include "detail/atomic_file.h"
 #include "detail/off_reader.h"
 #include "detail/read_text.h"
 
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -115,6 +117,113 @@ int ply_type_size(const std::string& type)
     return it == sizes.end() ? 0 : it->second;
 }
 
+// A PLY property: a scalar of `type`, or (item_size > 0) a list with a `type` count.
+struct PlyProperty
+{
+    std::string name;
+    std::string type;
+    int item_size = 0;
+};
+
+[[noreturn]] void bad_ply_list(const std::string& path, const std::string& element,
+                               std::uintmax_t index, const PlyProperty& p, const std::string& count,
+                               const std::string& room)
+{
+    truncated(path, element + " " + std::to_string(index) + " has the list " + p.name +
+                        " of " + count + " entries, but " + room);
+}
+
+// Every list count of an ASCII PLY's elements: an integer from 0 to the words left on its line
+// (OpenMesh's reader reserves whatever count it reads: -1 or 2^31-1 asks for gigabytes).
+template <class Elements>
+void check_ascii_ply_lists(const std::string& path, std::istream& in, const Elements& elements)
+{
+    std::string line;
+    for (const auto& e : elements)
+    {
+        const bool lists = std::any_of(e.properties.begin(), e.properties.end(),
+                                       [](const PlyProperty& p) { return p.item_size > 0; });
+        for (std::uintmax_t i = 0; i < e.count; ++i)
+        {
+            do
+                std::getline(in, line);
+            while (in && (trimmed(line).empty() || trimmed(line)[0] == '#'));
+            if (!lists)
+                continue;
+            const std::vector<std::string> words = detail::words_of(line);
+            std::size_t w = 0;
+            for (const auto& p : e.properties)
+            {
+                if (p.item_size == 0)
+                {
+                    ++w;
+                    continue;
+                }
+                const std::string word = w < words.size() ? words[w] : "";
+                ++w;
+                char* end = nullptr;
+                const long long n = std::strtoll(word.c_str(), &end, 10);
+                if (word.empty() || *end != '\0' || n < 0 ||
+                    n > static_cast<long long>(words.size() - w))
+                    bad_ply_list(path, e.name, i, p, "'" + printable(word) + "'",
+                                 "its line has " + std::to_string(words.size() - std::min(w, words.size())) +
+                                     " values after the count");
+                w += static_cast<std::size_t>(n);
+            }
+        }
+    }
+}
+
+// Every list count of a binary PLY: from 0 to what the bytes left can hold, walking the data
+// element by element (as OpenMesh will) so a count is never trusted beyond the file.
+template <class Elements>
+void check_binary_ply_lists(const std::string& path, std::istream& in, const Elements& elements,
+                            bool big_endian)
+{
+    const bool lists = std::any_of(elements.begin(), elements.end(), [](const auto& e) {
+        return std::any_of(e.properties.begin(), e.properties.end(),
+                           [](const PlyProperty& p) { return p.item_size > 0; });
+    });
+    if (!lists)
+        return;
+    const std::string data{std::istreambuf_iterator<char>(in), {}};
+    std::size_t at = 0;
+    for (const auto& e : elements)
+        for (std::uintmax_t i = 0; i < e.count; ++i)
+            for (const auto& p : e.properties)
+            {
+                const auto size = static_cast<std::size_t>(ply_type_size(p.type));
+                if (data.size() - at < size)
+                    truncated(path, "the binary PLY data end inside " + e.name + " " +
+                                        std::to_string(i));
+                if (p.item_size == 0)
+                {
+                    at += size;
+                    continue;
+                }
+                std::uint64_t raw = 0;
+                for (std::size_t b = 0; b < size; ++b)
+                    raw |= static_cast<std::uint64_t>(static_cast<unsigned char>(
+                               data[at + (big_endian ? size - 1 - b : b)]))
+                           << (8 * b);
+                at += size;
+                const bool is_signed = p.type == "char" || p.type == "int8" ||
+                                       p.type == "short" || p.type == "int16" ||
+                                       p.type == "int" || p.type == "int32";
+                long long n = static_cast<long long>(raw);
+                if (is_signed && size < 8 && (raw >> (8 * size - 1)) != 0)
+                    n -= 1LL << (8 * size);
+                if (p.type == "float" || p.type == "float32" || p.type == "double" ||
+                    p.type == "float64")
+                    bad_ply_list(path, e.name, i, p, "a floating-point", "a count is an integer");
+                const std::size_t left = data.size() - at;
+                if (n < 0 || static_cast<unsigned long long>(n) > left / p.item_size)
+                    bad_ply_list(path, e.name, i, p, std::to_string(n),
+                                 "only " + std::to_string(left) + " bytes are left");
+                at += static_cast<std::size_t>(n) * p.item_size;
+            }
+}
+
 void check_ply(const std::string& path, std::uintmax_t file_size)
 {
     std::ifstream in(path, std::ios::binary);
@@ -129,6 +238,7 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         std::uintmax_t count = 0;
         std::uintmax_t min_bytes = 0;  // per element; 0 with an unknown property type
         bool known = true;
+        std::vector<PlyProperty> properties;
     };
     std::vector<Element> elements;
     bool ended = false;
@@ -180,11 +290,13 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
                 const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
                 e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
                 e.min_bytes += ply_type_size(type) + corners * ply_type_size(index_type);
+                e.properties.push_back({name, type, ply_type_size(index_type)});
             }
             else
             {
                 e.known = e.known && ply_type_size(type) > 0;
                 e.min_bytes += ply_type_size(type);
+                e.properties.push_back({name, type, 0});
             }
         }
     }
@@ -200,10 +312,14 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         std::uintmax_t lines = 0;
         for (const auto& e : elements)
             lines += e.count;
+        const auto data_start = in.tellg();
         const std::uintmax_t found = count_data_lines(in);
         if (found < lines)
             truncated(path, "the PLY header declares " + counts + " (" + std::to_string(lines) +
                                 " lines) but only " + std::to_string(found) + " lines follow it");
+        in.clear();
+        in.seekg(data_start);
+        check_ascii_ply_lists(path, in, elements);
         return;
     }
     const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
@@ -219,6 +335,39 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         truncated(path, "the binary PLY header declares " + counts + " (at least " +
                             std::to_string(min_bytes) + " bytes of data) but only " +
                             std::to_string(data) + " bytes follow it");
+    check_binary_ply_lists(path, in, elements, format == "binary_big_endian");
+}
+
+// ASCII STL: every `vertex` has three finite numbers (OpenMesh reads `nan` and `abc` as 0) and
+// every facet three vertices (OpenMesh drops other facets without a word).
+void check_ascii_stl(const std::string& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    std::string line;
+    std::size_t vertex = 0, facet = 0;
+    int corners = -1;  // in the open facet; -1 outside one
+    while (std::getline(in, line))
+    {
+        const std::vector<std::string> words = detail::words_of(line);
+        if (words.empty())
+            continue;
+        if (words[0] == "facet")
+            corners = 0;
+        else if (words[0] == "vertex")
+        {
+            detail::coordinates(path, {words.begin() + 1, words.end()}, vertex++, {0, 1, 2});
+            ++corners;
+        }
+        else if (words[0] == "endfacet")
+        {
+            if (corners != 3)
+                throw IoError("read_raw_mesh: facet " + std::to_string(facet) + " of " + path +
+                              " has " + std::to_string(std::max(corners, 0)) +
+                              " vertices; an STL facet needs exactly 3 (the file is corrupt)");
+            ++facet;
+            corners = -1;
+        }
+    }
 }
 
 void check_stl(const std::string& path, std::uintmax_t file_size)
@@ -234,7 +383,7 @@ void check_stl(const std::string& path, std::uintmax_t file_size)
         return u == '\t' || u == '\n' || u == '\r' || (u >= 0x20 && u < 0x7f);
     });
     if (text && trimmed(head).rfind("solid", 0) == 0)
-        return;
+        return check_ascii_stl(path);
     if (head.size() < 84)
         truncated(path, "a binary STL needs an 84-byte header but the file has " +
                             std::to_string(file_size) + " bytes");
@@ -324,9 +473,17 @@ void check_obj(const std::string& path)
     std::ifstream in(path, std::ios::binary);
     std::string line;
     long vertices = 0, texcoords = 0, normals = 0;
-    std::size_t face = 0;
+    std::size_t face = 0, line_number = 0;
     while (std::getline(in, line))
     {
+        ++line_number;
+        // OpenMesh's reader drops a line it cannot parse (the first vertex after a byte order
+        // mark, a face with a NUL byte), which shifts every index after it.
+        if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0)
+            throw IoError("read_raw_mesh: " + path +
+                          " starts with a UTF-8 byte order mark (bytes EF BB BF), which OBJ "
+                          "readers take for part of the first line; remove it (e.g. sed -i "
+                          "'1s/^\\xEF\\xBB\\xBF//' FILE)");
         std::istringstream words(line);
         std::string keyword;
         words >> keyword;
@@ -382,6 +539,9 @@ void check_obj(const std::string& path)
                                       " twice (degenerate face); remove degenerate faces first");
             ++face;
         }
+        if (line.find('\0') != std::string::npos)
+            throw IoError("read_raw_mesh: line " + std::to_string(line_number) + " of " + path +
+                          " contains a NUL byte; the file is corrupt (re-export it)");
     }
 }
 
@@ -467,9 +627,17 @@ void write_mesh(const Mesh& mesh, const std::string& path)
     const std::string ext = std::filesystem::path(path).extension().string();
     if (ext == ".ply" || ext == ".stl")
         options += OpenMesh::IO::Options::Binary;
-    const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
-    if (!OpenMesh::IO::write_mesh(mesh, path, options))
-        throw IoError("write_mesh: could not write " + path);
+    std::ostringstream out;
+    {
+        const std::lock_guard<std::mutex> lock(openmesh_io_mutex());
+        if (!OpenMesh::IO::write_mesh(mesh, out, ext, options))
+            throw IoError("write_mesh: OpenMesh could not write " + path +
+                          "; use .obj, .off, .ply or .stl");
+    }
+    const std::string bytes = out.str();
+    detail::write_atomically(path, "write_mesh", [&](FILE* file) {
+        std::fwrite(bytes.data(), 1, bytes.size(), file);
+    });
 }
 
 }  // namespace vessel

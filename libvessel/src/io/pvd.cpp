@@ -9,7 +9,9 @@
 #include <vtkXMLDataElement.h>
 #include <vtkXMLDataParser.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 
@@ -45,7 +47,17 @@ std::vector<PvdEntry> read_pvd(const std::string& path)
             throw IoError("read_pvd: DataSet entry " + std::to_string(i) + " of " + path +
                           " has no 'file' attribute");
         entry.file = file;
-        if (!e->GetScalarAttribute("timestep", entry.time))
+        if (const char* t = e->GetAttribute("timestep"))
+        {
+            // VTK's GetScalarAttribute() reads "nan" (and any text) as 0; a time is a number.
+            char* end = nullptr;
+            entry.time = std::strtod(t, &end);
+            if (end == t || *end != '\0' || !std::isfinite(entry.time))
+                throw IoError("read_pvd: DataSet entry " + std::to_string(i) + " of " + path +
+                              " has timestep=\"" + std::string(t).substr(0, 40) +
+                              "\", not a finite number; give each step its time in seconds");
+        }
+        else
             entry.time = static_cast<double>(entries.size());
         e->GetScalarAttribute("part", entry.part);
         entries.push_back(entry);

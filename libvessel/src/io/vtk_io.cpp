@@ -1,12 +1,14 @@
 #include "vessel/io/vtk_io.h"
 
 #include "detail/atomic_file.h"
+#include "detail/vtk_check.h"
 #include "detail/vtk_errors.h"
 #include "vessel/core/errors.h"
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
+#include <vtkErrorCode.h>
 #include <vtkExecutive.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -133,8 +135,16 @@ vtkSmartPointer<vtkDataArray> make_array(const Field& f)
 template <class Writer>
 std::pair<int, std::string> run_writer(Writer* writer, const detail::VtkErrors& errors)
 {
-    const int ok = writer->Write() && !errors.failed();
-    return {ok, errors.message()};
+    // The error code catches a stream failure (e.g. disk full) that VTK reports nowhere else.
+    const int ok = writer->Write() && !errors.failed() && writer->GetErrorCode() == 0;
+    std::string message = errors.message();
+    const unsigned long code = writer->GetErrorCode();
+    if (code == vtkErrorCode::OutOfDiskSpaceError)
+        message = "out of disk space or over the file size limit (ulimit -f)";
+    else if (message.empty() && code != 0)
+        message = "VTK error code " + std::to_string(code);
+    message = message.substr(0, message.find('\n'));  // one line on stderr
+    return {ok, message};
 }
 
 vtkSmartPointer<vtkPolyData> to_vtk(const PolyData& data, const std::string& path)
@@ -199,6 +209,7 @@ PolyData read_polydata(const std::string& path)
         if (!reader->CanReadFile(path.c_str()))
             throw IoError("read_polydata: " + path +
                           " is not a VTK XML PolyData file (<VTKFile type=\"PolyData\">)");
+        detail::check_vtp(path);
         reader->SetFileName(path.c_str());
         reader->Update();
         if (errors.failed())
@@ -216,6 +227,7 @@ PolyData read_polydata(const std::string& path)
             throw IoError("read_polydata: " + path +
                           " is not a legacy VTK POLYDATA file (DATASET POLYDATA); extract the "
                           "surface first (ParaView: Extract Surface) and save it as .vtp");
+        detail::check_legacy_vtk(path);
         reader->ReadAllScalarsOn();
         reader->ReadAllVectorsOn();
         reader->ReadAllNormalsOn();
@@ -241,7 +253,8 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
     if (ext != ".vtp" && ext != ".vtk")
         throw InvalidInputError("write_polydata: '" + path + "' must end in .vtp or .vtk");
     auto poly = to_vtk(data, path);
-    const std::string tmp = path + ".tmp";
+    detail::TempFile temp(path, "write_polydata");
+    const std::string& tmp = temp.path();
     int ok = 0;
     std::string message;
     if (ext == ".vtp")
@@ -249,6 +262,7 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
         vtkNew<vtkXMLPolyDataWriter> writer;
         detail::VtkErrors errors;
         errors.watch(writer);
+        errors.watch(writer->GetExecutive());
         writer->SetInputData(poly);
         writer->SetFileName(tmp.c_str());
         if (options.encoding == VtkEncoding::Ascii)
@@ -279,6 +293,7 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
         vtkNew<vtkPolyDataWriter> writer;
         detail::VtkErrors errors;
         errors.watch(writer);
+        errors.watch(writer->GetExecutive());
         writer->SetInputData(poly);
         writer->SetFileName(tmp.c_str());
         writer->SetFileVersion(vtkPolyDataWriter::VTK_LEGACY_READER_VERSION_4_2);
@@ -289,12 +304,8 @@ void write_polydata(const std::string& path, const PolyData& data, const VtkWrit
         std::tie(ok, message) = run_writer(writer.Get(), errors);
     }
     if (!ok)
-    {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
         throw IoError("write_polydata: VTK could not write " + path + ": " + message);
-    }
-    detail::commit_tmp(path, "write_polydata");
+    temp.commit();
 }
 
 }  // namespace vessel

@@ -1,5 +1,6 @@
 #include "vessel/render/map_image.h"
 
+#include "detail/atomic_file.h"
 #include "vessel/core/errors.h"
 #include "vessel/pipeline.h"
 #include "vessel/core/properties.h"
@@ -505,29 +506,21 @@ void plan_panels(cairo_t* cr, const MapImageInput& input, const MapImageOptions&
     fit_map(layout, input.uv, shrink(layout.map_box, label_padding(cr, input, o)));
 }
 
-//! Writes (PNG) or finishes (SVG, PDF) \p tmp, then renames it to \p path; a failed write
-//! removes \p tmp, so no partial file is left behind.
-void finish_file(CairoPtr<cairo_surface_t> surface, Format format, const std::string& tmp,
-                 const std::string& path)
+//! Writes (PNG) or finishes (SVG, PDF) \p tmp's file, then commits it to its target; a failed
+//! write leaves no file behind (TempFile removes it).
+void finish_file(CairoPtr<cairo_surface_t> surface, Format format, detail::TempFile& tmp)
 {
     cairo_status_t status = CAIRO_STATUS_SUCCESS;
     if (format == Format::Png)
-        status = cairo_surface_write_to_png(surface.get(), tmp.c_str());
+        status = cairo_surface_write_to_png(surface.get(), tmp.path().c_str());
     cairo_surface_finish(surface.get());
     if (status == CAIRO_STATUS_SUCCESS)
         status = cairo_surface_status(surface.get());
     surface.reset();
-    std::error_code ec;
     if (status != CAIRO_STATUS_SUCCESS)
-    {
-        std::filesystem::remove(tmp, ec);
-        throw IoError("render_map_image: cannot write " + tmp + ": " +
+        throw IoError("render_map_image: cannot write " + tmp.path() + ": " +
                       cairo_status_to_string(status));
-    }
-    std::filesystem::rename(tmp, path, ec);
-    if (ec)
-        throw IoError("render_map_image: cannot rename " + tmp + " to " + path + ": " +
-                      ec.message());
+    tmp.commit();
 }
 
 }  // namespace
@@ -560,8 +553,8 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
     MapImageOptions o = options;
     if (format != Format::Png)
         o.max_color_step = options.vector_max_color_step;
-    const std::string tmp = path + ".tmp";
-    auto surface = make_surface(format, tmp, o.width_px, o.height_px);
+    detail::TempFile tmp(path, "render_map_image");
+    auto surface = make_surface(format, tmp.path(), o.width_px, o.height_px);
     CairoPtr<cairo_t> context(cairo_create(surface.get()));
     cairo_t* cr = context.get();
     set_rgb(cr, o.background);
@@ -593,7 +586,7 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
         draw_colorbar(cr, layout, o);
 
     context.reset();
-    finish_file(std::move(surface), format, tmp, path);
+    finish_file(std::move(surface), format, tmp);
     return layout;
 }
 

@@ -1,5 +1,6 @@
 #include "vessel/render/viewer.h"
 
+#include "detail/atomic_file.h"
 #include "detail/viewer_bundle.h"
 #include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
@@ -227,7 +228,8 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
         meta << "null";
     meta << ",\"fields\":[";
 
-    const std::string tmp = path + ".tmp";
+    detail::TempFile temp(path, "write_viewer_html");
+    const std::string& tmp = temp.path();
     {
         std::ofstream out(tmp, std::ios::binary);
         if (!out)
@@ -257,14 +259,12 @@ void write_viewer_html(const std::string& path, const FlattenResult& result,
         meta << "]}";
         out << "<script type=\"application/json\" id=\"vessel-meta\">" << meta.str()
             << "</script>\n<script>" << bundle << "</script>\n</body>\n</html>\n";
+        out.close();
         if (!out)
-            throw IoError("write_viewer_html: write error on " + tmp);
+            throw IoError("write_viewer_html: cannot write " + tmp + " (for " + path +
+                          "); check the free space and the file size limit");
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec)
-        throw IoError("write_viewer_html: cannot rename " + tmp + " to " + path + ": " +
-                      ec.message());
+    temp.commit();
 }
 
 }  // namespace vessel

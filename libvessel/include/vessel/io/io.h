@@ -31,8 +31,16 @@ RawMesh read_raw_mesh(const std::string& path);
 //! face j = `FaceHandle(j)`), e.g. to validate a generated mesh like a file.
 RawMesh to_raw_mesh(const Mesh& mesh);
 
-//! \brief Write a mesh with OpenMesh (format from the extension; PLY is written binary).
+//! \brief Write a mesh with OpenMesh (format from the extension; PLY is written binary),
+//! atomically as write_text_file().
 //! \throw IoError if writing fails.
 void write_mesh(const Mesh& mesh, const std::string& path);
+
+//! \brief Write \p text to \p path atomically: into a new temporary file beside it (a unique
+//! name created exclusively, so never through an existing file or link), flushed, synced and
+//! closed with every result checked, then renamed onto \p path. On any failure \p path is left
+//! as it was. Every writer of libvessel writes this way.
+//! \throw IoError naming \p path and the system's reason (e.g. no space left, file too large).
+void write_text_file(const std::string& path, const std::string& text);
 
 }  // namespace vessel
