@@ -17,6 +17,7 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <unistd.h>
@@ -90,23 +91,71 @@ std::string trimmed(const std::string& s)
     return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
 }
 
-// An input and the base name of its outputs (<name>.obj, <name>.json).
+// An input and the base name of its outputs (<name>.obj, <name>.json); `refused` is set for a
+// directory entry that cannot be read at all (a dangling or looping link, an unreadable folder).
 struct Input
 {
     std::string file;
     std::string name;
+    std::string refused;
 };
+
+// Every mesh entry of the directory \p spec (recursively) with, for those that cannot be read,
+// the reason; links are followed to files, never to folders (no cycles).
+std::vector<std::pair<std::string, std::string>> directory_entries(const std::string& spec)
+{
+    std::vector<std::pair<std::string, std::string>> found;
+    std::error_code ec;
+    fs::recursive_directory_iterator it(spec, fs::directory_options::skip_permission_denied, ec),
+        end;
+    if (ec)
+        throw InvalidInputError("--batch: cannot list " + spec + ": " + ec.message());
+    for (; it != end; it.increment(ec))
+    {
+        if (ec)
+        {
+            found.emplace_back(it->path().string(), "cannot list the folder: " + ec.message());
+            ec.clear();
+            continue;
+        }
+        const fs::path path = it->path();
+        if (!is_mesh_file(path))
+            continue;
+        std::error_code link_ec;
+        const fs::file_status target = fs::status(path, link_ec);
+        if (fs::is_symlink(fs::symlink_status(path)) && (link_ec || !fs::exists(target)))
+        {
+            std::error_code read_ec;
+            const fs::path to = fs::read_symlink(path, read_ec);
+            found.emplace_back(path.string(),
+                               "is a symbolic link to " + to.string() +
+                                   (link_ec && link_ec != std::errc::no_such_file_or_directory
+                                        ? ", which cannot be resolved (" + link_ec.message() + ")"
+                                        : ", which does not exist") +
+                                   "; fix or remove the link");
+        }
+        else if (fs::is_regular_file(target))
+            found.emplace_back(path.string(), "");
+        else if (!fs::is_directory(target))
+            found.emplace_back(path.string(), "is not a regular file; give a mesh file");
+    }
+    return found;
+}
 
 // A directory is searched recursively. Outputs are named by the input's stem, or by its file
 // name when several inputs share the stem (x.ply -> x.ply.obj next to x.stl -> x.stl.obj).
 std::vector<Input> collect_inputs(const std::string& spec)
 {
     std::vector<std::string> files;
+    std::map<std::string, std::string> refused;
     if (fs::is_directory(spec))
     {
-        for (const auto& entry : fs::recursive_directory_iterator(spec))
-            if (entry.is_regular_file() && is_mesh_file(entry.path()))
-                files.push_back(entry.path().string());
+        for (const auto& [file, reason] : directory_entries(spec))
+        {
+            files.push_back(file);
+            if (!reason.empty())
+                refused[file] = file + " " + reason;
+        }
         if (files.empty())
             throw InvalidInputError("--batch: no .obj, .off, .ply, .stl, .vtp or .vtk files in " + spec);
     }
@@ -151,28 +200,40 @@ std::vector<Input> collect_inputs(const std::string& spec)
             throw InvalidInputError("--batch: inputs " + it->second + " and " + f +
                                     " have the same file name, so both would write " + name +
                                     ".obj; rename one of them");
-        inputs.push_back({f, name});
+        inputs.push_back({f, name, refused.count(f) ? refused[f] : std::string()});
     }
     return inputs;
-}
-
-void write_atomically(const fs::path& path, const std::string& text)
-{
-    const fs::path tmp = path.string() + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        out << text;
-        out.flush();
-        if (!out)
-            throw IoError("cannot write " + tmp.string());
-    }
-    fs::rename(tmp, path);
 }
 
 void remove_quietly(const fs::path& path)
 {
     std::error_code ec;
     fs::remove(path, ec);
+}
+
+// Leftovers of an abandoned run (a second interrupt ends the process at once) are never valid
+// outputs: the temporary files `<name>.obj.XXXXXX.tmp` / `<name>.json.XXXXXX.tmp` of the
+// atomic writer (write_text_file()), and `<name>.obj.tmp` of older versions.
+void remove_leftovers(const fs::path& dir, const std::vector<Input>& inputs)
+{
+    std::set<std::string> outputs;
+    for (const auto& input : inputs)
+        for (const char* ext : {".obj", ".json"})
+            outputs.insert(input.name + ext);
+    outputs.insert("summary.csv");
+    outputs.insert("summary.json");
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir, ec))
+    {
+        std::string name = entry.path().filename().string();
+        if (name.size() < 4 || name.compare(name.size() - 4, 4, ".tmp") != 0)
+            continue;
+        name.resize(name.size() - 4);  // NAME or NAME.XXXXXX
+        const auto dot = name.rfind('.');
+        if (outputs.count(name) ||
+            (dot != std::string::npos && name.size() - dot == 7 && outputs.count(name.substr(0, dot))))
+            remove_quietly(entry.path());
+    }
 }
 
 // Fills \p row from an earlier run's <stem>.json; false if it is unreadable or not a success.
@@ -258,8 +319,8 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
                               {"interrupted", counts["interrupted"]},
                               {"signal", signal},
                               {"files", files}};
-    write_atomically(dir / "summary.csv", csv.str());
-    write_atomically(dir / "summary.json", summary.dump(2) + "\n");
+    write_text_file((dir / "summary.csv").string(), csv.str());
+    write_text_file((dir / "summary.json").string(), summary.dump(2) + "\n");
 }
 
 }  // namespace
@@ -278,6 +339,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         return 1;
     }
     const fs::path dir = batch.output_dir;
+    remove_leftovers(dir, files);
     std::vector<Row> rows(files.size());
     std::vector<std::size_t> todo;
     for (std::size_t i = 0; i < files.size(); ++i)
@@ -285,9 +347,14 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         Row& row = rows[i];
         row.file = files[i].file;
         row.stem = files[i].name;
-        // Leftovers of an abandoned run (a second interrupt) are never valid outputs.
-        remove_quietly(dir / (row.stem + ".obj.tmp"));
-        remove_quietly(dir / (row.stem + ".json.tmp"));
+        if (!files[i].refused.empty())
+        {
+            row.status = "refused";
+            row.message = files[i].refused;
+            remove_quietly(dir / (row.stem + ".obj"));  // no earlier output may contradict it
+            remove_quietly(dir / (row.stem + ".json"));
+            continue;
+        }
         const fs::path obj = dir / (row.stem + ".obj"), json = dir / (row.stem + ".json");
         if (batch.resume && fs::exists(obj) && fs::exists(json) && resume_row(json, row))
             continue;
@@ -328,7 +395,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             const double write_s = seconds_since(start);
             nlohmann::json report = report_json(row.file, in, result, read_s, write_s);
             report["status"] = "ok";
-            write_atomically(json, report.dump(2) + "\n");
+            write_text_file(json.string(), report.dump(2) + "\n");
             row.status = "ok";
             row.message.clear();
             row.total_s = result.timings.total();
@@ -361,8 +428,6 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         // No outputs of an earlier run may contradict the summary.
         remove_quietly(obj);
         remove_quietly(json);
-        remove_quietly(obj.string() + ".tmp");
-        remove_quietly(json.string() + ".tmp");
     };
 
     auto worker = [&]() {

@@ -68,13 +68,11 @@ std::pair<Eigen::VectorXd, std::string> series_moment(const ImageRequest& reques
     return {values.values[k], " at t = " + seconds(times[k])};
 }
 
-}  // namespace
-
-void render_images(const ImageRequest& request, const FlattenResult& result,
-                   const std::vector<Field>& fields, const TimeSeries& series)
+// The field to draw (a copy: the candidates are a local list) and whether it changes over time;
+// throws if the request cannot be drawn.
+std::pair<Field, bool> requested_field(const ImageRequest& request,
+                                       const std::vector<Field>& fields, const TimeSeries& series)
 {
-    if (request.images.empty() && request.frames.empty())
-        return;
     std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
     candidates.insert(candidates.end(), fields.begin(), fields.end());
     const Field& field = chosen(request.field, candidates);
@@ -82,6 +80,28 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     if ((request.step || request.time) && !over_time)
         throw InvalidInputError("--image-step/--image-time choose a moment of a time series; '" +
                                 field.name + "' is not one (give --fields with a series)");
+    scalar_values(field);  // refuses a cell field
+    if (!request.frames.empty() && !over_time)
+        throw InvalidInputError("--frames needs a time series with several steps (--fields); '" +
+                                field.name + "' has one");
+    return {field, over_time};
+}
+
+}  // namespace
+
+void check_images(const ImageRequest& request, const std::vector<Field>& fields,
+                  const TimeSeries& series)
+{
+    if (!request.images.empty() || !request.frames.empty())
+        requested_field(request, fields, series);
+}
+
+void render_images(const ImageRequest& request, const FlattenResult& result,
+                   const std::vector<Field>& fields, const TimeSeries& series)
+{
+    if (request.images.empty() && request.frames.empty())
+        return;
+    const auto [field, over_time] = requested_field(request, fields, series);
     const MapImageInput input = map_image_input(result);
     MapImageOptions options;
     options.field_name = field.components() == 1 ? field.name : "|" + field.name + "|";
@@ -117,9 +137,6 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     }
     if (request.frames.empty())
         return;
-    if (!over_time)
-        throw InvalidInputError("--frames needs a time series with several steps (--fields); '" +
-                                field.name + "' has one");
     const FramesSummary s = render_frames(request.frames, input, values, options);
     if (!request.quiet)
         std::fprintf(stderr, "[  ] %d frames of %s -> %s\n", s.frames, field.name.c_str(),

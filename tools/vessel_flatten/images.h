@@ -36,4 +36,11 @@ struct ImageRequest
 void render_images(const ImageRequest& request, const FlattenResult& result,
                    const std::vector<Field>& fields, const TimeSeries& series);
 
+//! \brief The checks of render_images() that need only the fields, made before the flattening
+//! so that a request that cannot be drawn fails before any work: the field exists and is a
+//! point field, and --image-step/--image-time/--frames have a series.
+//! \throw InvalidInputError as render_images().
+void check_images(const ImageRequest& request, const std::vector<Field>& fields,
+                  const TimeSeries& series);
+
 }  // namespace vessel::cli

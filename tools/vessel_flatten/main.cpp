@@ -4,6 +4,7 @@
 #include "field_input.h"
 #include "images.h"
 #include "json_config.h"
+#include "output_plan.h"
 #include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
 #include "vessel/cut/split.h"
@@ -564,9 +565,16 @@ int main(int argc, char** argv)
             };
         }
 
+        // Every output checked before any work; all of them removed if the run fails.
+        const vessel::cli::OutputPlan outputs(
+            {output, report_path, html, images.images, images.frames,
+             !field_args.spec.empty() && out_ext == ".vtp",
+             split_at.empty() ? 0 : static_cast<int>(split_at.size()) + 1, {input, field_args.spec}});
         auto start = Clock::now();
         const vessel::cli::FieldInput field_input =
             vessel::cli::read_field_input(input, field_args);
+        images.field = field_args.name;
+        vessel::cli::check_images(images, field_input.fields, field_input.series);
         const vessel::cli::PreparedInput in =
             vessel::cli::prepare_input(field_input.data.mesh, surface_options, batch.repair);
         const vessel::TreeSurface& surface = in.surface;
@@ -657,12 +665,9 @@ int main(int argc, char** argv)
             vessel::cli::render_images(images, result, cut_fields, cut_series);
             const double write_s = seconds_since(start);
             if (!report.empty())
-            {
-                const std::string tmp = report + ".tmp";
-                std::ofstream(tmp) << vessel::cli::report_json(input, piece, result, read_s, write_s).dump(2)
-                                   << "\n";
-                std::filesystem::rename(tmp, report);
-            }
+                vessel::write_text_file(
+                    report,
+                    vessel::cli::report_json(input, piece, result, read_s, write_s).dump(2) + "\n");
             if (!quiet)
             {
                 const auto& q = result.quality;
