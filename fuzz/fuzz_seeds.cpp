@@ -1,7 +1,9 @@
 // Writes the seed corpus of the reader fuzzers: small phantoms (a tube, a coarse carotid
-// bifurcation, a closed sphere) in every format and encoding OpenMesh writes, plus a few short
-// hand-made files, into DIR/<ext>/.
+// bifurcation, a closed sphere) in every format and encoding OpenMesh writes, and as VTK
+// PolyData (.vtp in each encoding and compressor, legacy .vtk ascii and binary, with a point and
+// a cell field), plus a few short hand-made files, into DIR/<ext>/.
 #include "vessel/io/io.h"
+#include "vessel/io/vtk_io.h"
 #include "vessel/phantom/phantom.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -50,6 +52,40 @@ int main(int argc, char** argv)
                     return 1;
                 }
             }
+    }
+    // VTK PolyData through libvessel's writer (VTK's own): every encoding of each format.
+    const std::vector<std::pair<std::string, vessel::VtkWriteOptions>> vtk_variants = {
+        {"ascii", {vessel::VtkEncoding::Ascii, vessel::VtkCompressor::None}},
+        {"binary_zlib", {vessel::VtkEncoding::Binary, vessel::VtkCompressor::ZLib}},
+        {"appended_raw", {vessel::VtkEncoding::Appended, vessel::VtkCompressor::None}},
+        {"appended_lz4", {vessel::VtkEncoding::Appended, vessel::VtkCompressor::LZ4}}};
+    for (const std::string ext : {"vtp", "vtk"})
+    {
+        fs::create_directories(dir / ext);
+        for (const auto& [name, mesh] : meshes)
+        {
+            vessel::PolyData data;
+            data.mesh = vessel::to_raw_mesh(mesh);
+            const auto n_points = static_cast<Eigen::Index>(data.mesh.points.size());
+            const auto n_faces = static_cast<Eigen::Index>(data.mesh.faces.size());
+            vessel::Field pressure;
+            pressure.name = "pressure";
+            pressure.values = Eigen::VectorXd::LinSpaced(n_points, 0.0, 1.0);
+            data.point_data.push_back(pressure);
+            vessel::Field label;
+            label.name = "label";
+            label.location = vessel::FieldLocation::Cell;
+            label.type = vessel::FieldType::Int32;
+            label.values = Eigen::VectorXd::Ones(n_faces);
+            data.cell_data.push_back(label);
+            for (const auto& [encoding, options] : vtk_variants)
+            {
+                if (ext == "vtk" && encoding.rfind("appended", 0) == 0)
+                    continue;  // legacy VTK has no appended form
+                vessel::write_polydata((dir / ext / (name + "_" + encoding + "." + ext)).string(),
+                                       data, options);
+            }
+        }
     }
     std::ofstream(dir / "obj" / "quad.obj") << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
     std::ofstream(dir / "obj" / "slashes.obj")
