@@ -9,6 +9,7 @@
 
 #include <benchmark/benchmark.h>
 #include "vessel/check/validation.h"
+#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
 
 #include <functional>
 #include <string>

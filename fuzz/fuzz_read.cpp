@@ -5,6 +5,7 @@
 #include "vessel/core/errors.h"
 #include "vessel/io/io.h"
 #include "vessel/check/validation.h"
+#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
 
 #include <OpenMesh/Core/System/omstream.hh>
 

@@ -210,3 +210,28 @@ TEST_CASE("io: OBJ corners referring to no texture coordinate, normal or vertex 
                                       " has 2 corners; a face needs at least 3; the file is corrupt");
     }
 }
+
+TEST_CASE("io: a registered reader reads its extension, and built-in formats stay the library's")
+{
+    CHECK_THROWS_AS(vessel::register_mesh_reader("vtp", {}), vessel::InvalidInputError);
+    CHECK_THROWS_AS(vessel::register_mesh_reader(".ply", {}), vessel::InvalidInputError);
+
+    const auto dir = std::filesystem::temp_directory_path() / "vessel_io_registry";
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "tri.xyzmesh").string();
+    std::ofstream(path) << "one triangle\n";
+    CHECK_THROWS_AS(vessel::read_raw_mesh(path), vessel::IoError);  // unknown until registered
+
+    std::string seen;
+    vessel::register_mesh_reader(".xyzmesh", [&seen](const std::string& p) {
+        seen = p;
+        vessel::RawMesh raw;
+        raw.points = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+        raw.faces = {{0, 1, 2}};
+        return raw;
+    });
+    const vessel::RawMesh raw = vessel::read_raw_mesh(path);
+    CHECK(seen == path);
+    CHECK(raw.faces.size() == 1);
+    std::filesystem::remove_all(dir);
+}

@@ -7,6 +7,7 @@
 #include "vessel/pipeline.h"
 #include "vessel/core/properties.h"
 #include "vessel/check/validation.h"
+#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
 
 #include <CLI/CLI.hpp>
 

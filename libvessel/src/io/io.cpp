@@ -1,7 +1,6 @@
 #include "vessel/io/io.h"
 
 #include "vessel/core/errors.h"
-#include "vessel/io/vtk_io.h"
 
 #include "detail/atomic_file.h"
 #include "detail/off_reader.h"
@@ -21,6 +20,7 @@
 #include <map>
 #include <mutex>
 #include <sstream>
+#include <utility>
 
 namespace vessel {
 
@@ -584,7 +584,42 @@ RawMesh read_with_openmesh(const std::string& path, const std::string& ext)
     return raw;
 }
 
+struct ReaderRegistry
+{
+    std::mutex mutex;
+    std::map<std::string, MeshReader> readers;
+};
+
+// Constructed on first use, so that registrations from other libraries' static initializers
+// (vtk_io.h) find it whatever the order of initialization.
+ReaderRegistry& reader_registry()
+{
+    static ReaderRegistry registry;
+    return registry;
+}
+
+MeshReader registered_reader(const std::string& ext)
+{
+    ReaderRegistry& registry = reader_registry();
+    std::lock_guard<std::mutex> lock(registry.mutex);
+    const auto it = registry.readers.find(ext);
+    return it == registry.readers.end() ? MeshReader{} : it->second;
+}
+
 }  // namespace
+
+void register_mesh_reader(const std::string& extension, MeshReader reader)
+{
+    if (extension.size() < 2 || extension[0] != '.')
+        throw InvalidInputError("register_mesh_reader: extension '" + extension +
+                                "' must start with a dot, e.g. \".vtp\"");
+    if (extension == ".obj" || extension == ".off" || extension == ".ply" || extension == ".stl")
+        throw InvalidInputError("register_mesh_reader: " + extension +
+                                " is read by the library itself and cannot be replaced");
+    ReaderRegistry& registry = reader_registry();
+    std::lock_guard<std::mutex> lock(registry.mutex);
+    registry.readers[extension] = std::move(reader);
+}
 
 RawMesh read_raw_mesh(const std::string& path)
 {
@@ -594,11 +629,17 @@ RawMesh read_raw_mesh(const std::string& path)
         throw IoError("read_raw_mesh: file is empty: " + path);
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-    if (ext == ".vtp" || ext == ".vtk")
-        return read_polydata(path).mesh;
     if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+    {
+        if (const MeshReader reader = registered_reader(ext))
+            return reader(path);
+        if (ext == ".vtp" || ext == ".vtk")
+            throw IoError("read_raw_mesh: " + path + " is a VTK file, and this program was built "
+                          "without the library's VTK module; link vessel::vtk (or vessel::vessel) "
+                          "and include <vessel/io/vtk_io.h>, or convert the file to .ply");
         throw IoError("read_raw_mesh: unknown file format '" + ext + "' (" + path +
                       "); use .obj, .off, .ply, .stl, .vtp or .vtk");
+    }
     const RawMesh raw = ext == ".off" ? detail::read_off(path) : read_with_openmesh(path, ext);
     if (raw.faces.empty())
         throw IoError("read_raw_mesh: no faces in " + path + "; expected a triangulated surface");

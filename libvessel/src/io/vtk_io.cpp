@@ -192,6 +192,14 @@ bool is_vtk_path(const std::string& path)
     return ext == ".vtp" || ext == ".vtk";
 }
 
+bool register_vtk_formats()
+{
+    const MeshReader reader = [](const std::string& path) { return read_polydata(path).mesh; };
+    register_mesh_reader(".vtp", reader);
+    register_mesh_reader(".vtk", reader);
+    return true;
+}
+
 PolyData read_polydata(const std::string& path)
 {
     if (!std::filesystem::exists(path))

@@ -64,4 +64,15 @@ void write_polydata(const std::string& path, const PolyData& data,
 //! True if \p path ends in `.vtp` or `.vtk` (any case).
 bool is_vtk_path(const std::string& path);
 
+//! \brief Let read_raw_mesh() (io.h) read `.vtp` and `.vtk` files through read_polydata().
+//! Idempotent. Called automatically in every program that includes this header (below), so a
+//! program linking `vessel::vtk` never needs to call it; the core library itself does not link
+//! VTK.
+bool register_vtk_formats();
+
+namespace detail {
+//! Registers the VTK formats during static initialization of any program including this header.
+inline const bool vtk_formats_registered = register_vtk_formats();
+}  // namespace detail
+
 }  // namespace vessel
