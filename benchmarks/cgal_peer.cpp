@@ -13,6 +13,7 @@
 //   F   ARAP_parameterizer_3 (which starts from its own LSCM); LSCM_parameterizer_3 alone is
 //       timed too (F_lscm, not in Total) for its quality.
 #include "cgal_peer.h"
+#include "common/quality_json.h"
 
 #include "vessel/quality/metrics.h"
 
@@ -342,12 +343,9 @@ nlohmann::json measure(const SM& sm, const Seam& seam, const UV_pmap& uv_map)
         q = vessel::flat_quality(flat, uv);
         mirrored = true;
     }
-    return {{"flipped_triangles", q.flipped_triangles},
-            {"area_ratio", q.area_ratio},
-            {"mean_abs_log_area", q.mean_abs_log_area},
-            {"mean_conformal", q.mean_conformal},
-            {"mirrored", mirrored},
-            {"vertices", flat.n_vertices()}};
+    nlohmann::json out = vessel::cli::quality_json(q);
+    out.update({{"mirrored", mirrored}, {"vertices", flat.n_vertices()}});
+    return out;
 }
 
 }  // namespace

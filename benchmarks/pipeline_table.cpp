@@ -5,6 +5,7 @@
 // pipe. A CGAL peer pipeline (cgal_peer.cpp) runs on the same meshes, each in its own child too.
 // `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
 #include "cgal_peer.h"
+#include "common/quality_json.h"
 #include "vessel/map/arap.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_metrics.h"
@@ -263,11 +264,7 @@ json run_table_case(const Case& c, const Settings& s)
     out["runs"] = static_cast<int>(total.size());
     out["time_boxed"] = time_boxed;
     const auto& q = last.quality;
-    out["quality"] = {{"flipped_triangles", q.flipped_triangles},
-                      {"overlapping_triangles", q.overlapping_triangles},
-                      {"area_ratio", q.area_ratio},
-                      {"mean_abs_log_area", q.mean_abs_log_area},
-                      {"mean_conformal", q.mean_conformal}};
+    out["quality"] = vessel::cli::quality_json(q);
     if (!last.plan.paths.empty())  // the vessel cuts, not relief cuts (the peer makes none)
         out["quality"]["seam_winding"] = seam_winding_of(
             mesh, vessel::uncut_longitudinal(last, mesh.n_vertices()), last.plan.paths);
@@ -379,7 +376,7 @@ void run_solver_case(const Case& c, const Settings& s, const vessel::Mesh& mesh,
             row["arap_energy"] = vessel::arap_energy(last.mesh, last.uv);
             row["flipped_triangles"] = last.quality.flipped_triangles;
             row["area_ratio"] = last.quality.area_ratio;
-            row["mean_conformal"] = last.quality.mean_conformal;
+            row["mean_conformal_distortion"] = last.quality.mean_conformal;
             row["notes"] = last.notes;
             std::fprintf(stderr, "    %s / %s (max %d it): F %.3f s, %d it, ARAP energy %.6g\n",
                          c.name.c_str(), var.name, row["max_iterations"].get<int>(),
@@ -885,12 +882,12 @@ void print_peer(const std::vector<json>& results, bool markdown, std::ostream& o
         const json peer_q = p.value("quality", json::object());
         quality.push_back({name, quality_cell(ours, "flipped_triangles", "%g"),
                            quality_cell(ours, "area_ratio", "%.4f"),
-                           quality_cell(ours, "mean_abs_log_area", "%.4f"),
+                           quality_cell(ours, "mean_abs_log_area_ratio", "%.4f"),
                            winding_cell(ours),
                            quality_cell(peer_q.value("lscm", json()), "flipped_triangles", "%g"),
                            quality_cell(peer_q.value("arap", json()), "flipped_triangles", "%g"),
                            quality_cell(peer_q.value("arap", json()), "area_ratio", "%.4f"),
-                           quality_cell(peer_q.value("arap", json()), "mean_abs_log_area", "%.4f"),
+                           quality_cell(peer_q.value("arap", json()), "mean_abs_log_area_ratio", "%.4f"),
                            winding_cell(peer_q)});
     }
     if (med.size() == 1)

@@ -1,5 +1,7 @@
 #include "report.h"
 
+#include "common/quality_json.h"
+
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/cut/cut_winding.h"
 #include "vessel/direction/direction.h"
@@ -119,20 +121,12 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     }
     j["relief_cuts"] = relief;
     const auto& q = r.quality;
-    j["quality"] = {{"flipped_triangles", q.flipped_triangles},
-                    {"area_ratio", q.area_ratio},
-                    {"mean_abs_log_area_ratio", q.mean_abs_log_area},
-                    {"mean_abs_log_area_normalized", q.mean_abs_log_area_normalized},
-                    {"mean_conformal_distortion", q.mean_conformal},
-                    {"max_conformal_distortion", q.max_conformal},
-                    {"overlapping_triangles", q.overlapping_triangles},
-                    {"overlap_area", q.overlap_area},
-                    {"overlap_fraction", q.overlap_fraction},
-                    {"seam_alignment", seam.mean},
-                    {"seam_low_alignment_fraction", seam.low_fraction},
-                    {"seam_alignment_with_relief", whole.mean},
-                    {"seam_mean_abs_winding_deg", winding.mean_abs_deg},
-                    {"seam_max_abs_winding_deg", winding.max_abs_deg}};
+    j["quality"] = quality_json(q);
+    j["quality"].update({{"seam_alignment", seam.mean},
+                         {"seam_low_alignment_fraction", seam.low_fraction},
+                         {"seam_alignment_with_relief", whole.mean},
+                         {"seam_mean_abs_winding_deg", winding.mean_abs_deg},
+                         {"seam_max_abs_winding_deg", winding.max_abs_deg}});
     const MapLook& look = r.look;  // map_look.h; bearings 0 = up, +90 = right
     auto outlet_looks = nlohmann::json::array();
     for (const OutletLook& o : look.outlet_looks)
