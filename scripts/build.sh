@@ -4,7 +4,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 "$(dirname "$0")/install-deps.sh"
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVESSEL_BUILD_BENCHMARKS=ON "$@"
+# ccache with paths relative to the checkout: a rebuild, or a build of the same sources in another
+# clone on this machine, compiles only what changed.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DVESSEL_BUILD_BENCHMARKS=ON \
+      -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
 cmake --build build -j"$(nproc)"
 # `import vessel` from any folder: the package copied into /usr/bin/python3's site-packages
 # (the python component; as root or through sudo, like the Debian packages).

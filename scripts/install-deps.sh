@@ -10,7 +10,7 @@
 # docs/design.md); libvessel holds it at one thread (solve/serial_openmp.h).
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ccache
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
   doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev libboost-dev
   libopenblas0-pthread
