@@ -1,6 +1,7 @@
 // vessel-flatten on bad input (docs/bad-input.md, one case per row) and in batch mode.
 #include <doctest/doctest.h>
 
+#include "support/files.h"
 #include "support/checks.h"
 #include "support/meshes.h"
 #include "vessel/io/io.h"
@@ -21,6 +22,7 @@
 #include <vector>
 
 using namespace vessel;
+using vessel::test::read_bytes;
 using vessel::test::check_flat_obj;
 using vessel::test::read_flat_obj;
 using vessel::test::run;
@@ -52,12 +54,6 @@ Soup tube() { return soup(open_cylinder(1.0, 4.0, 12, 6)); }
 void write_text(const std::string& path, const std::string& text)
 {
     std::ofstream(path, std::ios::binary) << text;
-}
-
-std::string read_text(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
 }
 
 void write_obj(const std::string& path, const Soup& s)
@@ -105,7 +101,7 @@ Outcome flatten_cli(const std::string& dir, const std::string& args)
 {
     Outcome o;
     o.status = run(kFlatten + " " + args + " 2> " + dir + "/stderr.txt");
-    o.err = read_text(dir + "/stderr.txt");
+    o.err = read_bytes(dir + "/stderr.txt");
     return o;
 }
 
@@ -389,7 +385,7 @@ TEST_CASE("cli: inconsistent orientation is fixed with a warning and a Moebius s
     CHECK_MESSAGE(o.err.find("warning: the input's faces were not wound consistently; 10 faces "
                              "were re-oriented") != std::string::npos,
                   o.err);
-    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
     CHECK(report["notes"][0] == "re-oriented 10 faces to agree with their neighbours");
     const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
     CHECK(c.euler == 1);
@@ -601,7 +597,7 @@ TEST_CASE("cli: --repair fixes duplicate, zero-area, mis-oriented and split inpu
     const Outcome o = flatten_cli(dir, args + " --repair");
     CHECK(o.status == 0);
     CHECK_MESSAGE(o.err.find(note) != std::string::npos, o.err);
-    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
     CHECK(report["repairs"][key] == count);
     CHECK(check_flat_obj(read_flat_obj(dir + "/flat.obj")).euler == 1);
 }
@@ -615,7 +611,7 @@ TEST_CASE("cli: --repair stitches vmtk's branch-split aorta into one valid tree"
     const Outcome o = flatten_cli(dir, input + " -o " + dir + "/flat.obj --repair --report " +
                                            dir + "/r.json");
     CHECK(o.status == 0);
-    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
     // MANIFEST.md: 3 pieces of the capped aorta (#2) whose seams duplicate 172 vertices.
     // Stitched, they are one piece with 6826 - 172 vertices and all 13288 faces. Its vessel ends
     // are still capped; what stays open are two small holes where the three seams meet (9 and 11
@@ -669,7 +665,7 @@ TEST_CASE("cli: --largest-component keeps the largest piece with a note")
                   o.err);
     const auto flat = read_flat_obj(dir + "/flat.obj");
     CHECK(check_flat_obj(flat).euler == 1);
-    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
     CHECK(report["counts"]["faces"] == 144);
 }
 
@@ -700,7 +696,7 @@ TEST_CASE("cli: a surface with one open end (a blind-ended vessel) is flattened 
     CHECK_MESSAGE(o.err.find("note: one open end: the surface is already a disk, flattened "
                              "without cuts") != std::string::npos,
                   o.err);
-    const auto report = nlohmann::json::parse(read_text(dir + "/r.json"));
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
     CHECK(report["cuts"].empty());
     CHECK(report["counts"]["seam_edges"] == 0);
     CHECK(report["counts"]["boundary_loops"].size() == 1);
@@ -788,7 +784,7 @@ void write_batch_inputs(const std::string& dir)
 std::vector<std::vector<std::string>> read_csv_rows(const std::string& path)
 {
     std::vector<std::vector<std::string>> rows;
-    std::istringstream in(read_text(path));
+    std::istringstream in(read_bytes(path));
     std::string line;
     while (std::getline(in, line))
     {
@@ -837,7 +833,7 @@ TEST_CASE("cli: a batch flattens the good meshes, reports the bad ones and exits
     CHECK(std::stol(rows[2][5]) > 0);  // faces
     CHECK(rows[2][6] == "0");          // flipped
 
-    const auto summary = nlohmann::json::parse(read_text(dir + "/out/summary.json"));
+    const auto summary = nlohmann::json::parse(read_bytes(dir + "/out/summary.json"));
     CHECK(summary["ok"] == 2);
     CHECK(summary["refused"] == 2);
     REQUIRE(summary["files"].size() == 4);
@@ -856,7 +852,7 @@ TEST_CASE("cli: a batch flattens the good meshes, reports the bad ones and exits
         CHECK(c.euler == 1);
         CHECK(c.boundary_loops == 1);
         CHECK(c.flipped == 0);
-        const auto report = nlohmann::json::parse(read_text(dir + "/out/" + names[i] + ".json"));
+        const auto report = nlohmann::json::parse(read_bytes(dir + "/out/" + names[i] + ".json"));
         CHECK(report["status"] == "ok");
         CHECK(report["quality"]["flipped_triangles"] == 0);
     }
@@ -885,9 +881,9 @@ TEST_CASE("cli: a resumed batch gives the same outputs as an uninterrupted one")
     CHECK(fs::last_write_time(dir + "/out/a_tube.obj") == tube_time);  // kept, not redone
     for (const auto& name : {"a_tube", "b_carotid"})
     {
-        const std::string a = read_text(dir + "/fresh/" + name + ".obj");
+        const std::string a = read_bytes(dir + "/fresh/" + name + ".obj");
         CHECK(!a.empty());
-        CHECK_MESSAGE(a == read_text(dir + "/out/" + name + ".obj"), name);
+        CHECK_MESSAGE(a == read_bytes(dir + "/out/" + name + ".obj"), name);
     }
     const auto rows = read_csv_rows(dir + "/out/summary.csv");
     REQUIRE(rows.size() == 5);
@@ -912,13 +908,13 @@ TEST_CASE("cli: an interrupted batch keeps whole outputs only and resumes to the
         CHECK_MESSAGE(entry.path().extension() != ".tmp", entry.path());
     for (const auto& name : {"a_tube", "b_carotid"})
         if (fs::exists(dir + "/out/" + std::string(name) + ".obj"))
-            CHECK(read_text(dir + "/out/" + name + ".obj") ==
-                  read_text(dir + "/fresh/" + name + ".obj"));
+            CHECK(read_bytes(dir + "/out/" + name + ".obj") ==
+                  read_bytes(dir + "/fresh/" + name + ".obj"));
     CHECK(flatten_cli(dir, "--batch " + dir + "/in -o " + dir + "/out --quiet --resume").status ==
           1);
     for (const auto& name : {"a_tube", "b_carotid"})
-        CHECK(read_text(dir + "/out/" + name + ".obj") ==
-              read_text(dir + "/fresh/" + name + ".obj"));
+        CHECK(read_bytes(dir + "/out/" + name + ".obj") ==
+              read_bytes(dir + "/fresh/" + name + ".obj"));
 }
 
 TEST_CASE("cli: a batch with two inputs of the same file name is refused before any work")

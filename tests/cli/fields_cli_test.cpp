@@ -1,6 +1,7 @@
 // vessel-phantom --pulse and vessel-flatten --fields end to end, checked with python3-vtk9.
 #include <doctest/doctest.h>
 
+#include "support/files.h"
 #include "support/checks.h"
 #include "support/png.h"
 #include "vessel/fields/field_series.h"
@@ -16,6 +17,7 @@
 #include <iterator>
 #include <string>
 
+using vessel::test::read_bytes;
 using vessel::test::run;
 using vessel::test::temp_dir;
 
@@ -25,12 +27,6 @@ namespace {
 
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 const std::string kPhantom = VESSEL_PHANTOM_EXE;
-
-std::string read_text(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
 
 // Independent check with VTK's Python reader: every step file of OUT.pvd (both parts) holds
 // WSS equal to the input CSV's value at the cut vertex's InputVertex; the map part has z = 0.
@@ -79,7 +75,7 @@ TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to t
                 (vessel::viewer_available() ? " --html " + dir + "/csv.html" : std::string()) +
                 common) == 0);
     if (vessel::viewer_available())  // the HTML viewer offers the series beside the geodesic
-        CHECK(read_text(dir + "/csv.html").find("\"name\":\"WSS\"") != std::string::npos);
+        CHECK(read_bytes(dir + "/csv.html").find("\"name\":\"WSS\"") != std::string::npos);
     for (const std::string out : {"pvd", "csv"})
     {
         INFO(out);
@@ -88,10 +84,10 @@ TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to t
         std::ofstream(dir + "/check.py") << kCheckSeries;
         CHECK(run("/usr/bin/python3 " + dir + "/check.py " + dir + "/" + out + ".pvd " + dir +
                   "/pulse.csv > " + dir + "/check.txt") == 0);
-        CHECK(read_text(dir + "/check.txt") == "90 steps checked\n");
+        CHECK(read_bytes(dir + "/check.txt") == "90 steps checked\n");
     }
     // Same values out: the step files of both runs are identical byte for byte.
-    CHECK(read_text(dir + "/pvd/pvd_044.vtp") == read_text(dir + "/csv/csv_044.vtp"));
+    CHECK(read_bytes(dir + "/pvd/pvd_044.vtp") == read_bytes(dir + "/csv/csv_044.vtp"));
 }
 
 TEST_CASE("cli: --fields that do not fit, or a series with a non-VTP output, are refused")
@@ -103,7 +99,7 @@ TEST_CASE("cli: --fields that do not fit, or a series with a non-VTP output, are
     const auto fails_with = [&](const std::string& args, const std::string& message) {
         INFO(args);
         CHECK(run(kFlatten + " " + args + " -q 2> " + dir + "/stderr.txt") == 1);
-        const std::string err = read_text(dir + "/stderr.txt");
+        const std::string err = read_bytes(dir + "/stderr.txt");
         CHECK_MESSAGE(err.find(message) != std::string::npos, err);
     };
     fails_with(dir + "/helix.ply -o " + dir + "/h.vtp --fields " + dir + "/pulse.pvd",
@@ -124,7 +120,7 @@ TEST_CASE("cli: --image and --frames draw the chosen field of the series on the 
     REQUIRE(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/c.vtp --fields " + dir +
                 "/pulse.pvd --field WSS --image " + dir + "/c.png --frames " + dir +
                 "/frames --refine none -q") == 0);
-    CHECK(read_text(dir + "/c.png").rfind("\x89PNG", 0) == 0);
+    CHECK(read_bytes(dir + "/c.png").rfind("\x89PNG", 0) == 0);
     // 25 frames per second over the series' 1.78 s: t = 0, 0.04, ..., 1.76.
     const int expected = static_cast<int>(std::floor(1.78 * 25 + 1e-9)) + 1;
     int frames = 0;
@@ -134,7 +130,7 @@ TEST_CASE("cli: --image and --frames draw the chosen field of the series on the 
     // A field that is not in the series is named.
     CHECK(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/d.vtp --fields " + dir +
               "/pulse.pvd --field P --image " + dir + "/d.png -q 2> " + dir + "/err.txt") == 1);
-    CHECK(read_text(dir + "/err.txt").find("no field named 'P'") != std::string::npos);
+    CHECK(read_bytes(dir + "/err.txt").find("no field named 'P'") != std::string::npos);
 }
 
 namespace {
@@ -199,14 +195,14 @@ TEST_CASE("cli: --image-step and --image-time choose the moment of a series that
     const std::string err = " 2> " + dir + "/err.txt";
     CHECK(run(flatten + " -o " + dir + "/d.vtp --image " + dir + "/d.png --image-time 1.5" + err) ==
           1);
-    CHECK(read_text(dir + "/err.txt").find("--image-time 1.5 s is outside the series (0 s to 1 s)") !=
+    CHECK(read_bytes(dir + "/err.txt").find("--image-time 1.5 s is outside the series (0 s to 1 s)") !=
           std::string::npos);
     CHECK(run(flatten + " -o " + dir + "/d.vtp --image " + dir + "/d.png --image-step 3" + err) ==
           1);
-    CHECK(read_text(dir + "/err.txt").find("the series has steps 0 to 2") != std::string::npos);
+    CHECK(read_bytes(dir + "/err.txt").find("the series has steps 0 to 2") != std::string::npos);
     CHECK(run(kFlatten + " " + dir + "/carotid.ply -o " + dir + "/d.vtp --fields " + dir +
               "/pulse/pulse_000.vtp --image " + dir + "/d.png --image-step 0 -q" + err) == 1);
-    CHECK(read_text(dir + "/err.txt").find("not one (give --fields with a series)") !=
+    CHECK(read_bytes(dir + "/err.txt").find("not one (give --fields with a series)") !=
           std::string::npos);
     CHECK_FALSE(fs::exists(dir + "/d.png"));
 }
@@ -250,5 +246,5 @@ TEST_CASE("cli: vessel-pulse writes the synthetic pulse over a real .vtp's point
     // It flattens with the series and draws a moment of it.
     CHECK(run(kFlatten + " " + artery + " -o " + dir + "/a.vtp --fields " + dir +
               "/pulse.pvd --image " + dir + "/a.png --image-time 0.31 -q") == 0);
-    CHECK(read_text(dir + "/a.png").rfind("\x89PNG", 0) == 0);
+    CHECK(read_bytes(dir + "/a.png").rfind("\x89PNG", 0) == 0);
 }

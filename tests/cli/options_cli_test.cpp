@@ -1,6 +1,7 @@
 // vessel-flatten's presets, help, --config and progress lines; FlattenOptions::paper().
 #include <doctest/doctest.h>
 
+#include "support/files.h"
 #include "support/checks.h"
 #include "support/meshes.h"
 #include "vessel/pipeline.h"
@@ -11,6 +12,7 @@
 #include <string>
 
 using namespace vessel;
+using vessel::test::read_bytes;
 using vessel::test::run;
 using vessel::test::temp_dir;
 
@@ -19,18 +21,12 @@ namespace {
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 const std::string kArtery = std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply";
 
-std::string read_text(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), {}};
-}
-
 // Runs vessel-flatten with \p args; its stdout and stderr together, and its exit status.
 std::pair<int, std::string> flatten_cli(const std::string& dir, const std::string& args)
 {
     const std::string log = dir + "/log.txt";
     const int status = run(kFlatten + " " + args + " > " + log + " 2>&1");
-    return {status, read_text(log)};
+    return {status, read_bytes(log)};
 }
 
 int count_lines(const std::string& text)
@@ -65,29 +61,29 @@ TEST_CASE("cli: --preset paper writes the same OBJ bytes as the paper's options 
     const auto [flags_status, flags_log] = flatten_cli(
         dir, kArtery + " -o " + dir + "/flags.obj --refine arap --overlaps keep --relief-cuts 0");
     REQUIRE_MESSAGE(flags_status == 0, flags_log);
-    const std::string preset = read_text(dir + "/preset.obj");
+    const std::string preset = read_bytes(dir + "/preset.obj");
     CHECK(preset.size() > 1000);
-    CHECK(preset == read_text(dir + "/flags.obj"));
+    CHECK(preset == read_bytes(dir + "/flags.obj"));
     REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/default.obj").first == 0);
-    CHECK(preset != read_text(dir + "/default.obj"));
+    CHECK(preset != read_bytes(dir + "/default.obj"));
     // A flag after the preset changes it: the paper's method with SLIM is another map.
     const std::string changed = " -o " + dir + "/changed.obj --preset paper --refine injective";
     REQUIRE(flatten_cli(dir, kArtery + changed).first == 0);
-    CHECK(preset != read_text(dir + "/changed.obj"));
+    CHECK(preset != read_bytes(dir + "/changed.obj"));
 }
 
 TEST_CASE("cli: --config reads a JSON set of options and the command line wins over it")
 {
     const std::string dir = temp_dir("config");
     REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/preset.obj --preset paper").first == 0);
-    const std::string preset = read_text(dir + "/preset.obj");
+    const std::string preset = read_bytes(dir + "/preset.obj");
 
     std::ofstream(dir + "/paper.json") << R"({"preset": "paper", "quiet": true})";
     const auto [status, log] =
         flatten_cli(dir, kArtery + " -o " + dir + "/config.obj --config " + dir + "/paper.json");
     REQUIRE_MESSAGE(status == 0, log);
     CHECK(log.empty());  // "quiet": true
-    CHECK(read_text(dir + "/config.obj") == preset);
+    CHECK(read_bytes(dir + "/config.obj") == preset);
 
     // The file asks for 5 relief cuts and SLIM; the command line for the paper's none and ARAP.
     std::ofstream(dir + "/more.json")
@@ -95,7 +91,7 @@ TEST_CASE("cli: --config reads a JSON set of options and the command line wins o
     REQUIRE(flatten_cli(dir, kArtery + " -o " + dir + "/wins.obj --config " + dir +
                                  "/more.json --relief-cuts 0 --refine arap")
                 .first == 0);
-    CHECK(read_text(dir + "/wins.obj") == preset);
+    CHECK(read_bytes(dir + "/wins.obj") == preset);
 
     std::ofstream(dir + "/typo.json") << R"({"relief-cut": 1})";
     const auto [typo_status, typo_log] =
@@ -140,7 +136,7 @@ TEST_CASE("cli: progress is drawn on a terminal, not in a pipe, and --quiet sile
         const std::string log = dir + "/tty.txt";
         const int status = run("script -qec '" + kFlatten + " " + args + "' /dev/null > " + log +
                                " 2>&1 < /dev/null");
-        return std::make_pair(status, read_text(log));
+        return std::make_pair(status, read_bytes(log));
     };
     const std::string redraw = "\r\033[K";  // the live line is redrawn in place
     const auto [tty_status, tty] = on_terminal(mesh + " -o " + dir + "/tty.obj");
@@ -156,7 +152,7 @@ TEST_CASE("cli: progress is drawn on a terminal, not in a pipe, and --quiet sile
     REQUIRE(pipe_status == 0);
     CHECK(pipe.find("\r") == std::string::npos);
     CHECK(pipe.find("[F ] ") != std::string::npos);  // one line per stage, as ever
-    CHECK(read_text(dir + "/pipe.obj") == read_text(dir + "/tty.obj"));
+    CHECK(read_bytes(dir + "/pipe.obj") == read_bytes(dir + "/tty.obj"));
 
     const auto [quiet_status, quiet] = on_terminal(mesh + " -o " + dir + "/quiet.obj --quiet");
     REQUIRE(quiet_status == 0);

@@ -25,10 +25,6 @@ using vessel::test::write_bytes;
 
 namespace fs = std::filesystem;
 
-namespace {
-
-}  // namespace
-
 TEST_CASE("atomic file: a planted PATH.tmp link is never followed")
 {
     const std::string dir = temp_dir("atomic_link");

@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/files.h"
 #include "support/checks.h"
 #include "support/meshes.h"
 #include "support/png.h"
@@ -25,6 +26,7 @@
 #include <string>
 
 using namespace vessel;
+using vessel::test::read_bytes;
 using vessel::test::color_error;
 using vessel::test::Png;
 using vessel::test::run;
@@ -141,12 +143,6 @@ PixelCheck check_face_pixels(const Png& png, const MapImageInput& input,
         ++check.checked;
     }
     return check;
-}
-
-std::string read_text(const std::string& path)
-{
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 }  // namespace
@@ -413,14 +409,14 @@ TEST_CASE("map_image: 3D view beside the map, labels, SVG and PDF")
     CHECK(dark > 0.95 * boundary);
 
     render_map_image(dir + "/map.svg", input, values, options);
-    const std::string svg = read_text(dir + "/map.svg");
+    const std::string svg = read_bytes(dir + "/map.svg");
     CHECK(svg.find("<svg") != std::string::npos);
     CHECK(run("/usr/bin/python3 -c \"import sys, xml.etree.ElementTree as E; "
               "r = E.parse(sys.argv[1]).getroot(); sys.exit(0 if r.tag.endswith('svg') else 1)\" " +
               dir + "/map.svg") == 0);
 
     render_map_image(dir + "/map.pdf", input, values, options);
-    const std::string pdf = read_text(dir + "/map.pdf");
+    const std::string pdf = read_bytes(dir + "/map.pdf");
     CHECK(pdf.rfind("%PDF-", 0) == 0);
     const std::regex page("/Type\\s*/Page[^s]");
     CHECK(std::distance(std::sregex_iterator(pdf.begin(), pdf.end(), page),
@@ -596,7 +592,7 @@ TEST_CASE("vessel-render: draws a map written by vessel-flatten with values from
     const Png png(dir + "/map.png");
     CHECK(png.width() == 1200);
     CHECK(run(render + common + " " + dir + "/map.pdf > /dev/null") == 0);
-    CHECK(read_text(dir + "/map.pdf").rfind("%PDF-", 0) == 0);
+    CHECK(read_bytes(dir + "/map.pdf").rfind("%PDF-", 0) == 0);
     // Too few rows, a field that needs the surface, an unknown format: exit 1 with a message.
     std::ofstream(dir + "/short.csv") << "1\n2\n";
     CHECK(run(render + " " + dir + "/flat.obj --values " + dir + "/short.csv " + dir +
