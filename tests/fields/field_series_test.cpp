@@ -18,26 +18,10 @@
 
 using namespace vessel;
 using vessel::test::temp_dir;
+using vessel::test::contains;
+using vessel::test::error_of;
 
 namespace {
-
-std::string error_of(const std::function<void()>& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return e.what();
-    }
-    return "(no error)";
-}
-
-bool contains(const std::string& text, const std::string& part)
-{
-    return text.find(part) != std::string::npos;
-}
 
 // A small carotid phantom and the 90-step pulse on it, written as .pvd and CSV.
 struct PulseFiles
@@ -202,8 +186,14 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
     PolyData shuffled = ids;
     std::swap(shuffled.point_data[0].values(3, 0), shuffled.point_data[0].values(4, 0));
     write_polydata(p.dir + "/shuffled.vtp", shuffled);
-    e = error_of([&] { read_field_series(p.dir + "/shuffled.vtp", ids); });
+    FieldSeriesOptions in_order;
+    in_order.match_by = "order";
+    e = error_of([&] { read_field_series(p.dir + "/shuffled.vtp", ids, in_order); });
     CHECK_MESSAGE(contains(e, "id array 'GlobalNodeID' has 5 at point 3 where the mesh has 4"), e);
+    // Paired by GlobalNodeID (the default when both have it), vertex 3 meets the point at 4.
+    e = error_of([&] { read_field_series(p.dir + "/shuffled.vtp", ids); });
+    CHECK_MESSAGE(contains(e, "mesh vertex 3 at ("), e);
+    CHECK_MESSAGE(contains(e, "is paired with point 4 at ("), e);
     e = error_of([&] { read_field_series(p.dir + "/pulse/pulse_%s.vtp", p.base); });
     CHECK_MESSAGE(contains(e, "must hold exactly one %d"), e);
     CHECK_THROWS_AS(read_field_series(p.dir + "/nothing_*.vtp", p.base), IoError);

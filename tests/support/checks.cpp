@@ -202,4 +202,17 @@ std::vector<int> int_face_property(const Mesh& mesh, const char* name)
     return int_property<OpenMesh::FaceHandle>(mesh, name, mesh.faces());
 }
 
+std::string error_of(const std::function<void()>& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "(no error)";
+}
+
 }  // namespace vessel::test

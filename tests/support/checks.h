@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,15 @@ int run(const std::string& command);
 //! \p flat_obj, flattened from \p input; written beside \p flat_obj. Throws
 //! std::runtime_error if the script fails.
 nlohmann::json flatcheck(const std::string& input, const std::string& flat_obj);
+
+//! The message of the exception \p f throws, or "(no error)".
+std::string error_of(const std::function<void()>& f);
+
+//! True if \p text contains \p part.
+inline bool contains(const std::string& text, const std::string& part)
+{
+    return text.find(part) != std::string::npos;
+}
 
 //! Path to a fresh temporary directory for one test.
 std::string temp_dir(const std::string& name);

@@ -17,6 +17,16 @@ CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    app.add_option("--match-by", args.series.match_by,
+                   "Pair the points of --fields files with the mesh's: an integer id array "
+                   "(default GlobalNodeID when both have it, else file order), 'position' "
+                   "(nearest point within --match-tolerance) or 'order'")
+        ->option_text("ID|position|order");
+    app.add_option("--match-tolerance", args.series.position_tolerance,
+                   "Largest distance of a paired --fields point from its mesh vertex, as a "
+                   "fraction of the mesh's bounding-box diagonal")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     return fields;
 }
 

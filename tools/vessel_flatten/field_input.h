@@ -25,10 +25,12 @@ struct FieldArgs
 {
     std::string spec;  //!< --fields SPEC (empty: none)
     std::string name;  //!< --field NAME (empty: all arrays)
-    FieldSeriesOptions series;  //!< --time-step; `name` is set from --field when reading
+    //! --time-step, --match-by, --match-tolerance; `name` is set from --field when reading
+    FieldSeriesOptions series;
 };
 
-//! Adds --fields (\p purpose says what they are for), --field and --time-step to \p app.
+//! Adds --fields (\p purpose says what they are for), --field, --time-step, --match-by and
+//! --match-tolerance to \p app.
 //! \return the --fields option.
 CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose);
 

@@ -190,6 +190,8 @@ int main(int argc, char** argv)
         ->option_text("NAME")
         ->group(fields_group);
     app.get_option("--time-step")->group(image_tuning);
+    app.get_option("--match-by")->group(fields_group);
+    app.get_option("--match-tolerance")->group(image_tuning);
     app.add_option("--image", images.images,
                    "Draw --field on the map: .png, .svg or .pdf (repeatable)")
         ->allow_extra_args(false)
@@ -597,6 +599,8 @@ int main(int argc, char** argv)
             std::fprintf(stderr, "[  ] read %zu vertices, %zu faces %24.3f s\n",
                          surface.mesh.n_vertices(), surface.mesh.n_faces(), read_s);
             for (const auto& note : surface.notes)
+                std::fprintf(stderr, "note: %s\n", note.c_str());
+            for (const auto& note : series.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
         if (surface.reoriented_faces > 0)  // shown even with --quiet: the input had a defect

@@ -101,6 +101,11 @@ int main(int argc, char** argv)
         if (app.count("--time-step"))
             flatten.insert(flatten.end(),
                            {"--time-step", std::to_string(field_args.series.time_step)});
+        if (!field_args.series.match_by.empty())
+            flatten.insert(flatten.end(), {"--match-by", field_args.series.match_by});
+        if (app.count("--match-tolerance"))
+            flatten.insert(flatten.end(), {"--match-tolerance",
+                                           std::to_string(field_args.series.position_tolerance)});
         if (cost != "curvature")
             flatten.insert(flatten.end(), {"--cost", cost});
         if (app.count("--alpha"))

@@ -10,6 +10,12 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <unordered_map>
+
+#include <vtkNew.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkStaticPointLocator.h>
 
 namespace vessel {
 
@@ -23,6 +29,8 @@ std::string lower(std::string s)
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return s;
 }
+
+constexpr const char* kGlobalNodeId = "GlobalNodeID";
 
 // Integer point arrays whose name says they are ids (GlobalNodeID, vtkOriginalPointIds, ...).
 bool is_id_array(const Field& f)
@@ -45,31 +53,46 @@ double bbox_diagonal(const RawMesh& mesh)
     return mesh.points.empty() ? 0.0 : (hi - lo).norm();
 }
 
-// One step file of a series against the mesh: counts, positions, shared id arrays.
-void check_step(const PolyData& step, const PolyData& mesh, const std::string& what,
-                const FieldSeriesOptions& options)
+std::string point_text(const Eigen::Vector3d& p)
+{
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "(%g, %g, %g)", p.x(), p.y(), p.z());
+    return buf;
+}
+
+const Field* find_point_array(const PolyData& data, const std::string& name)
+{
+    for (const auto& f : data.point_data)
+        if (f.name == name)
+            return &f;
+    return nullptr;
+}
+
+// In file order: counts, positions and the id arrays both sides have must agree row by row.
+void check_same_order(const PolyData& step, const PolyData& mesh, const std::string& what,
+                      double tolerance)
 {
     const std::size_t np = mesh.mesh.points.size(), nf = mesh.mesh.faces.size();
     if (step.mesh.points.size() != np || step.mesh.faces.size() != nf)
         throw InvalidInputError(what + " has " + std::to_string(step.mesh.points.size()) +
                                 " points and " + std::to_string(step.mesh.faces.size()) +
                                 " polygons but the mesh has " + std::to_string(np) + " and " +
-                                std::to_string(nf) + "; the series was computed on another mesh");
-    const double tolerance = options.position_tolerance * bbox_diagonal(mesh.mesh);
+                                std::to_string(nf) +
+                                "; the series was computed on another mesh (or its points come "
+                                "in another order: --match-by GlobalNodeID or position)");
     for (std::size_t i = 0; i < np; ++i)
     {
         const double d = (step.mesh.points[i] - mesh.mesh.points[i]).norm();
         if (!(d <= tolerance))
         {
-            const auto& p = step.mesh.points[i];
-            const auto& q = mesh.mesh.points[i];
-            char buf[256];
-            std::snprintf(buf, sizeof buf,
-                          ": point %zu is at (%g, %g, %g) but mesh vertex %zu is at (%g, %g, %g)"
-                          " (%g apart, tolerance %g)",
-                          i, p.x(), p.y(), p.z(), i, q.x(), q.y(), q.z(), d, tolerance);
-            throw InvalidInputError(what + buf +
-                                    "; the series belongs to another mesh or vertex order");
+            char buf[96];
+            std::snprintf(buf, sizeof buf, " (%g apart, tolerance %g)", d, tolerance);
+            throw InvalidInputError(what + ": point " + std::to_string(i) + " is at " +
+                                    point_text(step.mesh.points[i]) + " but mesh vertex " +
+                                    std::to_string(i) + " is at " +
+                                    point_text(mesh.mesh.points[i]) + buf +
+                                    "; the series belongs to another mesh or vertex order "
+                                    "(--match-by GlobalNodeID or position pairs the points)");
         }
     }
     for (const auto& f : step.point_data)
@@ -89,10 +112,226 @@ void check_step(const PolyData& step, const PolyData& mesh, const std::string& w
     }
 }
 
-std::vector<Field> step_fields(const PolyData& step)
+// "N of the mesh's M vertices ... (vertex a, vertex b, ...)": the count and the first few.
+std::string unpaired_text(const std::vector<std::string>& examples, std::size_t count,
+                          std::size_t total, const std::string& what_of)
 {
-    std::vector<Field> fields = step.point_data;
-    fields.insert(fields.end(), step.cell_data.begin(), step.cell_data.end());
+    std::string s = std::to_string(count) + " of the mesh's " + std::to_string(total) + " " +
+                    what_of + " (";
+    for (std::size_t i = 0; i < examples.size(); ++i)
+        s += (i == 0 ? "" : "; ") + examples[i];
+    return s + (count > examples.size() ? "; ..." : "") + ")";
+}
+
+// Step point paired with each mesh vertex through the integer point array \p name.
+std::vector<int> pair_by_id(const PolyData& step, const PolyData& mesh, const std::string& name,
+                            const std::string& what)
+{
+    const Field* mine = find_point_array(mesh, name);
+    const Field* theirs = find_point_array(step, name);
+    if (!mine || !theirs)
+        throw InvalidInputError(what + ": --match-by " + name + " needs the point array '" +
+                                name + "' in the mesh and in every step, but " +
+                                (mine ? "the step" : "the mesh") +
+                                " has none; use --match-by position to pair by coordinates");
+    if (mine->components() != 1 || theirs->components() != 1)
+        throw InvalidInputError(what + ": the id array '" + name +
+                                "' must have one component per point");
+    std::unordered_map<long long, int> index;
+    index.reserve(static_cast<std::size_t>(theirs->rows()));
+    for (Eigen::Index i = 0; i < theirs->rows(); ++i)
+    {
+        const auto id = static_cast<long long>(theirs->values(i, 0));
+        if (!index.emplace(id, static_cast<int>(i)).second)
+            throw InvalidInputError(what + ": id " + std::to_string(id) + " of '" + name +
+                                    "' is at points " + std::to_string(index[id]) + " and " +
+                                    std::to_string(i) +
+                                    "; the ids must be unique to pair the points");
+    }
+    std::vector<int> pair(static_cast<std::size_t>(mine->rows()), -1);
+    std::vector<std::string> examples;
+    std::size_t missing = 0;
+    for (Eigen::Index v = 0; v < mine->rows(); ++v)
+    {
+        const auto id = static_cast<long long>(mine->values(v, 0));
+        const auto it = index.find(id);
+        if (it != index.end())
+            pair[static_cast<std::size_t>(v)] = it->second;
+        else if (++missing <= 5)
+            examples.push_back("vertex " + std::to_string(v) + ": " + std::to_string(id));
+    }
+    if (missing > 0)
+        throw InvalidInputError(what + ": " +
+                                unpaired_text(examples, missing, pair.size(),
+                                              "vertices have a " + name + " the step does not hold") +
+                                "; the series was computed on another mesh or numbering");
+    return pair;
+}
+
+// Step point nearest each mesh vertex, within \p tolerance.
+std::vector<int> pair_by_position(const PolyData& step, const PolyData& mesh,
+                                  const std::string& what, double tolerance)
+{
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(static_cast<vtkIdType>(step.mesh.points.size()));
+    for (std::size_t i = 0; i < step.mesh.points.size(); ++i)
+        points->SetPoint(static_cast<vtkIdType>(i), step.mesh.points[i].data());
+    vtkNew<vtkPolyData> cloud;
+    cloud->SetPoints(points);
+    vtkNew<vtkStaticPointLocator> locator;
+    locator->SetDataSet(cloud);
+    locator->BuildLocator();
+    std::vector<int> pair(mesh.mesh.points.size(), -1);
+    std::vector<std::string> examples;
+    std::size_t missing = 0;
+    for (std::size_t v = 0; v < pair.size(); ++v)
+    {
+        const Eigen::Vector3d& p = mesh.mesh.points[v];
+        const vtkIdType near = locator->FindClosestPoint(p.data());
+        const double d = near < 0 ? INFINITY : (step.mesh.points[near] - p).norm();
+        if (d <= tolerance)
+            pair[v] = static_cast<int>(near);
+        else if (++missing <= 5)
+        {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, " is %g from the nearest", d);
+            examples.push_back("vertex " + std::to_string(v) + " at " + point_text(p) + buf);
+        }
+    }
+    if (missing > 0)
+    {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%g", tolerance);
+        throw InvalidInputError(what + ": " +
+                                unpaired_text(examples, missing, pair.size(),
+                                              std::string("vertices have no step point within ") +
+                                                  buf) +
+                                "; the series was computed on another mesh (or in other units); "
+                                "a larger --match-tolerance accepts coarser coordinates");
+    }
+    return pair;
+}
+
+// The paired points must be where the mesh's vertices are (ids from another mesh otherwise).
+void check_paired_positions(const PolyData& step, const PolyData& mesh,
+                            const std::vector<int>& pair, const std::string& what,
+                            double tolerance)
+{
+    for (std::size_t v = 0; v < pair.size(); ++v)
+    {
+        const double d = (step.mesh.points[pair[v]] - mesh.mesh.points[v]).norm();
+        if (!(d <= tolerance))
+        {
+            char buf[96];
+            std::snprintf(buf, sizeof buf, " (%g apart, tolerance %g)", d, tolerance);
+            throw InvalidInputError(what + ": mesh vertex " + std::to_string(v) + " at " +
+                                    point_text(mesh.mesh.points[v]) + " is paired with point " +
+                                    std::to_string(pair[v]) + " at " +
+                                    point_text(step.mesh.points[pair[v]]) + buf +
+                                    "; the ids belong to another mesh (or another unit: "
+                                    "--match-tolerance)");
+        }
+    }
+}
+
+// Step polygon with the same corners as each mesh polygon (-1: none), through the point pairs.
+std::vector<int> pair_faces(const PolyData& step, const PolyData& mesh,
+                            const std::vector<int>& pair)
+{
+    std::vector<int> mesh_of(step.mesh.points.size(), -1);
+    for (std::size_t v = 0; v < pair.size(); ++v)
+        mesh_of[pair[v]] = static_cast<int>(v);
+    std::map<std::vector<int>, int> by_corners;
+    for (std::size_t f = 0; f < step.mesh.faces.size(); ++f)
+    {
+        std::vector<int> key;
+        for (int c : step.mesh.faces[f])
+            key.push_back(c >= 0 && c < static_cast<int>(mesh_of.size()) ? mesh_of[c] : -1);
+        if (std::find(key.begin(), key.end(), -1) != key.end())
+            continue;  // not on the wall
+        std::sort(key.begin(), key.end());
+        by_corners.emplace(std::move(key), static_cast<int>(f));
+    }
+    std::vector<int> faces(mesh.mesh.faces.size(), -1);
+    for (std::size_t f = 0; f < faces.size(); ++f)
+    {
+        std::vector<int> key = mesh.mesh.faces[f];
+        std::sort(key.begin(), key.end());
+        if (const auto it = by_corners.find(key); it != by_corners.end())
+            faces[f] = it->second;
+    }
+    return faces;
+}
+
+// \p field with row i taken from row rows[i].
+Field rows_of(const Field& field, const std::vector<int>& rows)
+{
+    Field out = field;
+    out.values.resize(static_cast<Eigen::Index>(rows.size()), field.components());
+    for (std::size_t i = 0; i < rows.size(); ++i)
+        out.values.row(static_cast<Eigen::Index>(i)) = field.values.row(rows[i]);
+    return out;
+}
+
+// The step's arrays in the mesh's order: point rows through \p pair, cell rows through the
+// polygons with the same corners.
+std::vector<Field> paired_fields(const PolyData& step, const PolyData& mesh,
+                                 const std::vector<int>& pair, const std::string& what)
+{
+    std::vector<Field> fields;
+    for (const auto& f : step.point_data)
+        fields.push_back(rows_of(f, pair));
+    if (step.cell_data.empty())
+        return fields;
+    const std::vector<int> faces = pair_faces(step, mesh, pair);
+    std::vector<std::string> examples;
+    const auto missing =
+        static_cast<std::size_t>(std::count(faces.begin(), faces.end(), -1));
+    for (std::size_t f = 0; f < faces.size() && examples.size() < 5; ++f)
+        if (faces[f] < 0)
+            examples.push_back("polygon " + std::to_string(f));
+    if (missing > 0)
+        throw InvalidInputError(what + ": " +
+                                unpaired_text(examples, missing, faces.size(),
+                                              "polygons have no polygon with the same corners "
+                                              "in the step") +
+                                ", so its cell arrays cannot be placed; remove them from the "
+                                "files or compute the series on this mesh");
+    for (const auto& f : step.cell_data)
+        fields.push_back(rows_of(f, faces));
+    return fields;
+}
+
+// One step file's arrays in the mesh's order, its points paired as FieldSeriesOptions::match_by
+// says.
+std::vector<Field> step_fields(const PolyData& step, const PolyData& mesh,
+                               const std::string& what, const FieldSeriesOptions& options)
+{
+    const double tolerance = options.position_tolerance * bbox_diagonal(mesh.mesh);
+    std::string how = options.match_by;
+    if (how.empty())
+        how = find_point_array(mesh, kGlobalNodeId) && find_point_array(step, kGlobalNodeId)
+                  ? kGlobalNodeId
+                  : "order";
+    if (how == "order")
+    {
+        check_same_order(step, mesh, what, tolerance);
+        std::vector<Field> fields = step.point_data;
+        fields.insert(fields.end(), step.cell_data.begin(), step.cell_data.end());
+        return fields;
+    }
+    if (how == "position")
+        return paired_fields(step, mesh, pair_by_position(step, mesh, what, tolerance), what);
+    const std::vector<int> pair = pair_by_id(step, mesh, how, what);
+    check_paired_positions(step, mesh, pair, what, tolerance);
+    std::vector<Field> fields = paired_fields(step, mesh, pair, what);
+    // Paired, the id array is the mesh's own: not repeated beside it in the outputs.
+    fields.erase(std::remove_if(fields.begin(), fields.end(),
+                                [&](const Field& f) {
+                                    return f.location == FieldLocation::Point && f.name == how;
+                                }),
+                 fields.end());
     return fields;
 }
 
@@ -118,9 +357,26 @@ TimeSeries read_vtk_steps(const std::vector<std::pair<double, std::string>>& fil
             throw InvalidInputError(
                 what + " has time " + std::to_string(time) + ", not after the previous step's " +
                 std::to_string(series.times.back()) + "; order the steps by time");
-        const PolyData step = read_polydata(file);
-        check_step(step, mesh, what, options);
-        auto fields = step_fields(step);
+        std::vector<std::string> dropped;
+        PolyData step;
+        if (lower(fs::path(file).extension().string()) == ".vtu")
+        {
+            UnstructuredGrid grid = read_unstructured_grid(file);
+            step = std::move(grid.data);
+            dropped = std::move(grid.volume_cell_arrays);
+        }
+        else
+            step = read_polydata(file);
+        auto fields = step_fields(step, mesh, what, options);
+        if (k == 0 && !dropped.empty())
+        {
+            std::string names;
+            for (const auto& name : dropped)
+                names += (names.empty() ? "" : ", ") + name;
+            series.notes.push_back(spec + ": the cell arrays " + names + " of " + file +
+                                   " belong to volume cells, not to the wall's polygons; "
+                                   "they are not carried");
+        }
         if (k > 0)
         {
             std::vector<Field>& first = series.steps.front();
@@ -250,10 +506,11 @@ TimeSeries read_field_series(const std::string& spec, const PolyData& mesh,
         return read_vtk_steps(pvd_files(spec), mesh, spec, options);
     if (ext == ".csv")
         return read_csv_series(spec, static_cast<int>(mesh.mesh.points.size()), options);
-    if (ext == ".vtp" || ext == ".vtk")
+    if (ext == ".vtp" || ext == ".vtk" || ext == ".vtu")
         return read_vtk_steps({{0.0, spec}}, mesh, spec, options);
     throw InvalidInputError("read_field_series: '" + spec +
-                            "' is not a .pvd, .csv, .vtp or .vtk file nor a pattern with %d or *");
+                            "' is not a .pvd, .csv, .vtp, .vtk or .vtu file nor a pattern with %d "
+                            "or *");
 }
 
 TimeSeries transfer_series(const TimeSeries& series, const Mesh& mesh)

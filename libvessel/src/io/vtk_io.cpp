@@ -10,6 +10,7 @@
 #include <vtkDataArray.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
+#include <vtkIdList.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -17,12 +18,15 @@
 #include <vtkPolyDataReader.h>
 #include <vtkPolyDataWriter.h>
 #include <vtkSmartPointer.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <functional>
 #include <tuple>
 
 namespace vessel {
@@ -78,6 +82,36 @@ std::vector<Field> read_arrays(vtkFieldData* data, FieldLocation location)
     return out;
 }
 
+std::vector<Eigen::Vector3d> points_of(vtkDataSet* data)
+{
+    std::vector<Eigen::Vector3d> points(static_cast<std::size_t>(data->GetNumberOfPoints()));
+    for (std::size_t i = 0; i < points.size(); ++i)
+        data->GetPoint(static_cast<vtkIdType>(i), points[i].data());
+    return points;
+}
+
+// Runs a VTK XML reader on \p path with VTK's errors turned into IoError; \p check (e.g. the
+// structure checks of vtk_check.h) runs once the file is known to be a \p type file.
+template <class Reader>
+void run_xml_reader(Reader* reader, const std::string& path, const std::string& caller,
+                    const std::string& type, const std::function<void()>& check = {})
+{
+    detail::VtkErrors errors;
+    errors.watch(reader);
+    errors.watch(reader->GetExecutive());
+    reader->SetReaderErrorObserver(errors.command());
+    reader->SetParserErrorObserver(errors.command());
+    if (!reader->CanReadFile(path.c_str()))
+        throw IoError(caller + ": " + path + " is not a VTK XML " + type +
+                      " file (<VTKFile type=\"" + type + "\">)");
+    if (check)
+        check();
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    if (errors.failed())
+        throw IoError(caller + ": VTK could not read " + path + ": " + errors.message());
+}
+
 PolyData convert(vtkPolyData* poly, const std::string& path)
 {
     const auto refuse_cells = [&](vtkIdType n, const char* what) {
@@ -91,13 +125,7 @@ PolyData convert(vtkPolyData* poly, const std::string& path)
     refuse_cells(poly->GetNumberOfStrips(), "triangle strips");
     PolyData out;
     const vtkIdType np = poly->GetNumberOfPoints();
-    out.mesh.points.resize(static_cast<std::size_t>(np));
-    for (vtkIdType i = 0; i < np; ++i)
-    {
-        double p[3];
-        poly->GetPoint(i, p);
-        out.mesh.points[static_cast<std::size_t>(i)] = {p[0], p[1], p[2]};
-    }
+    out.mesh.points = points_of(poly);
     vtkCellArray* polys = poly->GetPolys();
     out.mesh.faces.reserve(static_cast<std::size_t>(polys->GetNumberOfCells()));
     vtkIdType n = 0;
@@ -189,7 +217,7 @@ vtkSmartPointer<vtkPolyData> to_vtk(const PolyData& data, const std::string& pat
 bool is_vtk_path(const std::string& path)
 {
     const std::string ext = lower_extension(path);
-    return ext == ".vtp" || ext == ".vtk";
+    return ext == ".vtp" || ext == ".vtk" || ext == ".vtu";
 }
 
 bool register_vtk_formats()
@@ -197,6 +225,7 @@ bool register_vtk_formats()
     const MeshReader reader = [](const std::string& path) { return read_polydata(path).mesh; };
     register_mesh_reader(".vtp", reader);
     register_mesh_reader(".vtk", reader);
+    register_mesh_reader(".vtu", reader);
     return true;
 }
 
@@ -205,23 +234,22 @@ PolyData read_polydata(const std::string& path)
     if (!std::filesystem::exists(path))
         throw IoError("read_polydata: file not found: " + path);
     const std::string ext = lower_extension(path);
+    if (ext == ".vtu")
+    {
+        UnstructuredGrid grid = read_unstructured_grid(path);
+        if (grid.is_volume())
+            throw IoError("read_polydata: " + path +
+                          " holds volume cells (a 3D mesh), not a wall surface; give the wall "
+                          "(e.g. SimVascular's walls_combined.vtp) as the mesh and the .vtu as "
+                          "--fields, matched by GlobalNodeID (docs/fields.md)");
+        return std::move(grid.data);
+    }
     vtkSmartPointer<vtkPolyData> poly;
     if (ext == ".vtp")
     {
         vtkNew<vtkXMLPolyDataReader> reader;
-        detail::VtkErrors errors;
-        errors.watch(reader);
-        errors.watch(reader->GetExecutive());
-        reader->SetReaderErrorObserver(errors.command());
-        reader->SetParserErrorObserver(errors.command());
-        if (!reader->CanReadFile(path.c_str()))
-            throw IoError("read_polydata: " + path +
-                          " is not a VTK XML PolyData file (<VTKFile type=\"PolyData\">)");
-        detail::check_vtp(path);
-        reader->SetFileName(path.c_str());
-        reader->Update();
-        if (errors.failed())
-            throw IoError("read_polydata: VTK could not read " + path + ": " + errors.message());
+        run_xml_reader(reader.Get(), path, "read_polydata", "PolyData",
+                       [&] { detail::check_vtp(path); });
         poly = reader->GetOutput();
     }
     else if (ext == ".vtk")
@@ -249,10 +277,54 @@ PolyData read_polydata(const std::string& path)
     }
     else
         throw IoError("read_polydata: unknown extension '" + ext + "' (" + path +
-                      "); use .vtp or .vtk");
+                      "); use .vtp, .vtk or .vtu");
     if (!poly || poly->GetNumberOfPoints() == 0)
         throw IoError("read_polydata: no points in " + path + " (empty or truncated file?)");
     return convert(poly, path);
+}
+
+UnstructuredGrid read_unstructured_grid(const std::string& path)
+{
+    if (!std::filesystem::exists(path))
+        throw IoError("read_unstructured_grid: file not found: " + path);
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    run_xml_reader(reader.Get(), path, "read_unstructured_grid", "UnstructuredGrid");
+    vtkUnstructuredGrid* grid = reader->GetOutput();
+    if (!grid || grid->GetNumberOfPoints() == 0)
+        throw IoError("read_unstructured_grid: no points in " + path +
+                      " (empty or truncated file?)");
+    UnstructuredGrid result;
+    PolyData& out = result.data;
+    const vtkIdType np = grid->GetNumberOfPoints();
+    out.mesh.points = points_of(grid);
+    out.point_data = read_arrays(grid->GetPointData(), FieldLocation::Point);
+    const vtkIdType nc = grid->GetNumberOfCells();
+    bool surface = nc > 0;
+    for (vtkIdType c = 0; surface && c < nc; ++c)
+    {
+        const int type = grid->GetCellType(c);
+        surface = type == VTK_TRIANGLE || type == VTK_QUAD || type == VTK_POLYGON;
+    }
+    if (surface)
+    {
+        out.mesh.faces.reserve(static_cast<std::size_t>(nc));
+        vtkNew<vtkIdList> ids;
+        for (vtkIdType c = 0; c < nc; ++c)
+        {
+            grid->GetCellPoints(c, ids);
+            auto& face = out.mesh.faces.emplace_back();
+            for (vtkIdType k = 0; k < ids->GetNumberOfIds(); ++k)
+                face.push_back(static_cast<int>(ids->GetId(k)));
+        }
+        out.cell_data = read_arrays(grid->GetCellData(), FieldLocation::Cell);
+    }
+    else
+        for (const auto& f : read_arrays(grid->GetCellData(), FieldLocation::Cell))
+            result.volume_cell_arrays.push_back(f.name);
+    const int nf = static_cast<int>(out.mesh.faces.size());
+    check_fields(out.point_data, static_cast<int>(np), nf, path);
+    check_fields(out.cell_data, static_cast<int>(np), nf, path);
+    return result;
 }
 
 void write_polydata(const std::string& path, const PolyData& data, const VtkWriteOptions& options)

@@ -19,8 +19,20 @@ struct FieldSeriesOptions
     //! headers are not numbers): step k is at `k * time_step`.
     double time_step = 1.0;
     //! Largest distance between a step file's point and the mesh's, as a fraction of the
-    //! mesh's bounding-box diagonal (float32 files round coordinates at ~1e-7).
+    //! mesh's bounding-box diagonal (float32 files round coordinates at ~1e-7). Checked for
+    //! every paired point, however the points are paired (see match_by).
     double position_tolerance = 1e-5;
+    //! How the points of a step file (`.vtp`, `.vtk`, `.vtu`) are paired with the mesh's:
+    //! - empty (default): by `GlobalNodeID` when the mesh and the step both have that array,
+    //!   otherwise in file order;
+    //! - `order`: step point i is mesh vertex i (same point and polygon counts);
+    //! - `position`: the step's point nearest each mesh vertex, within position_tolerance;
+    //! - any other word: the name of an integer point array that the mesh and every step hold
+    //!   (each of the mesh's ids must occur in the step; the step may have more points, e.g. a
+    //!   solver's volume mesh). The id array itself is then left out of the steps: paired, it
+    //!   equals the mesh's.
+    //! A mesh vertex left without a partner is an error that counts them; nothing is guessed.
+    std::string match_by;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -31,11 +43,16 @@ struct FieldSeriesOptions
 //!   file is missing) or a glob in the file name (`wss_*.vtp`, ordered by the number in it),
 //! - `NAME.csv`: wide (vertex id column, then one column per step whose header is its time) or
 //!   long (columns vertex, time, value),
-//! - a single `.vtp` / `.vtk` (one step at time 0),
-//! and check every step against \p mesh: point and polygon counts, point positions, integer id
-//! arrays present in both (e.g. GlobalNodeID), and CSV vertex ids (0-based, each exactly once).
+//! - a single `.vtp` / `.vtk` / `.vtu` (one step at time 0),
+//! and pair every step's points with \p mesh's (FieldSeriesOptions::match_by: in file order,
+//! by an id array such as GlobalNodeID, or by position), checking positions, integer id arrays
+//! present in both, and CSV vertex ids (0-based, each exactly once). The step's point arrays come
+//! back in the mesh's vertex order. Its cell arrays are placed on the mesh's polygons with the
+//! same corners; a step without polygons (a `.vtu` volume) has its cell arrays left out, with a
+//! note in TimeSeries::notes.
 //! \param mesh the input surface with its arrays (read_polydata(), or a RawMesh with no fields).
-//! \throw InvalidInputError saying which step, file, row or id does not match and how.
+//! \throw InvalidInputError saying which step, file, row or id does not match and how (with the
+//! number of unpaired vertices or polygons).
 //! \throw IoError if a file is missing or unreadable.
 TimeSeries read_field_series(const std::string& spec, const PolyData& mesh,
                              const FieldSeriesOptions& options = {});

@@ -46,6 +46,7 @@ struct TimeSeries
     std::vector<double> times;              //!< seconds, strictly increasing
     std::vector<std::vector<Field>> steps;  //!< `steps[k]` = fields at `times[k]`, same names
     std::vector<std::string> sources;       //!< where step k came from (file, CSV column)
+    std::vector<std::string> notes;         //!< what reading left out (e.g. volume cell arrays)
 
     int size() const { return static_cast<int>(times.size()); }
 };

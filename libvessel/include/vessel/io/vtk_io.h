@@ -49,10 +49,29 @@ struct VtkWriteOptions
 
 //! \brief Read a `.vtp` (ascii, binary or appended; uncompressed or zlib, lz4 or lzma) or legacy `.vtk`
 //! POLYDATA file with all its point and cell data arrays (scalars, vectors, tensors; float,
-//! double and integer types). Field data arrays are ignored.
+//! double and integer types). Field data arrays are ignored. A `.vtu` is read with
+//! read_unstructured_grid() and must be a surface (polygon cells only).
 //! \throw IoError if the file is missing, unreadable, not PolyData, or holds vertex, line or
-//! strip cells (the message says how to remove them).
+//! strip cells (the message says how to remove them); for a `.vtu`, if it holds volume cells.
 PolyData read_polydata(const std::string& path);
+
+//! A `.vtu` as read_unstructured_grid() returns it.
+struct UnstructuredGrid
+{
+    //! Points and point arrays; if every cell is a polygon (triangle, quad, polygon: a surface
+    //! stored as an unstructured grid), also the cells as `mesh.faces` with the cell arrays.
+    PolyData data;
+    //! With any other cell (tetrahedra: a volume mesh), `data` has no faces and no cell arrays;
+    //! the names of the cell arrays left out.
+    std::vector<std::string> volume_cell_arrays;
+    bool is_volume() const { return data.mesh.faces.empty(); }
+};
+
+//! \brief Read a `.vtu` (VTK XML UnstructuredGrid, what svFSI and other CFD solvers write). A
+//! volume's point values can be matched to a wall surface by an id array or by position
+//! (read_field_series()); its cells cannot.
+//! \throw IoError if the file is missing, unreadable or not an UnstructuredGrid.
+UnstructuredGrid read_unstructured_grid(const std::string& path);
 
 //! \brief Write \p data as `.vtp` (XML) or `.vtk` (legacy, by extension) with VTK's writers.
 //! Written to a temporary name and renamed, so a failed run leaves no partial file.
@@ -61,10 +80,10 @@ PolyData read_polydata(const std::string& path);
 void write_polydata(const std::string& path, const PolyData& data,
                     const VtkWriteOptions& options = {});
 
-//! True if \p path ends in `.vtp` or `.vtk` (any case).
+//! True if \p path ends in `.vtp`, `.vtk` or `.vtu` (any case): read_polydata() reads it.
 bool is_vtk_path(const std::string& path);
 
-//! \brief Let read_raw_mesh() (io.h) read `.vtp` and `.vtk` files through read_polydata().
+//! \brief Let read_raw_mesh() (io.h) read `.vtp`, `.vtk` and `.vtu` files through read_polydata().
 //! Idempotent. Called automatically in every program that includes this header (below), so a
 //! program linking `vessel::vtk` never needs to call it; the core library itself does not link
 //! VTK.
