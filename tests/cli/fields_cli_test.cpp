@@ -28,31 +28,35 @@ namespace {
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 const std::string kPhantom = VESSEL_PHANTOM_EXE;
 
-// Independent check with VTK's Python reader: every step file of OUT.pvd (both parts) holds
-// WSS equal to the input CSV's value at the cut vertex's InputVertex; the map part has z = 0.
+// Independent check with VTK's Python reader: OUT.pvd (the 3D cut mesh) and OUT-map.pvd (the
+// map) are separate collections of one part each; every step file holds WSS equal to the input
+// CSV's value at the cut vertex's InputVertex; the map has z = 0 and the distortion cell arrays.
 const char* kCheckSeries = R"(import sys, numpy as np, vtk, xml.etree.ElementTree as ET
 from vtk.util.numpy_support import vtk_to_numpy as np_of
 pvd, csv = sys.argv[1], sys.argv[2]
 table = np.loadtxt(csv, delimiter=",", skiprows=1)
 times = np.loadtxt(csv, delimiter=",", max_rows=1, dtype=str)[1:].astype(float)
-entries = ET.parse(pvd).getroot().find("Collection").findall("DataSet")
-assert len(entries) == 2 * len(times), (len(entries), len(times))
 base = pvd.rsplit("/", 1)[0]
-for i, e in enumerate(entries):
-    k = i // 2
-    assert abs(float(e.get("timestep")) - times[k]) < 1e-12
-    assert int(e.get("part")) == i % 2
-    r = vtk.vtkXMLPolyDataReader(); r.SetFileName(base + "/" + e.get("file")); r.Update()
-    o = r.GetOutput(); pd = o.GetPointData()
-    wss = np_of(pd.GetArray("WSS")); src = np_of(pd.GetArray("InputVertex"))
-    rows = table[:, 0].astype(int)
-    expected = np.empty(len(rows)); expected[rows] = table[:, k + 1]
-    assert np.array_equal(wss, expected[src]), k
-    if i % 2 == 1:
-        z = np_of(o.GetPoints().GetData())[:, 2]
-        assert np.all(z == 0)
-        uv = np_of(pd.GetTCoords()); xy = np_of(o.GetPoints().GetData())[:, :2]
-        assert np.array_equal(uv, xy)
+for suffix in ("", "-map"):
+    entries = ET.parse(pvd[:-4] + suffix + ".pvd").getroot().find("Collection").findall("DataSet")
+    assert len(entries) == len(times), (suffix, len(entries), len(times))
+    for k, e in enumerate(entries):
+        assert abs(float(e.get("timestep")) - times[k]) < 1e-12
+        assert int(e.get("part")) == 0
+        assert e.get("file").endswith("_%03d%s.vtp" % (k, suffix)), e.get("file")
+        r = vtk.vtkXMLPolyDataReader(); r.SetFileName(base + "/" + e.get("file")); r.Update()
+        o = r.GetOutput(); pd = o.GetPointData()
+        wss = np_of(pd.GetArray("WSS")); src = np_of(pd.GetArray("InputVertex"))
+        rows = table[:, 0].astype(int)
+        expected = np.empty(len(rows)); expected[rows] = table[:, k + 1]
+        assert np.array_equal(wss, expected[src]), k
+        has_distortion = o.GetCellData().GetArray("LogAreaRatio") is not None
+        assert has_distortion == (suffix == "-map")
+        if suffix == "-map":
+            z = np_of(o.GetPoints().GetData())[:, 2]
+            assert np.all(z == 0)
+            uv = np_of(pd.GetTCoords()); xy = np_of(o.GetPoints().GetData())[:, :2]
+            assert np.array_equal(uv, xy)
 print(len(times), "steps checked")
 )";
 

@@ -372,7 +372,33 @@ TEST_CASE("solver series: vessel-flatten takes an svFSI-style .pvd of .vtu files
     {
         const PolyData step = read_polydata(dir + "/flat/flat_00" + std::to_string(k) + ".vtp");
         check_values(step.point_data, step.mesh.points, k == 0 ? 1.8 : 1.85);
+        // The map's step: WSS as map vectors (in its plane), listed by its own collection.
+        const PolyData map =
+            read_polydata(dir + "/flat/flat_00" + std::to_string(k) + "-map.vtp");
+        const Field& wss = find_field(map.point_data, "WSS");
+        CHECK(wss.values.col(2).cwiseAbs().maxCoeff() == 0.0);
+        CHECK(wss.values.leftCols(2).rowwise().norm().maxCoeff() > 0.1);
+        CHECK(find_field(map.cell_data, "LogAreaRatio").rows() ==
+              static_cast<Eigen::Index>(map.mesh.faces.size()));
     }
+    CHECK(contains(vessel::test::read_bytes(dir + "/flat-map.pvd"), "file=\"flat/flat_001-map.vtp\""));
+    CHECK_FALSE(contains(vessel::test::read_bytes(dir + "/flat.pvd"), "-map.vtp"));
+
+    // --field NAME:x draws a component; a component the array lacks is refused before any work.
+    REQUIRE(vessel::test::run(kFlatten + " " + dir + "/wall.vtp -o " + dir +
+                              "/x.vtp --refine none -q --fields " + pvd +
+                              " --field WSS:x --image " + dir + "/x.png 2> " + dir +
+                              "/stderr.txt") == 0);
+    CHECK(std::filesystem::file_size(dir + "/x.png") > 1000);
+    for (const std::string& bad : {"Pressure:y", "WSS:w"})
+    {
+        INFO(bad);
+        CHECK(vessel::test::run(kFlatten + " " + dir + "/wall.vtp -o " + dir +
+                                "/bad.vtp --refine none -q --fields " + pvd + " --field " + bad +
+                                " --image " + dir + "/bad.png 2> " + dir + "/stderr.txt") == 1);
+        CHECK_FALSE(std::filesystem::exists(dir + "/bad.vtp"));
+    }
+    CHECK(contains(vessel::test::read_bytes(dir + "/stderr.txt"), "'w' is not magnitude, x, y or z"));
 
     // One wall id missing from the solver's files: exit 1, the count, and no output left.
     StepFaults foreign;

@@ -1,5 +1,6 @@
 #include "field_input.h"
 
+#include "vessel/core/errors.h"
 #include "vessel/io/io.h"
 
 namespace vessel::cli {
@@ -11,8 +12,9 @@ CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string
         "Fields over the input mesh " + purpose + ": a .vtp/.vtk, a .pvd series, numbered "
         "files (wss_%03d.vtp or 'wss_*.vtp') or a CSV table (wide: vertex,t0,t1,...; long: "
         "vertex,time,NAME); see docs/fields.md");
-    app.add_option("--field", args.name, "Keep only this array of --fields (and check that it "
-                                         "exists); also the CSV field's name in wide form");
+    app.add_option("--field", args.name,
+                   "Keep only this array of --fields (and check that it exists); also the CSV "
+                   "field's name in wide form. NAME:magnitude|x|y|z: the value images draw");
     app.add_option("--time-step", args.series.time_step,
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)
@@ -30,10 +32,33 @@ CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string
     return fields;
 }
 
+std::string FieldChoice::title(int components) const
+{
+    if (component >= 0)
+        return name + "_" + "xyz"[component];
+    return components == 1 ? name : "|" + name + "|";
+}
+
+FieldChoice parse_field_choice(const std::string& spec)
+{
+    FieldChoice choice;
+    const auto colon = spec.rfind(':');
+    choice.name = spec.substr(0, colon);
+    if (colon == std::string::npos)
+        return choice;
+    const std::string which = spec.substr(colon + 1);
+    if (which == "x" || which == "y" || which == "z")
+        choice.component = which[0] - 'x';
+    else if (which != "magnitude")
+        throw InvalidInputError("--field " + spec + ": '" + which +
+                                "' is not magnitude, x, y or z (e.g. --field WSS:x)");
+    return choice;
+}
+
 FieldInput read_field_input(const std::string& input, const FieldArgs& args)
 {
     const std::string& spec = args.spec;
-    const std::string& field_name = args.name;
+    const std::string field_name = parse_field_choice(args.name).name;
     FieldSeriesOptions series_options = args.series;
     FieldInput in;
     if (is_vtk_path(input))

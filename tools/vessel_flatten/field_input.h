@@ -29,6 +29,19 @@ struct FieldArgs
     FieldSeriesOptions series;
 };
 
+//! `--field NAME[:magnitude|x|y|z]`: an array and the value of it that images draw.
+struct FieldChoice
+{
+    std::string name;    //!< the array (empty: none chosen)
+    int component = -1;  //!< 0, 1, 2 for x, y, z; -1: a scalar's value or a vector's length
+    //! The colorbar title: `NAME`, `|NAME|` (a vector's length) or `NAME_x`.
+    std::string title(int components) const;
+};
+
+//! \brief Split `--field` at its last ':'.
+//! \throw InvalidInputError if the part after ':' is not magnitude, x, y or z.
+FieldChoice parse_field_choice(const std::string& spec);
+
 //! Adds --fields (\p purpose says what they are for), --field, --time-step, --match-by and
 //! --match-tolerance to \p app.
 //! \return the --fields option.

@@ -1,5 +1,6 @@
 #include "images.h"
 
+#include "field_input.h"
 #include "vessel/core/errors.h"
 #include "vessel/render/map_frames.h"
 #include "vessel/render/map_image.h"
@@ -11,12 +12,18 @@ namespace vessel::cli {
 
 namespace {
 
-// One value per cut vertex: the scalar itself, or a vector's length.
-Eigen::VectorXd scalar_values(const Field& field)
+// One value per cut vertex: the scalar itself, a vector's length, or its chosen component.
+Eigen::VectorXd scalar_values(const Field& field, int component)
 {
     if (field.location != FieldLocation::Point)
         throw InvalidInputError("--image/--frames draw point fields; '" + field.name +
                                 "' is a cell field");
+    if (component >= field.components())
+        throw InvalidInputError("--field " + field.name + ":" + "xyz"[component] + ": '" +
+                                field.name + "' has " + std::to_string(field.components()) +
+                                (field.components() == 1 ? " component" : " components"));
+    if (component >= 0)
+        return field.values.col(component);
     return field.components() == 1 ? Eigen::VectorXd(field.values.col(0))
                                    : Eigen::VectorXd(field.values.rowwise().norm());
 }
@@ -75,12 +82,12 @@ std::pair<Field, bool> requested_field(const ImageRequest& request,
 {
     std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
     candidates.insert(candidates.end(), fields.begin(), fields.end());
-    const Field& field = chosen(request.field, candidates);
+    const Field& field = chosen(parse_field_choice(request.field).name, candidates);
     const bool over_time = in_series(series, field.name);
     if ((request.step || request.time) && !over_time)
         throw InvalidInputError("--image-step/--image-time choose a moment of a time series; '" +
                                 field.name + "' is not one (give --fields with a series)");
-    scalar_values(field);  // refuses a cell field
+    scalar_values(field, parse_field_choice(request.field).component);  // refuses a cell field
     if (!request.frames.empty() && !over_time)
         throw InvalidInputError("--frames needs a time series with several steps (--fields); '" +
                                 field.name + "' has one");
@@ -102,16 +109,18 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     if (request.images.empty() && request.frames.empty())
         return;
     const auto [field, over_time] = requested_field(request, fields, series);
+    const FieldChoice choice = parse_field_choice(request.field);
     const MapImageInput input = map_image_input(result);
     MapImageOptions options;
-    options.field_name = field.components() == 1 ? field.name : "|" + field.name + "|";
+    options.field_name = FieldChoice{field.name, choice.component}.title(field.components());
     options.units = request.units;
     FieldSeries values;
     if (over_time)
     {
         values.times = series.times;
         for (const auto& step : series.steps)
-            values.values.push_back(scalar_values(find_field(step, field.name)));
+            values.values.push_back(
+                scalar_values(find_field(step, field.name), choice.component));
     }
     if (!request.images.empty())
     {
@@ -125,7 +134,7 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
             image_options.field_name += when;
         }
         else
-            shown = scalar_values(field);
+            shown = scalar_values(field, choice.component);
         image_options.view3d = request.view3d;
         for (const auto& path : request.images)
         {

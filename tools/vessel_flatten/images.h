@@ -16,7 +16,8 @@ struct ImageRequest
     //! --image OUT.png|svg|pdf ...: the same image in each of these files (empty: none)
     std::vector<std::string> images;
     std::string frames;  //!< --frames DIR (empty: none)
-    std::string field;   //!< --field NAME (empty: the first point field)
+    //! --field NAME[:magnitude|x|y|z] (empty: the first point field; parse_field_choice())
+    std::string field;
     std::string units;   //!< --image-units: after the colorbar title, e.g. "Pa"
     bool view3d = false;  //!< --image-3d: the 3D cut mesh beside the map
     //! --image-step N: the series step --image draws (0-based); none = step 0 unless `time`.

@@ -134,6 +134,7 @@ OutputPlan::OutputPlan(const OutputRequest& request) : uncaught_(std::uncaught_e
             {
                 const fs::path pvd = fs::path(out).replace_extension(".pvd");
                 add("-o", pvd.string());
+                add("-o", map_path(pvd.string()));
                 folders_.push_back((pvd.parent_path() / pvd.stem()).string());
             }
         }

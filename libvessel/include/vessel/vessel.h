@@ -24,6 +24,7 @@
 #include "vessel/direction/geodesic.h"
 #include "vessel/fields/field_series.h"
 #include "vessel/fields/fields.h"
+#include "vessel/fields/map_vectors.h"
 #include "vessel/fields/pulse_series.h"
 #include "vessel/io/flat_io.h"
 #include "vessel/io/flat_vtk.h"

@@ -2,6 +2,7 @@
 
 #include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
+#include "vessel/fields/map_vectors.h"
 #include "detail/uv_rows.h"
 
 #include <filesystem>
@@ -43,8 +44,11 @@ PolyData flat_polydata(const Mesh& mesh, const Eigen::MatrixX2d& uv,
     out.point_data = {tcoords, vertex};
     out.cell_data = {cell};
     out.tcoords = uv_array;
-    for (const auto& f : fields)
+    for (const auto& f : map ? map_fields(fields, mesh, uv) : fields)
         (f.location == FieldLocation::Point ? out.point_data : out.cell_data).push_back(f);
+    if (map)
+        for (auto& f : distortion_fields(mesh, uv))
+            out.cell_data.push_back(std::move(f));
     return out;
 }
 
@@ -64,9 +68,10 @@ void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::Matr
 void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                        const std::vector<Field>& fields, const TimeSeries& series)
 {
+    const auto on_map = [&](const std::vector<Field>& step) { return map_fields(step, mesh, uv); };
     write_pvd_series(pvd_path,
-                     {{"", flat_polydata(mesh, uv, fields, false)},
-                      {"-map", flat_polydata(mesh, uv, fields, true)}},
+                     {{"", flat_polydata(mesh, uv, fields, false), "", {}},
+                      {"-map", flat_polydata(mesh, uv, fields, true), map_path(pvd_path), on_map}},
                      series);
 }
 

@@ -23,7 +23,9 @@ inline constexpr const char* input_cell_array = "InputCell";
 //! \brief The cut mesh as PolyData: points are the cut mesh's vertices (seam copies included),
 //! triangles its faces, point data `uv` (texture coordinates) and `InputVertex`, cell data
 //! `InputCell`, plus \p fields.
-//! \param map false: 3D positions; true: the flat map, points (u, v, 0).
+//! \param map false: 3D positions and \p fields as they are; true: the flat map, points
+//! (u, v, 0), 3-component fields as map vectors (map_fields()) and the cell arrays of
+//! distortion_fields() (`LogAreaRatio`, `ConformalDistortion`).
 //! \param fields rows indexed by `v.idx()` / `f.idx()` of \p mesh (see transfer_fields()).
 //! \param uv |V| x 2, row `v.idx()`.
 //! \throw InvalidInputError if sizes disagree or `prop::input_index` / `prop::input_face` is
@@ -40,8 +42,10 @@ std::string map_path(const std::string& path);
 void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                     const std::vector<Field>& fields);
 
-//! \brief Write a series on the cut mesh as the `.pvd` \p pvd_path: per step, the 3D cut mesh
-//! (part 0) and the map (part 1, suffix `-map`) with \p fields and that step's fields.
+//! \brief Write a series on the cut mesh as two collections, the 3D cut mesh in \p pvd_path and
+//! the map in map_path(\p pvd_path) (`OUT.pvd`, `OUT-map.pvd`), each step file with \p fields
+//! and that step's fields (on the map as flat_polydata(..., true) has them). The step files go
+//! to `OUT/OUT_NNN.vtp` and `OUT/OUT_NNN-map.vtp`.
 //! \param series rows indexed by the cut mesh (transfer_fields() on every step).
 void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                        const std::vector<Field>& fields, const TimeSeries& series);
