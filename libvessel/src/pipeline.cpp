@@ -11,6 +11,7 @@
 #include "detail/disk_flatten.h"
 #include "detail/look_retry.h"
 #include "detail/refine_map.h"
+#include "detail/solve_map.h"
 #include "detail/stage_clock.h"
 
 #include <chrono>
@@ -58,6 +59,7 @@ void FlattenOptions::validate() const
             throw InvalidInputError("FlattenOptions: look_margin_deg must be in [0, 90), got " +
                                     std::to_string(look_margin_deg));
         look_retry.validate();
+        multilevel.validate();
         if (polish_area)
             area_polish.validate();
         if (polish_area && !(polished_scaffold_tolerance > 0.0))
@@ -118,12 +120,6 @@ void put_inlet_at_bottom(const Pins& inlet, Eigen::MatrixX2d& uv)
     uv = ((uv.rowwise() - centre) * R.transpose()).eval();
 }
 
-Pins concat(const Pins& a, const Pins& b)
-{
-    Pins all = a;
-    all.insert(all.end(), b.begin(), b.end());
-    return all;
-}
 
 
 // Stage Z (step 3) on the uncut mesh: boundary loops, geodesic distance from the inlet, the
@@ -269,68 +265,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const LayoutResult placed = layout->place(input);
     result.timings.L = clock.lap("L");
 
-    // F: initial map, then refinement with the inlet pinned.
-    const bool may_restart =
-        options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
-    // Where ARAP surely runs (no restart can skip it: the paper's refinement, or overlaps
-    // kept), its factorization, which depends on the cut mesh and the inlet but not on the
-    // initial map, is made on the second core while the initial map is solved (same bits).
-    // LSCM and it share one elimination ordering of the cut mesh (AMD on its whole vertex
-    // graph; each system leaves out its pinned vertices). Carrying stage Z's ordering of the
-    // uncut mesh over instead would skip this AMD but costs more in fill (carotid-300k: LSCM
-    // 9.6 against 7.2 GFlop); the whole graph's gives less than LSCM's own AMD of its free
-    // vertices (7.96 GFlop), and ARAP's own AMD is saved.
-    const bool arap_ahead = options.refinement != Refinement::None &&
-                            options.arap.max_iterations > 0 &&
-                            options.arap.solver == ArapSolver::LocalGlobal &&
-                            !options.arap.prefactored && !may_restart;
-    const bool at_lscm = options.initialization == Initialization::LayoutLscm;
-    const VertexOrdering cut_order =
-        arap_ahead || at_lscm ? laplacian_ordering(mesh) : VertexOrdering{};
-    std::future<std::shared_ptr<const ArapFactor>> arap_factor;
-    if (arap_ahead)
-        arap_factor = std::async(std::launch::async, [&mesh, &placed, &cut_order] {
-            return arap_prefactor(mesh, placed.inlet, &cut_order);
-        });
-    bool at_layout = at_lscm;
-    switch (options.initialization)
-    {
-        case Initialization::LayoutLscm:
-            result.uv = lscm(mesh, concat(placed.inlet, placed.outlets), &cut_order);
-            break;
-        case Initialization::SpectralConformal:
-            result.uv = spectral_conformal(mesh);
-            break;
-        case Initialization::Tutte:
-            result.uv = tutte_embedding(mesh);
-            break;
-    }
-    FlattenOptions prefactored;  // options with the factor, when made ahead
-    const FlattenOptions& refine_options = arap_factor.valid() ? prefactored : options;
-    if (arap_factor.valid())
-    {
-        prefactored = options;
-        prefactored.arap.prefactored = arap_factor.get();
-    }
-    Pins pins = placed.inlet;
-    if (!at_layout)  // keep the initial map's own placement of the inlet
-        for (auto& pin : pins)
-            pin.uv = result.uv.row(pin.vertex.idx()).transpose();
-    const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
-    // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
-    // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
-    // ARAP never removed a crossing of the LSCM map (9 of 9 stayed crossed), so this skips
-    // only work whose result was thrown away (docs/benchmarks.md).
-    const bool crosses_at_once =
-        may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
-    const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
-    if (detail::refine_map(mesh, pins, refine_options, crossing,
-                           crosses_at_once ? crossing : "", result, &input, &placed))
-    {
-        at_layout = false;
-        detail::retry_look(mesh, pins, initial, options, result, input, placed);
-    }
-    if (!at_layout)
+    // F: the map (solve_map.h: coarse-to-fine on large meshes), the inlet at the bottom.
+    if (!detail::solve_map(mesh, input, placed, options, result))
         put_inlet_at_bottom(placed.inlet, result.uv);
     store<OpenMesh::Vec2d>(
         mesh, prop::uv, [&](int i) { return OpenMesh::Vec2d(result.uv(i, 0), result.uv(i, 1)); });

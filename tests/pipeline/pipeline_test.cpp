@@ -240,6 +240,25 @@ TEST_CASE("cli: vmtk aorta (inward wound, 3 loops) flattens")
 TEST_CASE("cli: vmtk aorta STL original flattens") { check_real_mesh("vmtk-test-data/aorta-surface-open-ends.stl", 3); }
 TEST_CASE("cli: VaMPy artery with aneurysm flattens") { check_real_mesh("vampy/artery.ply", 3); }
 TEST_CASE("cli: VaMPy coarse artery flattens") { check_real_mesh("vampy/artery-coarse.ply", 3); }
+TEST_CASE("cli: VaMPy artery flattens coarse-to-fine, one-to-one")
+{
+    // check_real_mesh() asserts the disk, no flip, no overlap, the loops; here also that the
+    // map was made coarse-to-fine (not the full-resolution fallback) and its area distortion.
+    check_real_mesh("vampy/artery.ply", 3, "--coarse-vertices 1000");
+    const std::string dir = temp_dir("artery_coarse_to_fine");
+    REQUIRE(run(kFlatten + " " + kData + "/vampy/artery.ply -o " + dir + "/flat.obj --report " +
+                dir + "/report.json --quiet --coarse-vertices 1000") == 0);
+    const auto report = nlohmann::json::parse(std::ifstream(dir + "/report.json"));
+    bool coarse = false, fell_back = false;
+    for (const std::string note : report["notes"])
+    {
+        coarse = coarse || note.find("coarse-to-fine: the map solved on 1000 of") == 0;
+        fell_back = fell_back || note.find("solved again at full resolution") != std::string::npos;
+    }
+    CHECK(coarse);
+    CHECK_FALSE(fell_back);
+    CHECK(report["quality"]["mean_abs_log_area_ratio"].get<double>() < 0.03);
+}
 TEST_CASE("cli: AneuRisk lateral aneurysm (4 loops) flattens")
 {
     // With the area polish (default) the first map is at 0.013 mean |log area|, so no relief

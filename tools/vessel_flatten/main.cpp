@@ -397,6 +397,13 @@ int main(int argc, char** argv)
         ->check(CLI::PositiveNumber)
         ->capture_default_str()
         ->group(map_tuning);
+    app.add_option("--coarse-vertices", options.multilevel.coarse_vertices,
+                   "With --refine injective: cut meshes with more than twice this many vertices "
+                   "are mapped coarse-to-fine (solved on a decimated copy, then relaxed at full "
+                   "resolution); 0 = every map at full resolution (slower on large meshes)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--polished-scaffold-tolerance", options.polished_scaffold_tolerance,
                    "As --scaffold-tolerance when the area polish follows SLIM (the default): "
                    "the polish's Newton steps do the rest faster")

@@ -2,6 +2,7 @@
 
 #include "vessel/map/arap.h"
 #include "vessel/map/area_polish.h"
+#include "vessel/map/multilevel.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/direction/curvature.h"
 #include "vessel/cut/cut_cost.h"
@@ -178,6 +179,11 @@ struct FlattenOptions
     //! by default"). CLI `--area-polish LAMBDA`, `--no-area-polish`.
     bool polish_area = true;
     AreaPolishOptions area_polish;  //!< the polish of polish_area
+    //! With Refinement::Injective: large cut meshes are mapped coarse-to-fine (multilevel.h):
+    //! the whole F above (initial map, SLIM, polish, look retry) on a decimated copy of
+    //! `multilevel.coarse_vertices` vertices, then carried to every vertex and relaxed there.
+    //! `coarse_vertices = 0` solves every map at full resolution. CLI `--coarse-vertices N`.
+    MultilevelOptions multilevel;
     //! With polish_area: SLIM's scaffold phase stops by this tolerance instead of
     //! InjectiveOptions::scaffold_tolerance (same rule: 3 iterations in a row lowering the
     //! energy by less than this fraction). The scaffold phase's slow tail evens out area, which

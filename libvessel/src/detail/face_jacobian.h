@@ -20,6 +20,9 @@ struct FaceOperator
     double area = 0.0;  //!< 3D area
 };
 
+//! The operator of the triangle (q0, q1, q2) whose corners are the map's vertices \p corner.
+FaceOperator face_operator(const Eigen::Vector3d& q0, const Eigen::Vector3d& q1,
+                           const Eigen::Vector3d& q2, const std::array<int, 3>& corner);
 //! One operator per face, `f.idx()`.
 std::vector<FaceOperator> face_operators(const Mesh& mesh);
 

@@ -1,0 +1,100 @@
+#pragma once
+// Coarse-to-fine one-to-one maps: the nonlinear map (SLIM, its scaffold, the area polish, the
+// look retry) is solved on a decimated copy of the cut mesh, carried to every vertex of the
+// full mesh by undoing the decimation's collapses (Sander et al. 2001, "Texture mapping
+// progressive meshes"), and finished there with local steps that cannot flip a triangle. Each
+// full-size factorization of the single-level path is replaced by one of a mesh
+// `coarse_vertices` large, so stage F's cost no longer grows with the number of nonlinear
+// iterations times the mesh size (as in Hormann, Labsik and Greiner 2001, "Remeshing
+// triangulated surfaces with optimal parameterizations", and Liu et al. 2018, "Progressive
+// parameterizations"). The local steps remove the short-wavelength error of the carried map,
+// not the long-wavelength one: the map's area distortion is the coarse map's plus what the
+// coarse mesh's chords miss of the surface.
+
+#include "vessel/core/mesh.h"
+#include "vessel/layout/pins.h"
+
+#include <array>
+#include <vector>
+
+namespace vessel {
+
+//! When and how stage F solves the map on a coarse mesh first (FlattenOptions::multilevel).
+struct MultilevelOptions
+{
+    //! Vertices of the coarse mesh. Cut meshes with more than twice as many vertices are
+    //! flattened coarse-to-fine; smaller ones directly. 0 (the default) = never: every map is
+    //! solved at full resolution. Coarse-to-fine trades area distortion for time on large
+    //! meshes, and falls back to the full-resolution map (noted) where the carried map is not
+    //! one-to-one (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
+    int coarse_vertices = 0;
+    //! Gauss-Seidel sweeps of relax_area() at full resolution, at most; they stop earlier once
+    //! a sweep lowers the energy by less than `tolerance` of its excess over the isometric
+    //! minimum.
+    int relax_sweeps = 40;
+    double tolerance = 1e-3;  //!< relax_area()'s stopping rule (see relax_sweeps)
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! One halfedge collapse of coarsen(): v0 went into v1. Indices are the fine mesh's.
+struct Collapse
+{
+    int v0 = -1, v1 = -1;
+    int across = -1;  //!< for a boundary v0, its other boundary neighbour; else -1
+    //! v0's faces just before the collapse, each as the (a, b) of the counter-clockwise (v0, a, b)
+    std::vector<std::array<int, 2>> faces;
+};
+
+//! A decimated copy of a mesh whose vertices are a subset of the fine mesh's (halfedge
+//! collapses: every kept vertex stays where it was).
+struct CoarseMesh
+{
+    Mesh mesh;
+    std::vector<Collapse> collapses;  //!< in the order made
+    std::vector<int> fine_of;    //!< per coarse vertex, its fine vertex index
+    std::vector<int> coarse_of;  //!< per fine vertex, its coarse vertex index or -1 (removed)
+};
+
+//! \brief Decimate \p fine to about \p target_vertices by rounds of shortest-edge halfedge
+//! collapses on independent sets (the kept vertices spread evenly over the surface), each
+//! keeping the topology (a disk stays a disk) and turning no face normal by more than 60
+//! degrees. Boundary vertices are removed only along the boundary, so the coarse boundary is a
+//! subsequence of the fine one; those in \p keep are never removed.
+//! The coarse mesh carries none of the fine mesh's custom properties.
+CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep);
+
+//! \brief Carry a map of the coarse mesh to every fine vertex: kept vertices keep their coarse
+//! (u, v); the collapses are undone in reverse order (Sander et al. 2001, "Texture mapping
+//! progressive meshes"), each interior vertex placed where an affine fit of the map over its
+//! one ring puts it, each boundary vertex on the boundary edge it was cut from, or nearer its
+//! collapse target where a face of its star would flip there. A flip-free coarse map gives a
+//! flip-free fine map (each star is kept positive; near the target it is); boundary vertices
+//! on their edges keep the coarse boundary's shape, and so its simplicity, except where no
+//! point of the edge keeps the star positive (then the vertex goes inside the star). Each
+//! re-inserted interior vertex then takes a few of relax_area()'s Newton steps in its star.
+//! \return |V_fine| x 2, row `v.idx()`.
+//! \param area_weight lambda of the energy each re-inserted interior vertex is settled with
+//! (relax_area()).
+Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
+                            const Eigen::MatrixX2d& coarse_uv, double area_weight);
+
+//! What relax_area() did.
+struct RelaxSummary
+{
+    int sweeps = 0;
+    double energy_before = 0.0, energy_after = 0.0;  //!< the energy of area_polish.h
+};
+
+//! \brief Lower the area-weighted distortion energy of area_polish() (weight \p area_weight) of
+//! a flip-free map by Gauss-Seidel sweeps of per-vertex projected Newton steps, each with a line
+//! search that keeps every incident face's orientation (the energy's barrier), so no face flips.
+//! Pinned vertices stay put; boundary vertices move. Each sweep costs O(|F|): it removes the
+//! short-wavelength error a prolongation leaves, not the long-wavelength one a global solve
+//! removes.
+//! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.
+//! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2.
+RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
+                        double area_weight, const MultilevelOptions& options = {});
+
+}  // namespace vessel

@@ -1,0 +1,359 @@
+#include "vessel/map/multilevel.h"
+
+#include "detail/vertex_newton.h"
+#include "vessel/core/errors.h"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vessel {
+
+void MultilevelOptions::validate() const
+{
+    if (coarse_vertices < 0 || (coarse_vertices > 0 && coarse_vertices < 100))
+        throw InvalidInputError("MultilevelOptions: coarse_vertices must be 0 (off) or >= 100, got " +
+                                std::to_string(coarse_vertices));
+    if (relax_sweeps < 0)
+        throw InvalidInputError("MultilevelOptions: relax_sweeps must be >= 0, got " +
+                                std::to_string(relax_sweeps));
+    if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
+        throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
+                                std::to_string(tolerance));
+}
+
+namespace {
+
+// A bare triangle mesh of the same points and faces: the working copy that is decimated,
+// without the fine mesh's properties (copying and compacting them would cost more than the
+// decimation).
+struct DecimationTraits : public OpenMesh::DefaultTraits
+{
+    using Point = OpenMesh::Vec3d;
+    VertexAttributes(OpenMesh::Attributes::Status);
+    EdgeAttributes(OpenMesh::Attributes::Status);
+    FaceAttributes(OpenMesh::Attributes::Status);
+    HalfedgeAttributes(OpenMesh::Attributes::Status);
+};
+using DecimationMesh = OpenMesh::TriMesh_ArrayKernelT<DecimationTraits>;
+using DecimationHalfedge = OpenMesh::SmartHalfedgeHandle;
+
+// Whether collapsing h (its start into its end) keeps every face that stays within 60 degrees
+// of its normal and non-degenerate, and keeps the boundary on the fine boundary: a boundary
+// vertex goes only along a boundary edge.
+bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
+{
+    const auto v0 = h.from(), v1 = h.to();
+    if (mesh.status(v0).locked())
+        return false;
+    if (v0.is_boundary() && !(h.is_boundary() || h.opp().is_boundary()))
+        return false;
+    if (!mesh.is_collapse_ok(h))
+        return false;
+    const OpenMesh::Vec3d p1 = mesh.point(v1);
+    for (auto f : v0.faces())
+    {
+        auto g = f.halfedge();
+        const auto a = g.from(), b = g.to(), c = g.next().to();
+        if (a == v1 || b == v1 || c == v1)
+            continue;  // removed with the collapse
+        const OpenMesh::Vec3d pa = mesh.point(a), pb = mesh.point(b), pc = mesh.point(c);
+        const OpenMesh::Vec3d before = (pb - pa) % (pc - pa);
+        const OpenMesh::Vec3d qa = a == v0 ? p1 : pa, qb = b == v0 ? p1 : pb, qc = c == v0 ? p1 : pc;
+        const OpenMesh::Vec3d after = (qb - qa) % (qc - qa);
+        const double na = after.norm(), nb = before.norm();
+        if (!(na > 1e-12 * nb) || (before | after) < 0.5 * na * nb)
+            return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep)
+{
+    DecimationMesh work;
+    work.reserve(fine.n_vertices(), fine.n_edges(), fine.n_faces());
+    for (auto v : fine.vertices())
+        work.add_vertex(fine.point(v));
+    for (auto f : fine.faces())
+    {
+        auto h = f.halfedge();
+        work.add_face(OpenMesh::VertexHandle(h.from().idx()), OpenMesh::VertexHandle(h.to().idx()),
+                      OpenMesh::VertexHandle(h.next().to().idx()));
+    }
+    for (auto v : keep)
+        work.status(OpenMesh::VertexHandle(v.idx())).set_locked(true);
+
+    // Rounds of shortest-edge collapses on independent sets (no two collapses of a round
+    // within one ring of each other): the kept vertices spread evenly, as in the hierarchy
+    // of Hormann, Labsik and Greiner 2001, and each round costs O(|V|).
+    const std::size_t target = static_cast<std::size_t>(std::max(target_vertices, 3));
+    std::size_t alive = work.n_vertices();
+    std::vector<std::pair<double, int>> candidates;
+    std::vector<char> touched(work.n_vertices());
+    std::vector<Collapse> collapses;
+    collapses.reserve(work.n_vertices() - std::min(target, work.n_vertices()));
+    while (alive > target)
+    {
+        candidates.clear();
+        for (auto v : work.vertices())
+        {
+            if (work.status(v).locked())
+                continue;
+            double shortest = std::numeric_limits<double>::infinity();
+            int best = -1;
+            for (auto h : v.outgoing_halfedges())
+            {
+                if (v.is_boundary() && !(h.is_boundary() || h.opp().is_boundary()))
+                    continue;
+                const double length = (work.point(h.to()) - work.point(v)).sqrnorm();
+                if (length < shortest)
+                {
+                    shortest = length;
+                    best = h.idx();
+                }
+            }
+            if (best >= 0)
+                candidates.emplace_back(shortest, best);
+        }
+        std::sort(candidates.begin(), candidates.end());
+        std::fill(touched.begin(), touched.end(), 0);
+        std::size_t collapsed = 0;
+        for (const auto& [length, index] : candidates)
+        {
+            const auto h = OpenMesh::make_smart(work.halfedge_handle(index), work);
+            if (work.status(h).deleted() || touched[h.from().idx()] || touched[h.to().idx()] ||
+                !collapse_allowed(work, h))
+                continue;
+            const auto v0 = h.from(), v1 = h.to();
+            Collapse record{v0.idx(), v1.idx(), -1, {}};
+            for (auto out : v0.outgoing_halfedges())
+            {
+                if (!out.is_boundary())
+                    record.faces.push_back({out.to().idx(), out.next().to().idx()});
+                if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != v1)
+                    record.across = out.to().idx();
+            }
+            collapses.push_back(std::move(record));
+            work.collapse(h);
+            ++collapsed;
+            touched[v1.idx()] = 1;
+            for (auto w : v1.vertices())
+                touched[w.idx()] = 1;
+            if (--alive <= target)
+                break;
+        }
+        if (collapsed == 0)
+            break;
+    }
+    auto fine_index = OpenMesh::VProp<int>(work);
+    for (auto v : work.vertices())
+        fine_index[v] = v.idx();
+    work.garbage_collection();
+
+    CoarseMesh coarse;
+    coarse.collapses = std::move(collapses);
+    coarse.coarse_of.assign(fine.n_vertices(), -1);
+    coarse.fine_of.resize(work.n_vertices());
+    coarse.mesh.reserve(work.n_vertices(), work.n_edges(), work.n_faces());
+    for (auto v : work.vertices())
+    {
+        coarse.fine_of[v.idx()] = fine_index[v];
+        coarse.coarse_of[fine_index[v]] = v.idx();
+        coarse.mesh.add_vertex(work.point(v));
+    }
+    for (auto f : work.faces())
+    {
+        auto h = f.halfedge();
+        coarse.mesh.add_face(VertexHandle(h.from().idx()), VertexHandle(h.to().idx()),
+                             VertexHandle(h.next().to().idx()));
+    }
+    return coarse;
+}
+
+namespace {
+
+double orientation(const Eigen::MatrixX2d& uv, int a, int b, int c)
+{
+    const Eigen::Vector2d u = uv.row(b) - uv.row(a), w = uv.row(c) - uv.row(a);
+    return u.x() * w.y() - u.y() * w.x();
+}
+
+// Whether every face of a re-inserted vertex keeps its orientation, by more than rounding: a
+// face whose area is below 1e-8 of its two edges' squared lengths counts as flat (points on one
+// boundary chord), and a flat face would leave the next vertex no place.
+bool star_positive(const Eigen::MatrixX2d& uv, const Collapse& collapse)
+{
+    for (const auto& [a, b] : collapse.faces)
+    {
+        const double scale =
+            (uv.row(a) - uv.row(collapse.v0)).squaredNorm() + (uv.row(b) - uv.row(collapse.v0)).squaredNorm();
+        if (!(orientation(uv, collapse.v0, a, b) > 1e-8 * scale))
+            return false;
+    }
+    return true;
+}
+
+// Where the map's local affine fit over the vertex's one ring puts it: the ring's 3D positions
+// in the tangent plane of the ring's faces, least squares for uv = c + B q, the vertex at q = 0.
+Eigen::Vector2d fitted_position(const Mesh& fine, const Eigen::MatrixX2d& uv,
+                                const Collapse& collapse)
+{
+    const Eigen::Vector3d p0 = to_eigen(fine.point(VertexHandle(collapse.v0)));
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    for (const auto& [a, b] : collapse.faces)
+        normal += (to_eigen(fine.point(VertexHandle(a))) - p0)
+                      .cross(to_eigen(fine.point(VertexHandle(b))) - p0);
+    if (normal.norm() == 0.0)
+        return uv.row(collapse.v1).transpose();
+    normal.normalize();
+    const Eigen::Vector3d t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+    Eigen::Matrix3d normal_matrix = Eigen::Matrix3d::Zero();
+    Eigen::Matrix<double, 3, 2> right = Eigen::Matrix<double, 3, 2>::Zero();
+    const auto add = [&](int w) {
+        const Eigen::Vector3d d = to_eigen(fine.point(VertexHandle(w))) - p0;
+        const Eigen::Vector3d row(1.0, d.dot(t1), d.dot(t2));
+        normal_matrix += row * row.transpose();
+        right += row * uv.row(w);
+    };
+    for (const auto& [a, b] : collapse.faces)
+    {
+        add(a);
+        add(b);
+    }
+    const Eigen::LDLT<Eigen::Matrix3d> solve(normal_matrix);
+    if (solve.info() != Eigen::Success || !(solve.rcond() > 1e-12))
+        return uv.row(collapse.v1).transpose();
+    return solve.solve(right).row(0).transpose();
+}
+
+// A few projected Newton steps of a re-inserted interior vertex within its star (Sander et
+// al. 2001 optimize each split vertex the same way): it leaves no sliver for the next ones.
+void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eigen::MatrixX2d& uv)
+{
+    const std::size_t n = collapse.faces.size();
+    std::vector<detail::FaceOperator> ops(n);
+    std::vector<detail::Corner> corners(n);
+    std::vector<double> x(2 * (2 * n + 1));
+    const auto p = [&](int v) { return to_eigen(fine.point(VertexHandle(v))); };
+    x[0] = uv(collapse.v0, 0);
+    x[1] = uv(collapse.v0, 1);
+    for (std::size_t i = 0; i < n; ++i)
+    {
+        const auto [a, b] = collapse.faces[i];
+        const int la = static_cast<int>(1 + 2 * i), lb = la + 1;
+        x[2 * la] = uv(a, 0);
+        x[2 * la + 1] = uv(a, 1);
+        x[2 * lb] = uv(b, 0);
+        x[2 * lb + 1] = uv(b, 1);
+        ops[i] = detail::face_operator(p(collapse.v0), p(a), p(b), {0, la, lb});
+        corners[i] = {static_cast<int>(i), 0};
+    }
+    const detail::VertexEnergy energy(ops, area_weight);
+    std::vector<Eigen::Vector3d> ds;
+    const auto any = [](const Eigen::Vector2d&) { return true; };
+    for (int step = 0; step < 3; ++step)
+        if (detail::vertex_newton_step(energy, corners.data(), corners.data() + n, x.data(), 0,
+                                       std::numeric_limits<double>::infinity(), any, ds) <= 0.0)
+            break;
+    uv(collapse.v0, 0) = x[0];
+    uv(collapse.v0, 1) = x[1];
+}
+
+}  // namespace
+
+Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
+                            const Eigen::MatrixX2d& coarse_uv, double area_weight)
+{
+    if (coarse_uv.rows() != static_cast<Eigen::Index>(coarse.fine_of.size()) ||
+        coarse.coarse_of.size() != fine.n_vertices())
+        throw InvalidInputError("prolongate: the coarse map or mesh does not match the fine mesh");
+    Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(fine.n_vertices(), 2);
+    for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
+        uv.row(coarse.fine_of[c]) = coarse_uv.row(c);
+    // Undo the collapses, the last first: each vertex comes back into the star it left, whose
+    // other vertices are all placed, at the fitted position or, if a face of its star would
+    // flip there, on the way from its collapse target toward it (every face of the star is
+    // positive near the target when the direction points into the star's wedge at the
+    // target; Sander et al. 2001, "Texture mapping progressive meshes").
+    for (auto it = coarse.collapses.rbegin(); it != coarse.collapses.rend(); ++it)
+    {
+        const Collapse& collapse = *it;
+        const Eigen::Vector2d target = uv.row(collapse.v1).transpose();
+        if (collapse.across >= 0)
+        {
+            // A boundary vertex goes back onto the boundary edge it was cut from, at its 3D
+            // fraction of the way (or nearer the target if a face would flip there): the
+            // boundary keeps its shape, so it stays simple.
+            const auto p = [&](int v) { return to_eigen(fine.point(VertexHandle(v))); };
+            const double to_target = (p(collapse.v0) - p(collapse.v1)).norm();
+            const double to_across = (p(collapse.v0) - p(collapse.across)).norm();
+            const Eigen::Vector2d edge = uv.row(collapse.across).transpose() - target;
+            // Off the edge, only inward: to the side of the star's face on `across` (the
+            // faces are counter-clockwise, so (v0, across, x) has x left of the edge).
+            Eigen::Vector2d inward(-edge.y(), edge.x());
+            for (const auto& [a, b] : collapse.faces)
+                if (b == collapse.across)
+                    inward = -inward;
+            bool placed = false;
+            const double s0 = to_target / std::max(to_target + to_across, 1e-300);
+            for (double s = s0; s > s0 / 16 && !placed; s *= 0.5)
+                for (double lift : {0.0, 1e-2, 1e-3, 1e-4})
+                {
+                    uv.row(collapse.v0) = (target + s * edge + lift * inward).transpose();
+                    if ((placed = star_positive(uv, collapse)))
+                        break;
+                }
+            if (placed)
+                continue;
+        }
+        const Eigen::Vector2d fitted = fitted_position(fine, uv, collapse);
+        uv.row(collapse.v0) = fitted.transpose();
+        if (collapse.across < 0 && star_positive(uv, collapse))
+        {
+            settle(fine, collapse, area_weight, uv);
+            continue;
+        }
+        // Near the target, only the faces (v0, v1, b) and (v0, a, v1) can flip: each asks the
+        // direction d of v0 from v1 to keep b - v1 clockwise and a - v1 counter-clockwise of it.
+        Eigen::Vector2d cw = Eigen::Vector2d::Zero(), ccw = Eigen::Vector2d::Zero();
+        for (const auto& [a, b] : collapse.faces)
+        {
+            if (a == collapse.v1)
+                cw = (uv.row(b).transpose() - target).normalized();
+            if (b == collapse.v1)
+                ccw = (uv.row(a).transpose() - target).normalized();
+        }
+        const auto cross = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+            return p.x() * q.y() - p.y() * q.x();
+        };
+        Eigen::Vector2d d;
+        if (cw.isZero())
+            d = Eigen::Vector2d(ccw.y(), -ccw.x());  // boundary: the clockwise normal of a - v1
+        else if (ccw.isZero())
+            d = Eigen::Vector2d(-cw.y(), cw.x());
+        else
+            d = cross(cw, ccw) > 0.0 ? Eigen::Vector2d(cw + ccw) : Eigen::Vector2d(-(cw + ccw));
+        if (d.isZero() || !d.allFinite())
+            d = Eigen::Vector2d(-cw.y(), cw.x());
+        double reach = 0.0;  // the star's size at the target
+        for (const auto& [a, b] : collapse.faces)
+            reach = std::max({reach, (uv.row(a).transpose() - target).norm(),
+                              (uv.row(b).transpose() - target).norm()});
+        d = d.normalized() * reach;
+        bool placed = false;
+        for (double t = 0.5; t > 1e-12 && !placed; t *= 0.5)
+        {
+            uv.row(collapse.v0) = (target + t * d).transpose();
+            placed = star_positive(uv, collapse);
+        }
+        if (placed && collapse.across < 0)
+            settle(fine, collapse, area_weight, uv);
+    }
+    return uv;
+}
+
+}  // namespace vessel

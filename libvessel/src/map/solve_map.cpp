@@ -1,0 +1,233 @@
+// Stage F (solve_map.h): the single-level map, and the coarse-to-fine one (multilevel.h) that
+// runs the single level on a decimated copy of the cut mesh.
+#include "detail/solve_map.h"
+
+#include "detail/look_retry.h"
+#include "detail/refine_map.h"
+#include "vessel/map/embedding.h"
+#include "vessel/map/lscm.h"
+#include "vessel/map/multilevel.h"
+#include "vessel/map/spectral.h"
+#include "vessel/map/untangle.h"
+#include "vessel/quality/metrics.h"
+#include "vessel/solve/ordering.h"
+#include "vessel/core/errors.h"
+
+#include <cstdio>
+#include <future>
+
+namespace vessel::detail {
+
+namespace {
+
+Pins concat(const Pins& a, const Pins& b)
+{
+    Pins all = a;
+    all.insert(all.end(), b.begin(), b.end());
+    return all;
+}
+
+// The map at full resolution: initial map, refinement with the inlet pinned, look retry.
+bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+                        const FlattenOptions& options, FlattenResult& result)
+{
+    const bool may_restart =
+        options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
+    // Where ARAP surely runs (no restart can skip it: the paper's refinement, or overlaps
+    // kept), its factorization, which depends on the cut mesh and the inlet but not on the
+    // initial map, is made on the second core while the initial map is solved (same bits).
+    // LSCM and it share one elimination ordering of the cut mesh (AMD on its whole vertex
+    // graph; each system leaves out its pinned vertices). Carrying stage Z's ordering of the
+    // uncut mesh over instead would skip this AMD but costs more in fill (carotid-300k: LSCM
+    // 9.6 against 7.2 GFlop); the whole graph's gives less than LSCM's own AMD of its free
+    // vertices (7.96 GFlop), and ARAP's own AMD is saved.
+    const bool arap_ahead = options.refinement != Refinement::None &&
+                            options.arap.max_iterations > 0 &&
+                            options.arap.solver == ArapSolver::LocalGlobal &&
+                            !options.arap.prefactored && !may_restart;
+    const bool at_lscm = options.initialization == Initialization::LayoutLscm;
+    const VertexOrdering cut_order =
+        arap_ahead || at_lscm ? laplacian_ordering(mesh) : VertexOrdering{};
+    std::future<std::shared_ptr<const ArapFactor>> arap_factor;
+    if (arap_ahead)
+        arap_factor = std::async(std::launch::async, [&mesh, &placed, &cut_order] {
+            return arap_prefactor(mesh, placed.inlet, &cut_order);
+        });
+    bool at_layout = at_lscm;
+    switch (options.initialization)
+    {
+        case Initialization::LayoutLscm:
+            result.uv = lscm(mesh, concat(placed.inlet, placed.outlets), &cut_order);
+            break;
+        case Initialization::SpectralConformal:
+            result.uv = spectral_conformal(mesh);
+            break;
+        case Initialization::Tutte:
+            result.uv = tutte_embedding(mesh);
+            break;
+    }
+    FlattenOptions prefactored;  // options with the factor, when made ahead
+    const FlattenOptions& refine_options = arap_factor.valid() ? prefactored : options;
+    if (arap_factor.valid())
+    {
+        prefactored = options;
+        prefactored.arap.prefactored = arap_factor.get();
+    }
+    Pins pins = placed.inlet;
+    if (!at_layout)  // keep the initial map's own placement of the inlet
+        for (auto& pin : pins)
+            pin.uv = result.uv.row(pin.vertex.idx()).transpose();
+    const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
+    // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
+    // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
+    // ARAP never removed a crossing of the LSCM map (9 of 9 stayed crossed), so this skips
+    // only work whose result was thrown away (docs/benchmarks.md).
+    const bool crosses_at_once =
+        may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
+    const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
+    if (refine_map(mesh, pins, refine_options, crossing,
+                           crosses_at_once ? crossing : "", result, &input, &placed))
+    {
+        at_layout = false;
+        retry_look(mesh, pins, initial, options, result, input, placed);
+    }
+    return at_layout;
+}
+
+// Pins on kept vertices, renumbered: `index[v]` is v's new index, or -1 if it was dropped.
+Pins renumbered(const Pins& pins, const std::vector<int>& index)
+{
+    Pins kept;
+    for (const Pin& pin : pins)
+        if (const int c = index[pin.vertex.idx()]; c >= 0)
+            kept.push_back({VertexHandle(c), pin.uv});
+    return kept;
+}
+
+// Flipped faces of a map (det J <= 0 against the mesh's orientation).
+int flipped_faces(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    int flipped = 0;
+    for (auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        const Eigen::Vector2d a = uv.row(h.from().idx()), b = uv.row(h.to().idx()),
+                              c = uv.row(h.next().to().idx());
+        const Eigen::Vector2d e1 = b - a, e2 = c - a;
+        if (!(e1.x() * e2.y() - e1.y() * e2.x() > 0.0))
+            ++flipped;
+    }
+    return flipped;
+}
+
+// The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
+// untangling, a crossing boundary) the reason, and result.uv untouched.
+std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
+                                 const LayoutResult& placed, const FlattenOptions& options,
+                                 FlattenResult& result, bool& at_layout)
+{
+    // The coarse problem, the segments' ends kept (each loop keeps its run of the boundary);
+    // every per-vertex input renumbered or dropped.
+    std::vector<VertexHandle> keep;
+    for (const BoundarySegment& segment : input.segments)
+    {
+        keep.push_back(segment.vertices.front());
+        keep.push_back(segment.vertices.back());
+    }
+    const MultilevelOptions& multilevel = options.multilevel;
+    const CoarseMesh coarse = coarsen(mesh, multilevel.coarse_vertices, keep);
+    LayoutInput coarse_input = input;
+    coarse_input.mesh = &coarse.mesh;
+    coarse_input.origin.resize(coarse.fine_of.size());
+    for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
+        coarse_input.origin[c] = input.origin[coarse.fine_of[c]];
+    for (BoundarySegment& segment : coarse_input.segments)
+    {
+        BoundarySegment kept{segment.loop, {}, {}};
+        for (std::size_t i = 0; i < segment.vertices.size(); ++i)
+            if (const int c = coarse.coarse_of[segment.vertices[i].idx()]; c >= 0)
+            {
+                kept.vertices.push_back(VertexHandle(c));
+                kept.arc_length.push_back(segment.arc_length[i]);
+            }
+        segment = std::move(kept);
+    }
+    LayoutResult coarse_placed = placed;
+    coarse_placed.inlet = renumbered(placed.inlet, coarse.coarse_of);
+    coarse_placed.outlets = renumbered(placed.outlets, coarse.coarse_of);
+
+    FlattenResult solved;
+    at_layout = solve_single_level(coarse.mesh, coarse_input, coarse_placed, options, solved);
+    char line[200];
+    std::snprintf(line, sizeof line, "coarse-to-fine: the map solved on %zu of %zu vertices",
+                  coarse.mesh.n_vertices(), mesh.n_vertices());
+    result.notes.push_back(line);
+    for (const std::string& note : solved.notes)
+        result.notes.push_back("coarse: " + note);
+    result.arap = solved.arap;
+    result.untangle = solved.untangle;
+    result.injective = solved.injective;
+    result.look_retry = solved.look_retry;
+
+    // Carried to the full mesh, the pins (when they held) put back exactly, flips untangled,
+    // then the short-wavelength error relaxed away.
+    const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
+    Eigen::MatrixX2d uv = prolongate(mesh, coarse, solved.uv, lambda);
+    const Pins pins = at_layout ? placed.inlet : Pins{};
+    for (const Pin& pin : pins)
+        uv.row(pin.vertex.idx()) = pin.uv.transpose();
+    if (flipped_faces(mesh, uv) > 0)
+        result.notes.push_back("coarse-to-fine: " +
+                               untangle(mesh, uv, pins, options.untangle).report);
+    if (const int flipped = flipped_faces(mesh, uv); flipped > 0)
+        return std::to_string(flipped) + " flipped triangles after untangling";
+    const bool crossing = options.overlaps != OverlapPolicy::Keep;
+    if (crossing && boundary_self_intersection(mesh, uv).first >= 0)
+        return "the carried map's boundary crosses itself";
+    const RelaxSummary relaxed = relax_area(mesh, uv, pins, lambda, multilevel);
+    const double minimum = 2.0 * face_areas(mesh).sum();
+    std::snprintf(line, sizeof line,
+                  "coarse-to-fine: %d relaxation sweeps, energy / minimum %.5f -> %.5f",
+                  relaxed.sweeps, relaxed.energy_before / minimum, relaxed.energy_after / minimum);
+    result.notes.push_back(line);
+    if (crossing && boundary_self_intersection(mesh, uv).first >= 0)
+        return "the relaxed map's boundary crosses itself";
+    result.uv = std::move(uv);
+    return "";
+}
+
+}  // namespace
+
+bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+               const FlattenOptions& options, FlattenResult& result)
+{
+    const MultilevelOptions& multilevel = options.multilevel;
+    if (options.refinement != Refinement::Injective || multilevel.coarse_vertices == 0 ||
+        mesh.n_vertices() <= 2 * static_cast<std::size_t>(multilevel.coarse_vertices))
+        return solve_single_level(mesh, input, placed, options, result);
+    bool at_layout = false;
+    std::string failed;
+    try
+    {
+        failed = solve_coarse_to_fine(mesh, input, placed, options, result, at_layout);
+    }
+    catch (const InvalidInputError& error)  // relax_area() refused a degenerate carried map
+    {
+        failed = error.what();
+    }
+    if (failed.empty())
+        return at_layout;
+    result.notes.push_back("coarse-to-fine: " + failed +
+                           "; the map solved again at full resolution");
+    FlattenResult full;
+    at_layout = solve_single_level(mesh, input, placed, options, full);
+    result.uv = std::move(full.uv);
+    result.arap = full.arap;
+    result.untangle = full.untangle;
+    result.injective = full.injective;
+    result.look_retry = full.look_retry;
+    result.notes.insert(result.notes.end(), full.notes.begin(), full.notes.end());
+    return at_layout;
+}
+
+}  // namespace vessel::detail

@@ -1,0 +1,137 @@
+#include <doctest/doctest.h>
+
+#include "support/meshes.h"
+#include "vessel/core/errors.h"
+#include "vessel/map/embedding.h"
+#include "vessel/map/injective.h"
+#include "vessel/map/multilevel.h"
+#include "vessel/quality/metrics.h"
+
+#include <set>
+
+using namespace vessel;
+
+namespace {
+
+// The boundary of a disk mesh, walked from its first boundary halfedge: vertex indices in order.
+std::vector<int> boundary_walk(const Mesh& mesh)
+{
+    std::vector<int> walk;
+    for (auto start : mesh.halfedges())
+        if (start.is_boundary())
+        {
+            auto h = start;
+            do
+            {
+                walk.push_back(h.from().idx());
+                h = h.next();
+            } while (h != start);
+            break;
+        }
+    return walk;
+}
+
+// A flip-free map of the coarse mesh: SLIM from Tutte's, as the pipeline's restart makes it.
+Eigen::MatrixX2d coarse_map(const Mesh& mesh)
+{
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    InjectiveOptions options;
+    options.max_iterations = 30;
+    injective_refine(mesh, uv, {}, options);
+    return uv;
+}
+
+}  // namespace
+
+TEST_CASE("multilevel: coarsen keeps a disk, the kept vertices and the boundary's order")
+{
+    const Mesh fine = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const std::vector<VertexHandle> boundary = test::boundary_vertices(fine);
+    const std::vector<VertexHandle> keep = {boundary[0], boundary[boundary.size() / 2]};
+    const CoarseMesh coarse = coarsen(fine, 200, keep);
+
+    const Mesh& m = coarse.mesh;
+    CHECK(m.n_vertices() <= 220);
+    CHECK(m.n_vertices() >= 150);
+    CHECK(static_cast<int>(m.n_vertices()) - static_cast<int>(m.n_edges()) +
+              static_cast<int>(m.n_faces()) == 1);  // still a disk
+    for (auto v : keep)
+        CHECK(coarse.coarse_of[v.idx()] >= 0);
+    for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
+    {
+        CHECK(coarse.coarse_of[coarse.fine_of[c]] == static_cast<int>(c));
+        // Kept vertices stay where they were.
+        CHECK((m.point(VertexHandle(static_cast<int>(c))) -
+               fine.point(VertexHandle(coarse.fine_of[c]))).norm() == 0.0);
+    }
+    // The coarse boundary is the fine one with vertices left out, in the same cyclic order.
+    const std::vector<int> fine_walk = boundary_walk(fine);
+    std::vector<int> coarse_walk;
+    for (int c : boundary_walk(m))
+        coarse_walk.push_back(coarse.fine_of[c]);
+    REQUIRE(!coarse_walk.empty());
+    std::vector<int> kept_in_fine_order;
+    for (int v : fine_walk)
+        if (coarse.coarse_of[v] >= 0)
+            kept_in_fine_order.push_back(v);
+    REQUIRE(kept_in_fine_order.size() == coarse_walk.size());
+    const auto at = std::find(kept_in_fine_order.begin(), kept_in_fine_order.end(),
+                              coarse_walk.front());
+    REQUIRE(at != kept_in_fine_order.end());
+    std::rotate(kept_in_fine_order.begin(), at, kept_in_fine_order.end());
+    CHECK(kept_in_fine_order == coarse_walk);
+    CHECK(coarse.collapses.size() == fine.n_vertices() - m.n_vertices());
+}
+
+TEST_CASE("multilevel: a flip-free coarse map carries to a flip-free, one-to-one fine map")
+{
+    for (const int target : {100, 400})
+    {
+        CAPTURE(target);
+        const Mesh fine = test::cut_cylinder(1.0, 6.0, 32, 40);
+        const CoarseMesh coarse = coarsen(fine, target, {});
+        const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
+        REQUIRE(test::count_flips(coarse.mesh, coarse_uv) == 0);
+        const Eigen::MatrixX2d uv = prolongate(fine, coarse, coarse_uv, 0.99);
+        CHECK(test::count_flips(fine, uv) == 0);
+        CHECK(boundary_self_intersection(fine, uv).first < 0);
+        for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
+            CHECK((uv.row(coarse.fine_of[c]) - coarse_uv.row(c)).norm() == 0.0);
+        // The cylinder unrolls isometrically: the carried map is close to it already.
+        CHECK(flat_quality(fine, uv).mean_abs_log_area < 0.1);
+    }
+}
+
+TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips nothing")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const CoarseMesh coarse = coarsen(mesh, 150, {});
+    Eigen::MatrixX2d uv = prolongate(mesh, coarse, coarse_map(coarse.mesh), 0.99);
+    REQUIRE(test::count_flips(mesh, uv) == 0);
+    const double before = flat_quality(mesh, uv).mean_abs_log_area;
+    const VertexHandle held = test::boundary_vertices(mesh).front();
+    const Eigen::RowVector2d at = uv.row(held.idx());
+    const RelaxSummary relaxed = relax_area(mesh, uv, {{held, at.transpose()}}, 0.99);
+    CHECK(relaxed.sweeps > 0);
+    CHECK(relaxed.energy_after < relaxed.energy_before);
+    CHECK(relaxed.energy_after >= 2.0 * face_areas(mesh).sum() * (1.0 - 1e-9));  // the minimum
+    CHECK(test::count_flips(mesh, uv) == 0);
+    CHECK(boundary_self_intersection(mesh, uv).first < 0);
+    CHECK((uv.row(held.idx()) - at).norm() == 0.0);
+    CHECK(flat_quality(mesh, uv).mean_abs_log_area < before);
+}
+
+TEST_CASE("multilevel: relax_area and the options refuse what they cannot use")
+{
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 16, 10);
+    Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    uv.col(0) *= -1.0;  // every face flipped
+    CHECK_THROWS_AS(relax_area(mesh, uv, {}, 0.99), InvalidInputError);
+    Eigen::MatrixX2d short_map = Eigen::MatrixX2d::Zero(3, 2);
+    CHECK_THROWS_AS(relax_area(mesh, short_map, {}, 0.99), InvalidInputError);
+    MultilevelOptions options;
+    options.coarse_vertices = 50;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.coarse_vertices = -1;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+}
