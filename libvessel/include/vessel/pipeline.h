@@ -179,10 +179,11 @@ struct FlattenOptions
     //! by default"). CLI `--area-polish LAMBDA`, `--no-area-polish`.
     bool polish_area = true;
     AreaPolishOptions area_polish;  //!< the polish of polish_area
-    //! With Refinement::Injective: large cut meshes are mapped coarse-to-fine (multilevel.h):
-    //! the whole F above (initial map, SLIM, polish, look retry) on a decimated copy of
-    //! `multilevel.coarse_vertices` vertices, then carried to every vertex and relaxed there.
-    //! `coarse_vertices = 0` solves every map at full resolution. CLI `--coarse-vertices N`.
+    //! With Refinement::Injective and `multilevel.coarse_vertices` > 0: cut meshes of more than
+    //! twice that many vertices are mapped coarse-to-fine (multilevel.h): the whole F above
+    //! (initial map, SLIM, polish, look retry) on a decimated copy, then carried to every
+    //! vertex and relaxed there. Off by default (0: every map at full resolution). CLI
+    //! `--coarse-vertices N`.
     MultilevelOptions multilevel;
     //! With polish_area: SLIM's scaffold phase stops by this tolerance instead of
     //! InjectiveOptions::scaffold_tolerance (same rule: 3 iterations in a row lowering the

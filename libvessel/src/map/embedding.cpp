@@ -1,5 +1,7 @@
 #include "vessel/map/embedding.h"
 
+#include "detail/segments.h"
+
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -16,26 +18,10 @@ struct Segment
     int halfedge = -1;
 };
 
-double orient(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r)
-{
-    return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());
-}
-
-bool on_segment(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r)
-{
-    return std::min(p.x(), q.x()) <= r.x() && r.x() <= std::max(p.x(), q.x()) &&
-           std::min(p.y(), q.y()) <= r.y() && r.y() <= std::max(p.y(), q.y());
-}
-
 // Closed segments intersect (touching counts).
 bool intersect(const Segment& s, const Segment& t)
 {
-    const double d1 = orient(t.a, t.b, s.a), d2 = orient(t.a, t.b, s.b);
-    const double d3 = orient(s.a, s.b, t.a), d4 = orient(s.a, s.b, t.b);
-    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
-        return true;
-    return (d1 == 0 && on_segment(t.a, t.b, s.a)) || (d2 == 0 && on_segment(t.a, t.b, s.b)) ||
-           (d3 == 0 && on_segment(s.a, s.b, t.a)) || (d4 == 0 && on_segment(s.a, s.b, t.b));
+    return detail::segments_intersect(s.a, s.b, t.a, t.b);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "vessel/map/multilevel.h"
 
+#include "detail/segments.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
 
@@ -178,8 +179,7 @@ namespace {
 
 double orientation(const Eigen::MatrixX2d& uv, int a, int b, int c)
 {
-    const Eigen::Vector2d u = uv.row(b) - uv.row(a), w = uv.row(c) - uv.row(a);
-    return u.x() * w.y() - u.y() * w.x();
+    return detail::orient(uv.row(a).transpose(), uv.row(b).transpose(), uv.row(c).transpose());
 }
 
 // Whether every face of a re-inserted vertex keeps its orientation, by more than rounding: a
@@ -275,10 +275,11 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
     for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
         uv.row(coarse.fine_of[c]) = coarse_uv.row(c);
     // Undo the collapses, the last first: each vertex comes back into the star it left, whose
-    // other vertices are all placed, at the fitted position or, if a face of its star would
-    // flip there, on the way from its collapse target toward it (every face of the star is
-    // positive near the target when the direction points into the star's wedge at the
-    // target; Sander et al. 2001, "Texture mapping progressive meshes").
+    // other vertices are all placed: a boundary vertex onto (or just inside) the edge it was
+    // cut from, an interior one at the fitted position; where a face of its star would flip
+    // there, near its collapse target along a direction into the star's wedge at the target
+    // (every face of the star is positive there; Sander et al. 2001, "Texture mapping
+    // progressive meshes").
     for (auto it = coarse.collapses.rbegin(); it != coarse.collapses.rend(); ++it)
     {
         const Collapse& collapse = *it;

@@ -2,6 +2,7 @@
 // (detail/vertex_newton.h), with a guard that keeps the boundary simple.
 #include "vessel/map/multilevel.h"
 
+#include "detail/segments.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
 
@@ -90,7 +91,7 @@ public:
                         continue;
                     const Eigen::Vector2d a(x[2 * e[0]], x[2 * e[0] + 1]),
                         b(x[2 * e[1]], x[2 * e[1] + 1]);
-                    if (segments_meet(p, q, a, b))
+                    if (detail::segments_intersect(p, q, a, b))
                     {
                         clear = false;
                         return;
@@ -128,23 +129,6 @@ private:
         for (int i = x0; i <= x1; ++i)
             for (int j = y0; j <= y1; ++j)
                 visit(static_cast<long>(i) * ny_ + j);
-    }
-
-    static double orient(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                         const Eigen::Vector2d& c)
-    {
-        const Eigen::Vector2d u = b - a, w = c - a;
-        return u.x() * w.y() - u.y() * w.x();
-    }
-
-    // Closed segments pq and ab meet (touching counts: a boundary must not touch itself).
-    static bool segments_meet(const Eigen::Vector2d& p, const Eigen::Vector2d& q,
-                              const Eigen::Vector2d& a, const Eigen::Vector2d& b)
-    {
-        const double d1 = orient(a, b, p), d2 = orient(a, b, q);
-        const double d3 = orient(p, q, a), d4 = orient(p, q, b);
-        return ((d1 <= 0.0 && d2 >= 0.0) || (d1 >= 0.0 && d2 <= 0.0)) &&
-               ((d3 <= 0.0 && d4 >= 0.0) || (d3 >= 0.0 && d4 <= 0.0));
     }
 
     std::vector<std::array<int, 2>> edges_;

@@ -104,22 +104,6 @@ Pins renumbered(const Pins& pins, const std::vector<int>& index)
     return kept;
 }
 
-// Flipped faces of a map (det J <= 0 against the mesh's orientation).
-int flipped_faces(const Mesh& mesh, const Eigen::MatrixX2d& uv)
-{
-    int flipped = 0;
-    for (auto f : mesh.faces())
-    {
-        auto h = f.halfedge();
-        const Eigen::Vector2d a = uv.row(h.from().idx()), b = uv.row(h.to().idx()),
-                              c = uv.row(h.next().to().idx());
-        const Eigen::Vector2d e1 = b - a, e2 = c - a;
-        if (!(e1.x() * e2.y() - e1.y() * e2.x() > 0.0))
-            ++flipped;
-    }
-    return flipped;
-}
-
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary) the reason, and result.uv untouched.
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
@@ -176,13 +160,13 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     const Pins pins = at_layout ? placed.inlet : Pins{};
     for (const Pin& pin : pins)
         uv.row(pin.vertex.idx()) = pin.uv.transpose();
-    if (flipped_faces(mesh, uv) > 0)
-        result.notes.push_back("coarse-to-fine: " +
-                               untangle(mesh, uv, pins, options.untangle).report);
-    if (const int flipped = flipped_faces(mesh, uv); flipped > 0)
-        return std::to_string(flipped) + " flipped triangles after untangling";
-    const bool crossing = options.overlaps != OverlapPolicy::Keep;
-    if (crossing && boundary_self_intersection(mesh, uv).first >= 0)
+    const UntangleSummary untangled = untangle(mesh, uv, pins, options.untangle);
+    if (untangled.flipped_before > 0)
+        result.notes.push_back("coarse-to-fine: " + untangled.report);
+    if (untangled.flipped_after > 0)
+        return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
+    const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
+    if (keep_simple && boundary_self_intersection(mesh, uv).first >= 0)
         return "the carried map's boundary crosses itself";
     const RelaxSummary relaxed = relax_area(mesh, uv, pins, lambda, multilevel);
     const double minimum = 2.0 * face_areas(mesh).sum();
@@ -190,7 +174,7 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                   "coarse-to-fine: %d relaxation sweeps, energy / minimum %.5f -> %.5f",
                   relaxed.sweeps, relaxed.energy_before / minimum, relaxed.energy_after / minimum);
     result.notes.push_back(line);
-    if (crossing && boundary_self_intersection(mesh, uv).first >= 0)
+    if (keep_simple && boundary_self_intersection(mesh, uv).first >= 0)
         return "the relaxed map's boundary crosses itself";
     result.uv = std::move(uv);
     return "";
