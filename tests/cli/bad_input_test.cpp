@@ -75,23 +75,97 @@ const char kNulObj[] = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4\0 3\n
 const std::string kFacet = "facet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
                            "vertex 0 1 0\nendloop\nendfacet\n";
 
-// A zlib-compressed appended .vtp of a tube whose first array's block count is \p blocks.
-std::string vtp_with_blocks(const std::string& dir, std::uint64_t blocks)
+// The text of a zlib-compressed .vtp of a tube in \p encoding (written in \p dir, removed).
+std::string zlib_tube(const std::string& dir, vessel::VtkEncoding encoding)
 {
     vessel::PolyData data;
     data.mesh = vessel::to_raw_mesh(vessel::open_cylinder(1.0, 4.0, 12, 6));
     vessel::VtkWriteOptions options;
-    options.encoding = vessel::VtkEncoding::Appended;
+    options.encoding = encoding;
     options.compressor = vessel::VtkCompressor::ZLib;
     const std::string path = dir + "/zlib_source.vtp";
     vessel::write_polydata(path, data, options);
     std::string s = read_bytes(path);
     fs::remove(path);
+    return s;
+}
+
+// A zlib-compressed appended .vtp of a tube whose first array's block count is \p blocks.
+std::string vtp_with_blocks(const std::string& dir, std::uint64_t blocks)
+{
+    std::string s = zlib_tube(dir, vessel::VtkEncoding::Appended);
     const std::size_t at = s.find('_', s.find("<AppendedData")) + 1;
     const int header = s.find("header_type=\"UInt64\"") != std::string::npos ? 8 : 4;
     for (int b = 0; b < header; ++b)
         s[at + b] = static_cast<char>((blocks >> (8 * b)) & 0xff);
     return s;
+}
+
+// RFC 4648 base64 with padding, as VTK writes inline data.
+std::string base64(const std::string& bytes)
+{
+    static const char digits[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < bytes.size(); i += 3)
+    {
+        std::uint32_t v = 0;
+        const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
+        for (std::size_t k = 0; k < 3; ++k)
+            v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
+        for (std::size_t k = 0; k < 4; ++k)
+            out += k <= n ? digits[(v >> (18 - 6 * k)) & 63] : '=';
+    }
+    return out;
+}
+
+// A zlib-compressed .vtp of a tube with its data inline (base64 in each DataArray element), and
+// where the first binary array's compression header (base64, padded on its own), its compressed
+// data and the element's text end.
+struct InlineVtp
+{
+    std::string text;
+    std::size_t header, data, end;
+};
+
+InlineVtp inline_zlib_tube(const std::string& dir)
+{
+    InlineVtp v;
+    v.text = zlib_tube(dir, vessel::VtkEncoding::Binary);
+    REQUIRE(v.text.find("header_type=\"UInt32\"") != std::string::npos);
+    const std::size_t start = v.text.find('>', v.text.find("format=\"binary\"")) + 1;
+    v.header = v.text.find_first_not_of(" \n", start);
+    const std::size_t pad = v.text.find('=', v.header);
+    v.data = v.text[pad + 1] == '=' ? pad + 2 : pad + 1;
+    v.end = v.text.find_first_of(" \n<", v.data);
+    return v;
+}
+
+// inline_zlib_tube() with the first array's compression header replaced by \p blocks,
+// \p block_size, \p last_size, \p sizes (UInt32, little-endian), its compressed data kept.
+std::string vtp_inline_with_header(const std::string& dir, std::uint32_t blocks,
+                                   std::uint32_t block_size, std::uint32_t last_size,
+                                   const std::vector<std::uint32_t>& sizes)
+{
+    const InlineVtp v = inline_zlib_tube(dir);
+    std::string header;
+    for (std::uint32_t x : std::vector<std::uint32_t>{blocks, block_size, last_size})
+        header += le32(static_cast<std::int32_t>(x));
+    for (std::uint32_t x : sizes)
+        header += le32(static_cast<std::int32_t>(x));
+    return v.text.substr(0, v.header) + base64(header) + v.text.substr(v.data);
+}
+
+// inline_zlib_tube() with the first array's compressed bytes zeroed (base64 'A'): the sizes
+// agree, but zlib cannot inflate them.
+std::string vtp_inline_garbled(const std::string& dir)
+{
+    const InlineVtp v = inline_zlib_tube(dir);
+    std::string data = v.text.substr(v.data, v.end - v.data);
+    for (char& c : data)
+        if (c != '=')
+            c = 'A';
+    return v.text.substr(0, v.data) + data + v.text.substr(v.end);
 }
 
 struct BadFile
@@ -124,10 +198,32 @@ TEST_CASE("bad input: crashing, bomb and silently misread files are refused in o
         {"huge_polygon.vtk", kLegacyHead + "POLYGONS 1 4\n2000000000 0 1 2\n",
          "cell 0 of POLYGONS has 2000000000 corners but only 3 values are left"},
         {"huge_polygon_size.vtk", kLegacyHead + "POLYGONS 1 2000000001\n2000000000 0 1 2\n",
-         "POLYGONS declares 2000000001 values but the file ends after 4"},
+         "POLYGONS declares 2000000001 items but the file has only"},
         {"point_index.vtk", kLegacyHead + "POLYGONS 1 4\n3 0 1 7\n",
          "cell 0 of POLYGONS refers to point 7 of 3"},
         {"zero_blocks.vtp", vtp_with_blocks(dir, 0), "declares 0 bytes (0 blocks)"},
+        // Fuzzer findings (fuzz/, tests/data/fuzz): POINTS cut short, so that VTK's reader
+        // read the next keyword as a coordinate (a crash in vtkDataReader::ReadString on the
+        // fuzzer's file; this one was read as a triangle, exit 0); zlib data inline in the XML
+        // whose compression header says 0 blocks (vtkXMLDataParser::ReadBlock) or 2 blocks for
+        // one block of data (read, exit 0).
+        {"points_cut_short.vtk",
+         "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+         "0 0 0 1 0 0 0 1\nPOLYGONS 1 4\n3 0 1 2\n",
+         "value 8 of POINTS is 'POLYGONS', not a number"},
+        {"inline_zero_blocks.vtp", vtp_inline_with_header(dir, 0, 32768, 0, {}),
+         "declares 0 bytes (0 blocks) but the array needs"},
+        {"inline_two_blocks.vtp", vtp_inline_with_header(dir, 2, 32768, 0, {20, 20}),
+         "declares 65536 bytes (2 blocks) but the array needs"},
+        // VTK's own refusal: its zlib decompressor, which nobody watches, printed a coloured
+        // "ERR|" log line on stderr before our line.
+        {"inline_garbled.vtp", vtp_inline_garbled(dir), "VTK could not read"},
+        // A float coordinate beyond float's range: VTK's stream failed, printed two WARN| lines
+        // and said "Unrecognized keyword: 0".
+        {"float_1e39.vtk",
+         "# vtk DataFile Version 3.0\nt\nASCII\nDATASET POLYDATA\nPOINTS 3 float\n"
+         "1e39 0 0 1 0 0 0 1 0\nPOLYGONS 1 4\n3 0 1 2\n",
+         "value 0 of POINTS is 1e39, beyond the range of float"},
         // Memory bombs: gigabytes from a few bytes.
         {"many_blocks.vtp", vtp_with_blocks(dir, 0x7FFFFFFF),
          "declares 2147483647 blocks, more than the"},

@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "support/files.h"
+#include "support/io_refusal.h"
 #include "support/meshes.h"
 #include "vessel/core/errors.h"
 #include "vessel/phantom/phantom.h"
@@ -11,6 +13,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 using namespace vessel;
 using vessel::test::run;
@@ -151,6 +155,94 @@ print(poly.GetNumberOfPoints(), poly.GetNumberOfPolys())
         // The quads of the cylinder reach validation with file indices, and are triangulated.
         const TreeSurface s = make_tree_surface(read_raw_mesh(dir + "/" + name));
         CHECK(static_cast<int>(s.mesh.n_faces()) == 2 * polys);
+    }
+}
+
+TEST_CASE("vtk_io: legacy files with every attribute kind, ASCII and BINARY, 4.2 and 5.1, pass "
+          "the structure check and are read")
+{
+    // python3-vtk9 writes each kind the check walks: SCALARS + LOOKUP_TABLE, VECTORS, NORMALS
+    // (point and cell), TEXTURE_COORDINATES, GLOBAL_IDS, FIELD, and METADATA blocks
+    // (INFORMATION after a ranged array, COMPONENT_NAMES).
+    const std::string dir = temp_dir("vtk_io_legacy_kinds");
+    const std::string script = dir + "/write.py";
+    std::ofstream(script) << R"(import sys, vtk
+src = vtk.vtkCylinderSource(); src.SetResolution(12); src.CappingOff()
+tri = vtk.vtkTriangleFilter(); tri.SetInputConnection(src.GetOutputPort())
+n = vtk.vtkPolyDataNormals(); n.SetInputConnection(tri.GetOutputPort()); n.ComputeCellNormalsOn()
+n.SplittingOff(); n.Update()
+p = n.GetOutput()
+s = vtk.vtkFloatArray(); s.SetName("press")
+v = vtk.vtkDoubleArray(); v.SetName("vel"); v.SetNumberOfComponents(3)
+t = vtk.vtkFloatArray(); t.SetName("uv"); t.SetNumberOfComponents(2)
+g = vtk.vtkIdTypeArray(); g.SetName("gid")
+c = vtk.vtkIntArray(); c.SetName("pair"); c.SetNumberOfComponents(2)
+c.SetComponentName(0, "a b"); c.SetComponentName(1, "c")
+for i in range(p.GetNumberOfPoints()):
+    s.InsertNextValue(0.5 * i); v.InsertNextTuple3(i, 1e-3, -2); t.InsertNextTuple2(0.1, 0.2)
+    g.InsertNextValue(i); c.InsertNextTuple2(i, -i)
+d = p.GetPointData(); d.SetScalars(s); d.SetVectors(v); d.SetTCoords(t); d.SetGlobalIds(g)
+d.AddArray(c)
+s.GetRange(); p.GetPoints().GetData().GetRange(-1)
+for version in (42, 51):
+    for binary in (False, True):
+        w = vtk.vtkPolyDataWriter(); w.SetInputData(p); w.SetFileVersion(version)
+        w.SetFileName("%s/k%d%s.vtk" % (sys.argv[1], version, "b" if binary else "a"))
+        if binary:
+            w.SetFileTypeToBinary()
+        w.Write()
+print(p.GetNumberOfPoints(), p.GetNumberOfPolys())
+)";
+    REQUIRE(run("/usr/bin/python3 " + script + " " + dir + " > " + dir + "/counts.txt") == 0);
+    int points = 0, polys = 0;
+    std::ifstream(dir + "/counts.txt") >> points >> polys;
+    REQUIRE(points > 0);
+    for (const std::string name : {"k42a.vtk", "k42b.vtk", "k51a.vtk", "k51b.vtk"})
+    {
+        INFO(name);
+        const std::string bytes = vessel::test::read_bytes(dir + "/" + name);
+        CHECK(bytes.find("METADATA") != std::string::npos);
+        CHECK(bytes.find("COMPONENT_NAMES") != std::string::npos);
+        const PolyData d = read_polydata(dir + "/" + name);
+        CHECK(static_cast<int>(d.mesh.points.size()) == points);
+        CHECK(static_cast<int>(d.mesh.faces.size()) == polys);
+        const Field& vel = find_field(d.point_data, "vel");
+        CHECK(vel.components() == 3);
+        CHECK(vel.values(points - 1, 0) == points - 1);
+        CHECK(find_field(d.point_data, "pair").values(2, 1) == -2);
+    }
+}
+
+// Inputs found by the fuzzers (fuzz/, kept in tests/data/fuzz): each crashed (or, under ASan,
+// asked for terabytes in) VTK's readers or the structure check before it; now each is refused.
+TEST_CASE("vtk_io: fuzzer findings are refused with a clear IoError")
+{
+    const std::string dir = std::string(VESSEL_TEST_DATA) + "/fuzz/";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        // POINTS cut short: VTK read the next keyword as a coordinate and crashed in
+        // vtkDataReader::ReadString.
+        {"vtk_points_cut_short.vtk", "value 44 of POINTS is 'POLYGONS', not a number"},
+        // "DATASET" followed by binary garbage: VTK matches the keyword by its first letters and
+        // read on (a wild read in vtkCellArray::AppendLegacyFormat); non-ASCII bytes print as ?.
+        {"vtk_dataset_keyword_garbled.vtk", "the fourth line starts with 'DATASET???"},
+        // A <Piece> tag padded to hundreds of bytes: std::regex overflowed the stack.
+        {"vtp_long_tag.vtp", "the XML tag <Piece> has a malformed attribute"},
+        // Polys offsets ending at 2^38: vtkXMLPolyDataReader allocated 2 TB for connectivity.
+        {"vtp_offset_bomb.vtp",
+         "the last offset of <Polys> is 257698037760 but its connectivity holds 60 values"},
+        // ASCII offsets running to the end of the file: the check read past it (its own
+        // heap overflow); now VTK's XML parser refuses the broken tag after them.
+        {"vtp_ascii_offsets_at_end.vtp", "VTK could not read"},
+        // Points of one component: VTK refused them but leaked the array it had made.
+        {"vtp_points_one_component.vtp",
+         "the <Points> array 'Points' has NumberOfComponents=\"1\", not 3"},
+    };
+    for (const auto& [file, message] : cases)
+    {
+        CAPTURE(file);
+        const std::string what = vessel::test::io_refusal(dir + file);
+        CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+        CHECK(what.find(dir + file) != std::string::npos);
     }
 }
 

@@ -2,12 +2,17 @@
 
 // VTK reports failures through ErrorEvent (printing them to its output window when nobody
 // listens) rather than by return value. VtkErrors listens, so that the messages end up in our
-// exceptions instead of on stderr. Include only from .cpp files that use VTK.
+// exceptions instead of on stderr. Objects nobody watches (a reader's zlib decompressor) still
+// print through vtkOutputWindow and vtkLogger, as coloured "ERR|" lines beside our own one-line
+// message; the first VtkErrors turns both off for the process (the reader's own error, which
+// it watches, still says what failed). Include only from .cpp files that use VTK.
 
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
+#include <vtkLogger.h>
 #include <vtkNew.h>
 #include <vtkObject.h>
+#include <vtkOutputWindow.h>
 
 #include <cctype>
 #include <string>
@@ -19,6 +24,12 @@ class VtkErrors
 public:
     VtkErrors()
     {
+        static const bool quiet = [] {
+            vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+            vtkOutputWindow::GetInstance()->SetDisplayModeToNever();
+            return true;
+        }();
+        (void)quiet;
         errors_->SetClientData(this);
         errors_->SetCallback([](vtkObject*, unsigned long event, void* self, void* message) {
             auto* me = static_cast<VtkErrors*>(self);

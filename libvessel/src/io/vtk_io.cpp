@@ -259,11 +259,10 @@ PolyData read_polydata(const std::string& path)
         errors.watch(reader);
         errors.watch(reader->GetExecutive());
         reader->SetFileName(path.c_str());
-        if (!reader->IsFilePolyData())
+        if (!detail::check_legacy_vtk(path))
             throw IoError("read_polydata: " + path +
                           " is not a legacy VTK POLYDATA file (DATASET POLYDATA); extract the "
                           "surface first (ParaView: Extract Surface) and save it as .vtp");
-        detail::check_legacy_vtk(path);
         reader->ReadAllScalarsOn();
         reader->ReadAllVectorsOn();
         reader->ReadAllNormalsOn();
