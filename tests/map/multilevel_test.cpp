@@ -135,3 +135,51 @@ TEST_CASE("multilevel: relax_area and the options refuse what they cannot use")
     options.coarse_vertices = -1;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
 }
+
+TEST_CASE("multilevel: coarsen_levels shrinks by levels, keeps corners, carries one-to-one")
+{
+    const Mesh fine = test::cut_cylinder(1.0, 6.0, 48, 60);
+    const std::vector<VertexHandle> boundary = test::boundary_vertices(fine);
+    const std::vector<VertexHandle> keep = {boundary[0], boundary[boundary.size() / 3],
+                                            boundary[2 * boundary.size() / 3]};
+    const std::vector<CoarseMesh> levels = coarsen_levels(fine, 100, keep);
+    REQUIRE(levels.size() >= 3);
+    std::set<int> kept;  // the kept vertices' indices on the current level
+    for (auto v : keep)
+        kept.insert(v.idx());
+    std::size_t above = fine.n_vertices();
+    for (const CoarseMesh& level : levels)
+    {
+        const std::size_t n = level.mesh.n_vertices();
+        CHECK(n < above);
+        CHECK(n >= above / 5);  // about a quarter per level, never a jump to the bottom
+        // A kept boundary vertex (a corner of the layout) never takes a boundary neighbour's
+        // star: that star could not be put back onto its edge where the map turns sharply.
+        for (const Collapse& collapse : level.collapses)
+            if (collapse.across >= 0)
+                CHECK(kept.count(collapse.v1) == 0);
+        std::set<int> next;
+        for (int v : kept)
+        {
+            REQUIRE(level.coarse_of[v] >= 0);
+            next.insert(level.coarse_of[v]);
+        }
+        kept = next;
+        above = n;
+    }
+    CHECK(levels.back().mesh.n_vertices() <= 110);
+    CHECK_THROWS_AS(coarsen_levels(fine, 2, keep), InvalidInputError);
+
+    // Carried up level by level, relaxed on each: flip-free and simple all the way.
+    Eigen::MatrixX2d uv = coarse_map(levels.back().mesh);
+    for (std::size_t l = levels.size(); l-- > 0;)
+    {
+        const Mesh& up = l == 0 ? fine : levels[l - 1].mesh;
+        uv = prolongate(up, levels[l], uv, 0.99);
+        REQUIRE(test::count_flips(up, uv) == 0);
+        relax_area(up, uv, {}, 0.99);
+        CHECK(test::count_flips(up, uv) == 0);
+        CHECK(boundary_self_intersection(up, uv).first < 0);
+    }
+    CHECK(flat_quality(fine, uv).mean_abs_log_area < 0.02);
+}

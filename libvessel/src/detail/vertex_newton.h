@@ -97,7 +97,8 @@ double vertex_newton_step(const VertexEnergy& energy, const Corner* begin, const
     Eigen::Vector2d grad;
     Eigen::Matrix2d hess;
     energy.derivatives(begin, end, x, grad, hess, ds);
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(hess);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
+    eig.computeDirect(hess);
     Eigen::Vector2d lambda = eig.eigenvalues();
     const double floor = 1e-8 * std::max(std::abs(lambda.maxCoeff()), 1e-30);
     lambda = lambda.cwiseMax(floor);

@@ -51,6 +51,11 @@ bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
         return false;
     if (v0.is_boundary() && !(h.is_boundary() || h.opp().is_boundary()))
         return false;
+    // A kept boundary vertex is a corner of the layout, where the map's boundary may turn
+    // sharply (the gap between two branches): a neighbour's star merged into it could not be
+    // put back onto its edge without a flip.
+    if (v0.is_boundary() && mesh.status(v1).locked())
+        return false;
     if (!mesh.is_collapse_ok(h))
         return false;
     const OpenMesh::Vec3d p1 = mesh.point(v1);
@@ -108,7 +113,8 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
             int best = -1;
             for (auto h : v.outgoing_halfedges())
             {
-                if (v.is_boundary() && !(h.is_boundary() || h.opp().is_boundary()))
+                if (v.is_boundary() &&
+                    (!(h.is_boundary() || h.opp().is_boundary()) || work.status(h.to()).locked()))
                     continue;
                 const double length = (work.point(h.to()) - work.point(v)).sqrnorm();
                 if (length < shortest)
@@ -173,6 +179,31 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
                              VertexHandle(h.next().to().idx()));
     }
     return coarse;
+}
+
+std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
+                                       std::vector<VertexHandle> keep)
+{
+    if (coarse_vertices < 3)
+        throw InvalidInputError("coarsen_levels: coarse_vertices must be >= 3, got " +
+                                std::to_string(coarse_vertices));
+    // A quarter per level: each level's sweeps then face an error of about twice its edge
+    // length, which Gauss-Seidel removes in a few tens of sweeps.
+    constexpr std::size_t kRatio = 4;
+    const std::size_t coarsest = static_cast<std::size_t>(coarse_vertices);
+    std::vector<CoarseMesh> levels;
+    for (const Mesh* above = &fine; above->n_vertices() > coarsest;)
+    {
+        const std::size_t target = std::max(coarsest, above->n_vertices() / kRatio);
+        CoarseMesh level = coarsen(*above, static_cast<int>(target), keep);
+        if (level.mesh.n_vertices() == above->n_vertices())
+            break;  // nothing could be collapsed
+        for (VertexHandle& v : keep)
+            v = VertexHandle(level.coarse_of[v.idx()]);
+        levels.push_back(std::move(level));
+        above = &levels.back().mesh;
+    }
+    return levels;
 }
 
 namespace {
@@ -293,21 +324,29 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             const double to_target = (p(collapse.v0) - p(collapse.v1)).norm();
             const double to_across = (p(collapse.v0) - p(collapse.across)).norm();
             const Eigen::Vector2d edge = uv.row(collapse.across).transpose() - target;
-            // Off the edge, only inward: to the side of the star's face on `across` (the
-            // faces are counter-clockwise, so (v0, across, x) has x left of the edge).
+            // On the edge if possible, else off it by as little as will do, inward: to the side
+            // of the star's faces (the faces are counter-clockwise, so (v0, across, x) has x
+            // left of the edge); the least lift keeps clear of a close opposite boundary.
             Eigen::Vector2d inward(-edge.y(), edge.x());
             for (const auto& [a, b] : collapse.faces)
                 if (b == collapse.across)
                     inward = -inward;
+            // A star of one face (v0, v1, across) is an ear over the coarse edge: it is
+            // positive only with v0 on the edge's outer side.
+            if (collapse.faces.size() == 1)
+                inward = -inward;
             bool placed = false;
             const double s0 = to_target / std::max(to_target + to_across, 1e-300);
-            for (double s = s0; s > s0 / 16 && !placed; s *= 0.5)
-                for (double lift : {0.0, 1e-2, 1e-3, 1e-4})
+            for (double lift : {0.0, 1e-4, 1e-3, 1e-2})
+            {
+                for (double s = s0; s > s0 / 16 && !placed; s *= 0.5)
                 {
                     uv.row(collapse.v0) = (target + s * edge + lift * inward).transpose();
-                    if ((placed = star_positive(uv, collapse)))
-                        break;
+                    placed = star_positive(uv, collapse);
                 }
+                if (placed)
+                    break;
+            }
             if (placed)
                 continue;
         }

@@ -189,22 +189,35 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
 
     std::vector<Eigen::Vector3d> ds;
     BoundaryGuard guard(mesh);
+    // Only vertices that may still lower the energy are visited: those that lowered it in the
+    // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a
+    // sweep, and their neighbours (whose stars changed).
+    std::vector<char> active(n, 1), next(n, 0);
     for (int sweep = 0; sweep < options.relax_sweeps; ++sweep)
     {
         guard.rebuild(x);
+        const double threshold =
+            0.1 * options.tolerance * std::max(current - minimum, 0.0) / std::max(n, 1);
         double lowered = 0.0;
         for (int v = 0; v < n; ++v)
         {
-            if (pinned[v] >= 0 || first[v] == first[v + 1])
+            if (!active[v] || pinned[v] >= 0 || first[v] == first[v + 1])
                 continue;
             const detail::Corner* begin = corners.data() + first[v];
             const detail::Corner* end = corners.data() + first[v + 1];
             const bool boundary = guard.on_boundary(v);
-            lowered += detail::vertex_newton_step(
+            const double step = detail::vertex_newton_step(
                 energy, begin, end, x, v,
                 boundary ? guard.max_step() : std::numeric_limits<double>::infinity(),
                 [&](const Eigen::Vector2d& p) { return !boundary || guard.allows(x, v, p); }, ds);
+            lowered += step;
+            if (step > threshold)
+                for (const detail::Corner* c = begin; c != end; ++c)
+                    for (int w : ops[c->face].corner)
+                        next[w] = 1;
         }
+        active.swap(next);
+        std::fill(next.begin(), next.end(), 0);
         current -= lowered;
         summary.sweeps = sweep + 1;
         if (lowered <= options.tolerance * std::max(current - minimum, 0.0))

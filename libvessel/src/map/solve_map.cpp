@@ -106,12 +106,26 @@ Pins renumbered(const Pins& pins, const std::vector<int>& index)
 
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary) the reason, and result.uv untouched.
+// Index of each fine vertex in level `depth` of the hierarchy (0 = the fine mesh), or -1.
+std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t depth,
+                          std::size_t n_fine)
+{
+    std::vector<int> index(n_fine);
+    for (std::size_t v = 0; v < n_fine; ++v)
+    {
+        int c = static_cast<int>(v);
+        for (std::size_t k = 0; k < depth && c >= 0; ++k)
+            c = levels[k].coarse_of[c];
+        index[v] = c;
+    }
+    return index;
+}
+
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                  const LayoutResult& placed, const FlattenOptions& options,
                                  FlattenResult& result, bool& at_layout)
 {
-    // The coarse problem, the segments' ends kept (each loop keeps its run of the boundary);
-    // every per-vertex input renumbered or dropped.
+    // The hierarchy, the segments' ends kept (each loop keeps its run of the boundary).
     std::vector<VertexHandle> keep;
     for (const BoundarySegment& segment : input.segments)
     {
@@ -119,17 +133,22 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
         keep.push_back(segment.vertices.back());
     }
     const MultilevelOptions& multilevel = options.multilevel;
-    const CoarseMesh coarse = coarsen(mesh, multilevel.coarse_vertices, keep);
+    const std::vector<CoarseMesh> levels = coarsen_levels(mesh, multilevel.coarse_vertices, keep);
+    const Mesh& coarsest = levels.back().mesh;
+    const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
+
+    // The coarse problem: every per-vertex input renumbered or dropped.
     LayoutInput coarse_input = input;
-    coarse_input.mesh = &coarse.mesh;
-    coarse_input.origin.resize(coarse.fine_of.size());
-    for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
-        coarse_input.origin[c] = input.origin[coarse.fine_of[c]];
+    coarse_input.mesh = &coarsest;
+    coarse_input.origin.resize(coarsest.n_vertices());
+    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+        if (coarse_of[v] >= 0)
+            coarse_input.origin[coarse_of[v]] = input.origin[v];
     for (BoundarySegment& segment : coarse_input.segments)
     {
         BoundarySegment kept{segment.loop, {}, {}};
         for (std::size_t i = 0; i < segment.vertices.size(); ++i)
-            if (const int c = coarse.coarse_of[segment.vertices[i].idx()]; c >= 0)
+            if (const int c = coarse_of[segment.vertices[i].idx()]; c >= 0)
             {
                 kept.vertices.push_back(VertexHandle(c));
                 kept.arc_length.push_back(segment.arc_length[i]);
@@ -137,14 +156,15 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
         segment = std::move(kept);
     }
     LayoutResult coarse_placed = placed;
-    coarse_placed.inlet = renumbered(placed.inlet, coarse.coarse_of);
-    coarse_placed.outlets = renumbered(placed.outlets, coarse.coarse_of);
+    coarse_placed.inlet = renumbered(placed.inlet, coarse_of);
+    coarse_placed.outlets = renumbered(placed.outlets, coarse_of);
 
     FlattenResult solved;
-    at_layout = solve_single_level(coarse.mesh, coarse_input, coarse_placed, options, solved);
+    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved);
     char line[200];
-    std::snprintf(line, sizeof line, "coarse-to-fine: the map solved on %zu of %zu vertices",
-                  coarse.mesh.n_vertices(), mesh.n_vertices());
+    std::snprintf(line, sizeof line,
+                  "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
+                  coarsest.n_vertices(), mesh.n_vertices(), levels.size());
     result.notes.push_back(line);
     for (const std::string& note : solved.notes)
         result.notes.push_back("coarse: " + note);
@@ -153,29 +173,41 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
 
-    // Carried to the full mesh, the pins (when they held) put back exactly, flips untangled,
-    // then the short-wavelength error relaxed away.
+    // Carried up level by level (cascadic multigrid, Bornemann and Deuflhard 1996): at each
+    // level the pins (when they held) put back exactly, flips untangled, then the error of the
+    // level's own wavelength relaxed away, which the finer levels' local steps would remove
+    // only slowly.
     const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
-    Eigen::MatrixX2d uv = prolongate(mesh, coarse, solved.uv, lambda);
-    const Pins pins = at_layout ? placed.inlet : Pins{};
-    for (const Pin& pin : pins)
-        uv.row(pin.vertex.idx()) = pin.uv.transpose();
-    const UntangleSummary untangled = untangle(mesh, uv, pins, options.untangle);
-    if (untangled.flipped_before > 0)
-        result.notes.push_back("coarse-to-fine: " + untangled.report);
-    if (untangled.flipped_after > 0)
-        return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
-    if (keep_simple && boundary_self_intersection(mesh, uv).first >= 0)
-        return "the carried map's boundary crosses itself";
-    const RelaxSummary relaxed = relax_area(mesh, uv, pins, lambda, multilevel);
-    const double minimum = 2.0 * face_areas(mesh).sum();
-    std::snprintf(line, sizeof line,
-                  "coarse-to-fine: %d relaxation sweeps, energy / minimum %.5f -> %.5f",
-                  relaxed.sweeps, relaxed.energy_before / minimum, relaxed.energy_after / minimum);
-    result.notes.push_back(line);
-    if (keep_simple && boundary_self_intersection(mesh, uv).first >= 0)
-        return "the relaxed map's boundary crosses itself";
+    Eigen::MatrixX2d uv = std::move(solved.uv);
+    for (std::size_t l = levels.size(); l-- > 0;)
+    {
+        const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
+        uv = prolongate(above, levels[l], uv, lambda);
+        const Pins pins =
+            at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
+        for (const Pin& pin : pins)
+            uv.row(pin.vertex.idx()) = pin.uv.transpose();
+        const UntangleSummary untangled = untangle(above, uv, pins, options.untangle);
+        if (untangled.flipped_before > 0)
+            result.notes.push_back("coarse-to-fine: " + untangled.report);
+        if (untangled.flipped_after > 0)
+            return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
+        if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
+            return "the carried map's boundary crosses itself";
+        const RelaxSummary relaxed = relax_area(above, uv, pins, lambda, multilevel);
+        if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
+            return "the relaxed map's boundary crosses itself";
+        if (l == 0)
+        {
+            const double minimum = 2.0 * face_areas(mesh).sum();
+            std::snprintf(line, sizeof line,
+                          "coarse-to-fine: %d relaxation sweeps, energy / minimum %.5f -> %.5f",
+                          relaxed.sweeps, relaxed.energy_before / minimum,
+                          relaxed.energy_after / minimum);
+            result.notes.push_back(line);
+        }
+    }
     result.uv = std::move(uv);
     return "";
 }

@@ -7,9 +7,9 @@
 // `coarse_vertices` large, so stage F's cost no longer grows with the number of nonlinear
 // iterations times the mesh size (as in Hormann, Labsik and Greiner 2001, "Remeshing
 // triangulated surfaces with optimal parameterizations", and Liu et al. 2018, "Progressive
-// parameterizations"). The local steps remove the short-wavelength error of the carried map,
-// not the long-wavelength one: the map's area distortion is the coarse map's plus what the
-// coarse mesh's chords miss of the surface.
+// parameterizations"). The map is carried up a hierarchy of levels, local steps at each
+// removing the error of its own wavelength; what is left is the error of wavelengths no level's
+// steps converge (docs/benchmarks.md "Coarse-to-fine").
 
 #include "vessel/core/mesh.h"
 #include "vessel/layout/pins.h"
@@ -28,8 +28,8 @@ struct MultilevelOptions
     //! meshes, and falls back to the full-resolution map (noted) where the carried map is not
     //! one-to-one (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
     int coarse_vertices = 0;
-    //! Gauss-Seidel sweeps of relax_area() at full resolution, at most; they stop earlier once
-    //! a sweep lowers the energy by less than `tolerance` of its excess over the isometric
+    //! Gauss-Seidel sweeps of relax_area() on each level, at most; they stop earlier once a
+    //! sweep lowers the energy by less than `tolerance` of its excess over the isometric
     //! minimum.
     int relax_sweeps = 40;
     double tolerance = 1e-3;  //!< relax_area()'s stopping rule (see relax_sweeps)
@@ -63,6 +63,16 @@ struct CoarseMesh
 //! subsequence of the fine one; those in \p keep are never removed.
 //! The coarse mesh carries none of the fine mesh's custom properties.
 CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep);
+
+//! \brief A hierarchy of coarsen() calls, each level about a quarter of the vertices of the one
+//! above it, down to \p coarse_vertices: levels[0] coarsens \p fine, levels[l] coarsens
+//! levels[l - 1].mesh. A map solved on the last level is carried up one level at a time
+//! (cascadic multigrid, Bornemann and Deuflhard 1996, "The cascadic multigrid method for
+//! elliptic problems"), so that local steps at each level remove the error of that level's
+//! wavelength. \p keep as in coarsen(), kept on every level.
+//! \throw InvalidInputError if \p coarse_vertices < 3.
+std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
+                                       std::vector<VertexHandle> keep);
 
 //! \brief Carry a map of the coarse mesh to every fine vertex: kept vertices keep their coarse
 //! (u, v); the collapses are undone in reverse order (Sander et al. 2001, "Texture mapping
