@@ -337,18 +337,56 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
                 inward = -inward;
             bool placed = false;
             const double s0 = to_target / std::max(to_target + to_across, 1e-300);
+            // the fractions tried: the 3D one, then halfway nearer either end, alternately
+            std::array<double, 21> fractions;
+            fractions[0] = s0;
+            for (int k = 1; k <= 10; ++k)
+            {
+                fractions[2 * k - 1] = s0 / std::ldexp(1.0, k);
+                fractions[2 * k] = 1.0 - (1.0 - s0) / std::ldexp(1.0, k);
+            }
             for (double lift : {0.0, 1e-4, 1e-3, 1e-2})
             {
-                for (double s = s0; s > s0 / 16 && !placed; s *= 0.5)
+                for (const double s : fractions)
                 {
                     uv.row(collapse.v0) = (target + s * edge + lift * inward).transpose();
-                    placed = star_positive(uv, collapse);
+                    if ((placed = star_positive(uv, collapse)))
+                        break;
                 }
                 if (placed)
                     break;
             }
             if (placed)
                 continue;
+            // Where the coarse boundary turns sharply at the target, no point of the edge
+            // keeps the star positive: the point of the star's kernel nearest the edge's,
+            // among rays from the target at halving radii.
+            const Eigen::Vector2d wanted = target + s0 * edge;
+            double reach = 0.0, best = std::numeric_limits<double>::infinity();
+            for (const auto& [a, b] : collapse.faces)
+                reach = std::max({reach, (uv.row(a).transpose() - target).norm(),
+                                  (uv.row(b).transpose() - target).norm()});
+            Eigen::Vector2d chosen = target;
+            for (int k = 0; k < 64; ++k)
+            {
+                const double angle = 2.0 * M_PI * k / 64.0;
+                const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
+                for (double r = 0.5; r > 1e-4; r *= 0.5)
+                {
+                    const Eigen::Vector2d p = target + r * reach * ray;
+                    uv.row(collapse.v0) = p.transpose();
+                    if (star_positive(uv, collapse) && (p - wanted).norm() < best)
+                    {
+                        best = (p - wanted).norm();
+                        chosen = p;
+                    }
+                }
+            }
+            if (std::isfinite(best))
+            {
+                uv.row(collapse.v0) = chosen.transpose();
+                continue;
+            }
         }
         const Eigen::Vector2d fitted = fitted_position(fine, uv, collapse);
         uv.row(collapse.v0) = fitted.transpose();

@@ -3,6 +3,7 @@
 #include "detail/solve_map.h"
 
 #include "detail/look_retry.h"
+#include "detail/segments.h"
 #include "detail/refine_map.h"
 #include "vessel/map/embedding.h"
 #include "vessel/map/lscm.h"
@@ -121,16 +122,81 @@ std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t dep
     return index;
 }
 
+// Where two parts of the coarse map's boundary nearly touch (two branches laid side by side),
+// vertices put back onto their coarse edges can cross the other part by rounding. Each
+// crossing is undone by moving one of its four ends that is new on this level (not kept, not
+// pinned) part of the way toward the centre of its one ring, into the interior, as long as
+// its faces stay positive and its two boundary edges cross nothing. Returns whether the
+// boundary is simple at the end.
+bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int>& kept_of,
+                   const Pins& pins)
+{
+    std::vector<char> fixed(mesh.n_vertices(), 0);
+    for (const Pin& pin : pins)
+        fixed[pin.vertex.idx()] = 1;
+    const auto positive = [&](VertexHandle v) {
+        for (auto h : mesh.voh_range(v))
+            if (!mesh.is_boundary(h) &&
+                !(detail::orient(uv.row(v.idx()).transpose(),
+                                 uv.row(mesh.to_vertex_handle(h).idx()).transpose(),
+                                 uv.row(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())
+                                     .transpose()) > 0.0))
+                return false;
+        return true;
+    };
+    for (int round = 0; round < 100; ++round)
+    {
+        const auto [h0, h1] = boundary_self_intersection(mesh, uv);
+        if (h0 < 0)
+            return true;
+        bool moved = false;
+        for (int h : {h0, h1})
+            for (VertexHandle v : {mesh.from_vertex_handle(mesh.halfedge_handle(h)),
+                                   mesh.to_vertex_handle(mesh.halfedge_handle(h))})
+            {
+                if (moved || kept_of[v.idx()] >= 0 || fixed[v.idx()])
+                    continue;
+                Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+                int ring = 0;
+                for (auto w : mesh.vv_range(v))
+                {
+                    centre += uv.row(w.idx()).transpose();
+                    ++ring;
+                }
+                centre /= std::max(ring, 1);
+                const Eigen::Vector2d start = uv.row(v.idx()).transpose();
+                for (double t : {1e-3, 1e-2, 0.05, 0.1, 0.25, 0.5})
+                {
+                    uv.row(v.idx()) = (start + t * (centre - start)).transpose();
+                    if (positive(v) && boundary_self_intersection(mesh, uv) != std::make_pair(h0, h1))
+                    {
+                        moved = true;
+                        break;
+                    }
+                }
+                if (!moved)
+                    uv.row(v.idx()) = start.transpose();
+            }
+        if (!moved)
+            return false;
+    }
+    return boundary_self_intersection(mesh, uv).first < 0;
+}
+
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                  const LayoutResult& placed, const FlattenOptions& options,
                                  FlattenResult& result, bool& at_layout)
 {
-    // The hierarchy, the segments' ends kept (each loop keeps its run of the boundary).
+    // The hierarchy, each segment keeping its ends and evenly spaced vertices between them,
+    // so that each loop keeps its run of the boundary and its shape: an outlet loop decimated
+    // to a spike between its ends leaves its fine vertices no room on the coarse edges.
     std::vector<VertexHandle> keep;
+    constexpr int per_segment = 8;
     for (const BoundarySegment& segment : input.segments)
     {
-        keep.push_back(segment.vertices.front());
-        keep.push_back(segment.vertices.back());
+        const std::size_t n = segment.vertices.size();
+        for (int i = 0; i < per_segment && n > 0; ++i)
+            keep.push_back(segment.vertices[(n - 1) * i / (per_segment - 1)]);
     }
     const MultilevelOptions& multilevel = options.multilevel;
     const std::vector<CoarseMesh> levels = coarsen_levels(mesh, multilevel.coarse_vertices, keep);
@@ -193,7 +259,7 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             result.notes.push_back("coarse-to-fine: " + untangled.report);
         if (untangled.flipped_after > 0)
             return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
-        if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
+        if (keep_simple && !open_contacts(above, uv, levels[l].coarse_of, pins))
             return "the carried map's boundary crosses itself";
         const RelaxSummary relaxed = relax_area(above, uv, pins, lambda, multilevel);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
