@@ -117,6 +117,7 @@ struct Settings
     long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
     std::string method = "default";      // the timed pipeline: see pipeline_options()
     std::string cuts = "default";        // the cut rule: see pipeline_options()
+    int coarse_vertices = 0;             // stage F coarse-to-fine (MultilevelOptions); 0 = off
 };
 
 // The options of the timed pipeline: the library's defaults; with --method paper
@@ -137,6 +138,7 @@ vessel::FlattenOptions pipeline_options(const Settings& s)
         o.cuts.route = vessel::CutRoute::ShortestPath;
         o.cuts.join = vessel::CutJoin::Cheapest;
     }
+    o.multilevel.coarse_vertices = s.coarse_vertices;
     if (s.method == "paper-untangled")
     {
         o.refinement = vessel::Refinement::Injective;  // ARAP, untangling, then SLIM ...
@@ -237,6 +239,7 @@ json run_table_case(const Case& c, const Settings& s)
     const vessel::FlattenOptions options = pipeline_options(s);
     out["method"] = s.method;
     out["cuts"] = s.cuts;
+    out["coarse_vertices"] = s.coarse_vertices;
     for (int run = 0; run < s.runs; ++run)
     {
         vessel::Mesh copy = mesh;
@@ -657,6 +660,8 @@ std::string method_of(const std::vector<json>& results)
             std::string m = r["method"].get<std::string>();
             if (r.value("cuts", std::string("default")) != "default")
                 m += " --cuts " + r["cuts"].get<std::string>();
+            if (r.value("coarse_vertices", 0) > 0)
+                m += " --coarse-vertices " + std::to_string(r["coarse_vertices"].get<int>());
             return m;
         }
     return "default";
@@ -1102,6 +1107,11 @@ int main(int argc, char** argv)
                    "and a traced streamline's band, the one that winds less) or paper (the "
                    "paper's: the cheapest path, later cuts ending where they meet the tree)")
         ->check(CLI::IsMember({"default", "paper"}))
+        ->capture_default_str();
+    app.add_option("--coarse-vertices", s.coarse_vertices,
+                   "Stage F coarse-to-fine on a mesh decimated to N vertices, as vessel-flatten's "
+                   "--coarse-vertices (0 = off)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--peer-timeout", s.peer_timeout_s,
                    "Kill the CGAL peer's child for a mesh after this long (s); recorded, not fatal")
