@@ -8,9 +8,10 @@
 # libopenblas0-pthread: becomes the libblas.so.3 alternative, so CHOLMOD's supernodal factorizations
 # run on OpenBLAS instead of ATLAS or the reference BLAS (1.3-1.5x less CPU for a whole run,
 # docs/design.md); libvessel holds it at one thread (solve/serial_openmp.h).
+# clang, libclang-rt-14-dev: the libFuzzer targets of the readers (fuzz/, scripts/fuzz.sh).
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config ccache
+  build-essential cmake pkg-config ccache clang libclang-rt-14-dev
   libopenmesh-dev libeigen3-dev libspectra-dev libceres-dev libsuitesparse-dev
   doctest-dev libcli11-dev nlohmann-json3-dev libbenchmark-dev libcgal-dev libboost-dev
   libopenblas0-pthread
