@@ -33,10 +33,16 @@ void check_query(const Mesh& mesh, const PathQuery& query, const Eigen::MatrixX3
         throw InvalidInputError("shortest_path: is_blocked needs one flag per vertex (or none)");
     if (winding_rate.rows() != 0 && static_cast<std::size_t>(winding_rate.rows()) != nv)
         throw InvalidInputError("shortest_path: winding_rate needs one row per vertex (or none)");
+    if (!std::isfinite(query.steer_weight))
+        throw InvalidInputError("shortest_path: steer_weight must be finite");
     for (auto v : query.sources)
         if (!mesh.is_valid_handle(v))
             throw InvalidInputError("shortest_path: invalid source vertex handle");
 }
+
+// PathQuery::steer_rate: a steered arc keeps at least this fraction of its weight, so no arc
+// is free and the search stays a Dijkstra on positive weights.
+constexpr double kSteerFloor = 0.1;
 
 constexpr char kSettled = 1;
 constexpr char kSource = 2;
@@ -124,6 +130,14 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
     touched_.clear();
     heap_.clear();
     const bool any_blocked = !query.is_blocked.empty();
+    const bool steered = query.steer_rate && query.steer_weight != 0.0;
+    // The weight of an arc from v to w of unsteered weight `weight` (PathQuery::steer_rate).
+    const auto steer = [&](int v, int w, double weight) {
+        const Eigen::Vector3d d = to_eigen(mesh_.point(VertexHandle(w)) -
+                                           mesh_.point(VertexHandle(v)));
+        return std::max(weight + query.steer_weight * query.steer_rate(v).dot(d),
+                        kSteerFloor * weight);
+    };
     for (auto s : query.sources)
         if (dist_[s.idx()] == kInfinity)
         {
@@ -152,7 +166,7 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
             const int w = a->to;
             if ((state_[w] & kSettled) || (any_blocked && query.is_blocked[w]))
                 continue;
-            const double nd = d + a->weight;
+            const double nd = d + (steered ? steer(v, w, a->weight) : a->weight);
             if (nd < dist_[w])
             {
                 if (dist_[w] == kInfinity)
@@ -189,8 +203,10 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
             for (auto h : mesh_.vih_range(VertexHandle(v)))
             {
                 const int u = mesh_.from_vertex_handle(h).idx();
+                const double weight =
+                    steered ? steer(u, v, weights_[h.idx()]) : weights_[h.idx()];
                 if (!(state_[u] & kSettled) || query.is_target[u] || dist_[u] >= dist_[v] ||
-                    dist_[u] + weights_[h.idx()] > dist_[v] + slack)
+                    dist_[u] + weight > dist_[v] + slack)
                     continue;
                 const double w = std::abs(path.winding_rad +
                                           winding_step(mesh_, winding_rate, h));

@@ -40,6 +40,8 @@ void CutPlanOptions::validate() const
     if (!(winding_max_alignment_loss >= 0.0) || !std::isfinite(winding_max_alignment_loss))
         throw InvalidInputError(
             "CutPlanOptions: winding_max_alignment_loss must be finite and >= 0");
+    if (!(winding_target_deg >= 0.0) || !std::isfinite(winding_target_deg))
+        throw InvalidInputError("CutPlanOptions: winding_target_deg must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -589,6 +591,78 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
                         std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
+// CutRoute::Aligned: a cut that still winds more than options.winding_target_deg around its
+// vessel (WindingMeter) after keep_traced()'s choice is searched again with its signed winding
+// priced into the arcs (PathQuery::steer_rate = WindingMeter::angular_rate(), a Lagrangian
+// relaxation of "winds at most the target"). The multiplier opposes the way \p current winds; it
+// doubles from 1/16 of the path's cost per half turn (up to 16) until the steered cut winds less
+// than the target or the other way, then three bisections between the last two. The cheapest
+// path of the edge costs follows twisted edge columns of a coarse or structured mesh (a path of
+// aligned edges costs less than a straight zigzag); no multiplier reaches a winding that lies
+// off the convex hull of (winding, cost), so a few cuts keep theirs. The best steered path
+// replaces \p current if it winds less by more than options.winding_min_gain_deg and its
+// alignment with the stream field is at most options.winding_max_alignment_loss lower.
+// \p finish: what the caller does to a cheapest path (the cut back of CutJoin::Approach).
+// Empty = keep \p current.
+template <class Finish>
+std::optional<GraphPath> steer_path(CutGraph& graph, PathQuery& query,
+                                    const Eigen::MatrixX3d& winding_rate,
+                                    const WindingMeter& meter, const GraphPath& current,
+                                    const Eigen::MatrixX3d& stream_field,
+                                    const CutPlanOptions& options, Finish finish)
+{
+    const Mesh& mesh = graph.mesh();
+    if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
+        return std::nullopt;
+    const double wound = std::abs(meter.measure(as_cut(mesh, current)).winding_deg);
+    if (!(wound > options.winding_target_deg))
+        return std::nullopt;
+    const double floor_alignment =
+        path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
+        options.winding_max_alignment_loss;
+    std::optional<GraphPath> best;
+    double best_wound = wound - options.winding_min_gain_deg;
+    query.steer_rate = [&meter](int v) { return meter.angular_rate(VertexHandle(v)); };
+    const double sign = meter.measure(as_cut(mesh, current)).winding_deg > 0.0 ? 1.0 : -1.0;
+    const double unit = current.cost / M_PI;  // t = 1: a half turn costs the path's cost
+    // The signed winding of the steered path at multiplier t (0 = on target).
+    const auto steer = [&](double t) {
+        query.steer_weight = sign * t * unit;
+        GraphPath p = finish(graph.shortest_path(query, winding_rate));
+        const CutPath cut = as_cut(mesh, p);
+        const double w = meter.measure(cut).winding_deg;
+        if (std::abs(w) < best_wound &&
+            path_alignment(mesh, cut, stream_field).mean >= floor_alignment)
+        {
+            best_wound = std::abs(w);
+            best = std::move(p);
+        }
+        return std::abs(w) <= options.winding_target_deg ? 0.0 : sign * w;
+    };
+    double low = 0.0, high = 0.0;
+    for (double t = 1.0 / 16; t <= 16.0; t *= 2.0)
+    {
+        const double left = steer(t);
+        if (left <= 0.0)
+        {
+            high = t;
+            break;
+        }
+        low = t;
+    }
+    if (high > 0.0 && low == 0.0)
+        low = high / 2.0;
+    if (high > 0.0 && best_wound > options.winding_target_deg)
+        for (int i = 0; i < 3 && best_wound > options.winding_target_deg; ++i)
+        {
+            const double t = std::sqrt(low * high);
+            (steer(t) > 0.0 ? low : high) = t;
+        }
+    query.steer_rate = nullptr;
+    query.steer_weight = 0.0;
+    return best;
+}
+
 }  // namespace
 
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
@@ -735,13 +809,15 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                                                                 options.viewpoint)}
                             : loops[l].vertices;
 
-        GraphPath found = graph.shortest_path(query, winding_rate);
-        if (l >= 2 && approach)
-        {
+        // A later cut's cheapest path is cut back where it runs beside the tree.
+        const auto finish = [&](GraphPath p) {
+            if (l < 2 || !approach)
+                return p;
             const double radius = loops[l].arc_length / (2.0 * M_PI);
-            found = cut_back(graph, found, tree, loop_of, options.join_reach * radius,
-                             options.join_excess * radius);
-        }
+            return cut_back(graph, p, tree, loop_of, options.join_reach * radius,
+                            options.join_excess * radius);
+        };
+        GraphPath found = finish(graph.shortest_path(query, winding_rate));
         if (!cheapest_targets.empty())  // restore: the whole tree, for the traced path and the next outlet
         {
             query.is_target.assign(nv, 0);
@@ -776,6 +852,17 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                 traced = true;
             }
         }
+        if (compare && !closest)
+            if (const WindingMeter* reader = winding_meter())
+            {
+                std::optional<GraphPath> held = steer_path(graph, query, winding_rate, *reader,
+                                                           found, stream_field, options, finish);
+                if (held)
+                {
+                    found = std::move(*held);
+                    traced = false;
+                }
+            }
         CutPath cut;
         cut.traced = traced;
         cut.outlet = static_cast<int>(l);

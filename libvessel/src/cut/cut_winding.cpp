@@ -47,6 +47,7 @@ WindingMeter::WindingMeter(const Mesh& mesh, const CutGraph* graph,
                                 " vertices; pass one per vertex, indexed by v.idx()");
     stamp_.assign(mesh.n_vertices(), -1);
     fit_of_.assign(mesh.n_vertices(), -1);
+    rate_of_.assign(mesh.n_vertices(), -1);
     direction_.assign(mesh.n_vertices(),
                       Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN()));
 }
@@ -256,6 +257,34 @@ PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
     result.winding_deg = total * 180.0 / M_PI;
     result.span_deg = (high - low) * 180.0 / M_PI;
     return result;
+}
+
+Eigen::Vector3d WindingMeter::angular_rate(VertexHandle v) const
+{
+    int& slot = rate_of_[static_cast<std::size_t>(v.idx())];
+    if (slot < 0)
+    {
+        Ring scratch;
+        const int before = static_cast<int>(fits_.size());
+        ring_fit(v, scratch);
+        slot = fit_of_[static_cast<std::size_t>(v.idx())];
+        // A ring made just now also serves, for the rate, the vertices of its inner half: a
+        // steered search reads the rate of nearly every vertex it settles.
+        if (slot >= before)
+            for (auto w : scratch.vertices)
+                if (rate_of_[static_cast<std::size_t>(w.idx())] < 0 &&
+                    std::abs(u_[w.idx()] - u_[v.idx()]) <= 0.5 * half_width_)
+                    rate_of_[static_cast<std::size_t>(w.idx())] = slot;
+    }
+    const RingFit& ring = fits_[static_cast<std::size_t>(slot)];
+    if (!ring.ok)
+        return Eigen::Vector3d::Zero();
+    Eigen::Vector3d d = to_eigen(mesh_.point(v)) - ring.centre;
+    d -= d.dot(ring.axis) * ring.axis;
+    const double offset = d.norm();
+    if (!(offset > options_.min_offset * ring.radius))
+        return Eigen::Vector3d::Zero();
+    return ring.axis.cross(d) / (offset * offset);
 }
 
 SeamWinding seam_winding(const std::vector<PathWinding>& paths)

@@ -2,6 +2,7 @@
 
 #include "vessel/core/mesh.h"
 
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -25,6 +26,14 @@ struct PathQuery
     Eigen::MatrixX3d winding_rate;
     //! Slack per step, as a fraction of the mean arc weight, within which two routes tie.
     double tie_tolerance = 0.0;
+    //! Optional steering (empty = none): the signed angle around the vessel gained per unit
+    //! displacement at a vertex index (e.g. WindingMeter::angular_rate()). Each arc v -> w then
+    //! weighs max(w + steer_weight * steer_rate(v) . (p_w - p_v), 0.1 w): a Lagrange multiplier
+    //! on the path's signed winding (Ahuja, Magnanti, Orlin, "Network Flows", 1993, ch. 16), so
+    //! that a search can trade cost for staying on its side of the vessel. The reported cost
+    //! stays the sum of the unsteered weights.
+    std::function<Eigen::Vector3d(int)> steer_rate;
+    double steer_weight = 0.0;  //!< the multiplier, cost per radian (either sign)
 };
 
 //! A path found in the cut graph.

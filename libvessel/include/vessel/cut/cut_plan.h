@@ -126,6 +126,13 @@ struct CutPlanOptions
     //! 0.05 admits the demo's branch cut (loss 0.037); 0.1 also admits a Glenn cut (0.059)
     //! whose change moves later cuts and raises Glenn's largest winding 69 -> 93.
     double winding_max_alignment_loss = 0.05;
+    //! CutRoute::Aligned with a longitudinal coordinate: a cut that still winds more than this
+    //! many degrees around its vessel (WindingMeter, end to end) is searched again with its
+    //! signed winding priced into the arc weights (PathQuery::steer_rate, a Lagrangian
+    //! relaxation of "winds at most this much"), and the steered path replaces it if it winds
+    //! less by more than winding_min_gain_deg and loses at most winding_max_alignment_loss of
+    //! alignment. 0 = no steering. Not with CutJoin::Closest.
+    double winding_target_deg = 15.0;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();

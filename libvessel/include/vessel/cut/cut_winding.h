@@ -84,6 +84,13 @@ public:
     //! The same for a path given as its vertices, in order.
     PathWinding measure(const std::vector<VertexHandle>& path) const;
 
+    //! \brief The angle around the vessel (radians) this meter reads per unit displacement at
+    //! \p v: (a x d) / |d|^2 with a the axis of v's ring and d the offset of v from it, so that
+    //! a step s from v turns by about angular_rate(v) . s (to first order, ignoring the turn
+    //! of the frame between rings). Zero where measure() adds nothing: v's band is no ring (a
+    //! junction, a sac, an end) or v lies too near the axis. Cached like the rings.
+    Eigen::Vector3d angular_rate(VertexHandle v) const;
+
 private:
     struct Ring;
     // Checks the options and the field's size, and sizes the scratch; the public constructors
@@ -114,6 +121,9 @@ private:
     //! \p scratch: the ring, made with it the first time p is asked.
     const RingFit& ring_fit(VertexHandle p, Ring& scratch) const;
     mutable std::vector<int> fit_of_;
+    //! angular_rate()'s ring per vertex: its own, or that of the first ring whose inner half
+    //! (u within half the band's half width) held it (index into fits_, -1 until asked).
+    mutable std::vector<int> rate_of_;
     mutable std::vector<RingFit> fits_;
 };
 
