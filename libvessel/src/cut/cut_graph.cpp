@@ -131,12 +131,12 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
     heap_.clear();
     const bool any_blocked = !query.is_blocked.empty();
     const bool steered = query.steer_rate && query.steer_weight != 0.0;
-    // The weight of an arc from v to w of unsteered weight `weight` (PathQuery::steer_rate).
-    const auto steer = [&](int v, int w, double weight) {
+    // The weight of an arc from v to w of unsteered weight `weight` (PathQuery::steer_rate),
+    // given v's rate.
+    const auto steer = [&](const Eigen::Vector3d& rate, int v, int w, double weight) {
         const Eigen::Vector3d d = to_eigen(mesh_.point(VertexHandle(w)) -
                                            mesh_.point(VertexHandle(v)));
-        return std::max(weight + query.steer_weight * query.steer_rate(v).dot(d),
-                        kSteerFloor * weight);
+        return std::max(weight + query.steer_weight * rate.dot(d), kSteerFloor * weight);
     };
     for (auto s : query.sources)
         if (dist_[s.idx()] == kInfinity)
@@ -160,13 +160,22 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
             break;
         }
         const double d = dist_[v];
+        // v's steering rate, asked once per vertex (not per arc) and only when an arc needs it:
+        // the rates' cache fills in the order they are asked (WindingMeter::angular_rate).
+        Eigen::Vector3d rate;
+        bool rate_known = false;
         const auto [first, last] = arcs(v);
         for (const Arc* a = first; a != last; ++a)
         {
             const int w = a->to;
             if ((state_[w] & kSettled) || (any_blocked && query.is_blocked[w]))
                 continue;
-            const double nd = d + (steered ? steer(v, w, a->weight) : a->weight);
+            if (steered && !rate_known)
+            {
+                rate = query.steer_rate(v);
+                rate_known = true;
+            }
+            const double nd = d + (steered ? steer(rate, v, w, a->weight) : a->weight);
             if (nd < dist_[w])
             {
                 if (dist_[w] == kInfinity)
@@ -203,8 +212,9 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
             for (auto h : mesh_.vih_range(VertexHandle(v)))
             {
                 const int u = mesh_.from_vertex_handle(h).idx();
-                const double weight =
-                    steered ? steer(u, v, weights_[h.idx()]) : weights_[h.idx()];
+                const double weight = steered
+                                          ? steer(query.steer_rate(u), u, v, weights_[h.idx()])
+                                          : weights_[h.idx()];
                 if (!(state_[u] & kSettled) || query.is_target[u] || dist_[u] >= dist_[v] ||
                     dist_[u] + weight > dist_[v] + slack)
                     continue;
