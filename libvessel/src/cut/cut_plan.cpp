@@ -42,6 +42,9 @@ void CutPlanOptions::validate() const
             "CutPlanOptions: winding_max_alignment_loss must be finite and >= 0");
     if (!(winding_target_deg >= 0.0) || !std::isfinite(winding_target_deg))
         throw InvalidInputError("CutPlanOptions: winding_target_deg must be finite and >= 0");
+    if (!(winding_streamline_limit_deg >= 0.0) || !std::isfinite(winding_streamline_limit_deg))
+        throw InvalidInputError(
+            "CutPlanOptions: winding_streamline_limit_deg must be finite and >= 0");
     if (!viewpoint.allFinite())
         throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
@@ -602,20 +605,23 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
 // off the convex hull of (winding, cost), so a few cuts keep theirs. The best steered path
 // replaces \p current if it winds less by more than options.winding_min_gain_deg and its
 // alignment with the stream field is at most options.winding_max_alignment_loss lower.
+// \p traced: \p current was taken along a streamline; it is searched again only if it winds
+// more than options.winding_streamline_limit_deg too.
 // \p finish: what the caller does to a cheapest path (the cut back of CutJoin::Approach).
 // Empty = keep \p current.
 template <class Finish>
 std::optional<GraphPath> steer_path(CutGraph& graph, PathQuery& query,
                                     const Eigen::MatrixX3d& winding_rate,
                                     const WindingMeter& meter, const GraphPath& current,
-                                    const Eigen::MatrixX3d& stream_field,
+                                    bool traced, const Eigen::MatrixX3d& stream_field,
                                     const CutPlanOptions& options, Finish finish)
 {
     const Mesh& mesh = graph.mesh();
     if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
         return std::nullopt;
     const double wound = std::abs(meter.measure(as_cut(mesh, current)).winding_deg);
-    if (!(wound > options.winding_target_deg))
+    if (!(wound > options.winding_target_deg) ||
+        (traced && !(wound > options.winding_streamline_limit_deg)))
         return std::nullopt;
     const double floor_alignment =
         path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
@@ -855,8 +861,9 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         if (compare && !closest)
             if (const WindingMeter* reader = winding_meter())
             {
-                std::optional<GraphPath> held = steer_path(graph, query, winding_rate, *reader,
-                                                           found, stream_field, options, finish);
+                std::optional<GraphPath> held =
+                    steer_path(graph, query, winding_rate, *reader, found, traced, stream_field,
+                               options, finish);
                 if (held)
                 {
                     found = std::move(*held);

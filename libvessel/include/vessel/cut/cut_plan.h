@@ -133,6 +133,13 @@ struct CutPlanOptions
     //! less by more than winding_min_gain_deg and loses at most winding_max_alignment_loss of
     //! alignment. 0 = no steering. Not with CutJoin::Closest.
     double winding_target_deg = 15.0;
+    //! ... except that a cut taken along a streamline (CutPath::traced) is searched again only
+    //! if it winds more than this many degrees too. A traced cut cannot drift from an aligned
+    //! curve by more than its band (CutRoute::Streamline), so what it winds is the vessel's and
+    //! the field's, not the graph's; the steered search may move it to another side of the
+    //! vessel, where later cuts then join it instead and the branch layout changes with them.
+    //! 45 = the bound on a natural cut's winding (issue 32; docs/results.md).
+    double winding_streamline_limit_deg = 45.0;
     EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
     //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
     Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
