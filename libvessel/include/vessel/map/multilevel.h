@@ -80,12 +80,14 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
 //! \brief Carry a map of the coarse mesh to every fine vertex: kept vertices keep their coarse
 //! (u, v); the collapses are undone in reverse order (Sander et al. 2001, "Texture mapping
 //! progressive meshes"), each interior vertex placed where an affine fit of the map over its
-//! one ring puts it, each boundary vertex on the boundary edge it was cut from, or nearer its
-//! collapse target where a face of its star would flip there. A flip-free coarse map gives a
-//! flip-free fine map (each star is kept positive; near the target it is); boundary vertices
-//! on their edges keep the coarse boundary's shape, and so its simplicity, except where no
-//! point of the edge keeps the star positive (then the vertex goes inside the star). Each
-//! re-inserted interior vertex then takes a few of relax_area()'s Newton steps in its star.
+//! one ring puts it, each boundary vertex on the boundary edge it was cut from (at its 3D
+//! fraction, else at another fraction, else lifted off the edge by the least that keeps its
+//! star positive). A flip-free coarse map gives a flip-free fine map (each star is kept
+//! positive; near the target it is); boundary vertices on their edges keep the coarse
+//! boundary's shape, and so its simplicity, except where no point near the edge keeps the star
+//! positive (a sharp turn of the coarse boundary at the target: then the vertex goes to the
+//! point of its star's kernel nearest the edge's). Each re-inserted interior vertex then takes
+//! a few of relax_area()'s Newton steps in its star.
 //! \return |V_fine| x 2, row `v.idx()`.
 //! \param area_weight lambda of the energy each re-inserted interior vertex is settled with
 //! (relax_area()).
