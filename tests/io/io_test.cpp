@@ -99,6 +99,10 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
         // "element vertet x" (no count) and a property type "floty": OpenMesh's PLY reader hung.
         {"ply_unreadable_element_count.ply",
          "the PLY header line 'element vertet x' does not declare a valid element count"},
+        // A form feed inside "property float z": OpenMesh's PLY reader split the line there and
+        // looped (a 10 s timeout of the CI's fuzz run).
+        {"ply_form_feed_in_property.ply",
+         "the PLY header line 'property float z?element f????20' contains a control character"},
         // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
         // OpenMesh tried to allocate them (out of memory).
         {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},

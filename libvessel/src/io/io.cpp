@@ -246,7 +246,8 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
     {
         if (in.eof())
             break;  // a header line cut by the end of the file: reported as truncated below
-        std::istringstream words(trimmed(line));
+        const std::string text = trimmed(line);
+        std::istringstream words(text);
         std::string keyword;
         words >> keyword;
         if (keyword == "end_header")
@@ -261,6 +262,14 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         else if (keyword != "element" && keyword != "property" && keyword != "comment" &&
                  keyword != "obj_info" && !keyword.empty())
             truncated(path, "the PLY header has an unknown line '" + printable(line) + "'");
+        // OpenMesh's PLY reader splits header lines at other bytes than ours and can then loop
+        // forever (a form feed inside a property line, found by fuzzing).
+        else if (std::any_of(text.begin(), text.end(), [](char c) {
+                     const auto u = static_cast<unsigned char>(c);
+                     return (u < 0x20 && c != '\t') || u == 0x7f;
+                 }))
+            truncated(path, "the PLY header line '" + printable(line) +
+                                "' contains a control character");
         else if (keyword == "element")
         {
             Element e;
