@@ -102,7 +102,10 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
         // A form feed inside "property float z": OpenMesh's PLY reader split the line there and
         // looped (a 10 s timeout of the CI's fuzz run).
         {"ply_form_feed_in_property.ply",
-         "the PLY header line 'property float z?element f????20' contains a control character"},
+         "the PLY header line 'property float z?element f????20' does not have the words"},
+        // "format binary_little_endian ty float z": OpenMesh's PLY reader looped.
+        {"ply_format_line_extra_words.ply",
+         "the PLY header line 'format binary_little_endian ty float z' does not have the words"},
         // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
         // OpenMesh tried to allocate them (out of memory).
         {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},

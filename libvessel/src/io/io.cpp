@@ -250,6 +250,15 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         std::istringstream words(text);
         std::string keyword;
         words >> keyword;
+        // OpenMesh's PLY reader loops forever on some header lines that are not of the PLY
+        // grammar (found by fuzzing): format, element and property lines must have exactly
+        // their words.
+        const std::size_t n_words = detail::words_of(text).size();
+        const bool list = keyword == "property" && n_words > 1 && detail::words_of(text)[1] == "list";
+        if ((keyword == "format" && n_words != 3) || (keyword == "element" && n_words != 3) ||
+            (keyword == "property" && n_words != (list ? 5u : 3u)))
+            truncated(path, "the PLY header line '" + printable(line) +
+                                "' does not have the words of a PLY " + keyword + " line");
         if (keyword == "end_header")
         {
             ended = true;
