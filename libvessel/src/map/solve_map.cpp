@@ -125,9 +125,9 @@ std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t dep
 // Where two parts of the coarse map's boundary nearly touch (two branches laid side by side),
 // vertices put back onto their coarse edges can cross the other part by rounding. Each
 // crossing is undone by moving one of its four ends that is new on this level (not kept, not
-// pinned) part of the way toward the centre of its one ring, into the interior, as long as
-// its faces stay positive and its two boundary edges cross nothing. Returns whether the
-// boundary is simple at the end.
+// pinned) part of the way toward the centre of its one ring, into the interior, to the first
+// point where its faces stay positive and that crossing is gone (another crossing found then
+// is taken in the next round). Returns whether the boundary is simple at the end.
 bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int>& kept_of,
                    const Pins& pins)
 {
