@@ -6,6 +6,7 @@
 #include "vessel/io/io.h"
 #include "vessel/phantom/phantom.h"
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <sstream>
@@ -89,7 +90,8 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
     const std::string dir = std::string(VESSEL_TEST_DATA) + "/fuzz/";
     const std::vector<std::pair<std::string, std::string>> cases = {
         // OpenMesh's PLY reader dereferenced a missing element (SEGV).
-        {"ply_property_before_element.ply", "the PLY header has an unknown line 'elem????ent"},
+        {"ply_property_before_element.ply",
+         "PLY header line 3: the control byte 0x00 in 'elem????ent vgrtex 18'"},
         // OpenMesh's OBJ reader failed an assertion on the corner "/1/1".
         {"obj_bad_face_index.obj", "face 0 of " + dir + "obj_bad_face_index.obj refers to vertex '/1/1'"},
         // OpenMesh's OFF reader read the count "3OFF" and looped for minutes.
@@ -98,14 +100,19 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
         {"off_bad_header.off", "the first line 'OFFSt9tyBINARYm"},
         // "element vertet x" (no count) and a property type "floty": OpenMesh's PLY reader hung.
         {"ply_unreadable_element_count.ply",
-         "the PLY header line 'element vertet x' does not declare a valid element count"},
+         "PLY header line 3: element count must be a decimal integer from 0 to 2147483648, got "
+         "'x'"},
         // A form feed inside "property float z": OpenMesh's PLY reader split the line there and
         // looped (a 10 s timeout of the CI's fuzz run).
         {"ply_form_feed_in_property.ply",
-         "the PLY header line 'property float z?element f????20' does not have the words"},
+         "PLY header line 6: the control byte 0x0C in 'property float z?element f????20'"},
         // "format binary_little_endian ty float z": OpenMesh's PLY reader looped.
         {"ply_format_line_extra_words.ply",
-         "the PLY header line 'format binary_little_endian ty float z' does not have the words"},
+         "PLY header line 2: expected 'format ascii 1.0' (or binary_little_endian, "
+         "binary_big_endian), got 'format binary_little_endian ty float z'"},
+        // "format binary_little_endian \x061.0": OpenMesh's PLY reader read no version and looped.
+        {"ply_control_byte_in_format_version.ply",
+         "PLY header line 2: the control byte 0x06 in 'format binary_little_endian ?1.0'"},
         // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
         // OpenMesh tried to allocate them (out of memory).
         {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},
@@ -128,6 +135,174 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
             what = e.what();
         }
         CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+    }
+}
+
+namespace {
+
+// The bytes of a binary little-endian PLY triangle: \p before_vertex lines after the format line,
+// then the vertex and face elements, \p before_end lines, end_header and the data. Each line
+// ends with \p eol.
+std::string ply_triangle(const std::string& format_line, const std::string& before_vertex,
+                         const std::string& before_end, const std::string& eol = "\n")
+{
+    std::string head = "ply" + eol + format_line + eol + before_vertex +
+                       "element vertex 3" + eol + "property float x" + eol + "property float y" +
+                       eol + "property float z" + eol + "element face 1" + eol +
+                       "property list uchar int vertex_indices" + eol + before_end;
+    head += "end_header" + eol;
+    if (format_line.find("ascii") != std::string::npos)
+        return head + "0 0 0" + eol + "1 0 0" + eol + "0 1 0" + eol + "3 0 1 2" + eol;
+    const float points[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const std::int32_t corners[3] = {0, 1, 2};
+    head.append(reinterpret_cast<const char*>(points), sizeof points);
+    head.push_back(3);
+    head.append(reinterpret_cast<const char*>(corners), sizeof corners);
+    return head;
+}
+
+std::string write_bytes(const std::string& name, const std::string& bytes)
+{
+    const std::string path = temp_path(name);
+    std::ofstream(path, std::ios::binary) << bytes;
+    return path;
+}
+
+const std::string kBinary = "format binary_little_endian 1.0";
+
+}  // namespace
+
+// OpenMesh's PLY reader reads the header word by word and loops forever where its stream fails
+// (fuzz findings above), or misreads binary data after a comment: read_raw_mesh() lets only the
+// PLY grammar through and names the line and what to fix.
+TEST_CASE("io: a PLY header outside the PLY grammar is refused with its line and what to fix")
+{
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {ply_triangle("format binary_little_endian \x06" "1.0", "", ""),
+         "PLY header line 2: the control byte 0x06 in 'format binary_little_endian ?1.0'; "
+         "header lines are text"},
+        {ply_triangle("format ascii 2.0", "", ""),
+         "PLY header line 2: format version must be 1.0, got '2.0'"},
+        {ply_triangle("format ascii 1", "", ""),
+         "PLY header line 2: format version must be 1.0, got '1'"},
+        {ply_triangle("format binary 1.0", "", ""),
+         "PLY header line 2: format must be ascii, binary_little_endian or binary_big_endian, "
+         "got 'binary'"},
+        {ply_triangle("comment first", "format ascii 1.0\n", ""),
+         "PLY header line 2: expected 'format ascii 1.0' (or binary_little_endian, "
+         "binary_big_endian), got 'comment first'"},
+        {ply_triangle(kBinary, "format ascii 1.0\n", ""),
+         "PLY header line 3: unknown line 'format ascii 1.0'; a PLY header line is comment, "
+         "obj_info, element, property or end_header (format only as line 2)"},
+        {ply_triangle(kBinary, "element edge -1\n", ""),
+         "PLY header line 3: element count must be a decimal integer from 0 to 2147483648, got "
+         "'-1'"},
+        {ply_triangle(kBinary, "element edge +1\n", ""),
+         "element count must be a decimal integer from 0 to 2147483648, got '+1'"},
+        {ply_triangle(kBinary, "element edge 2147483649\n", ""),
+         "element count must be a decimal integer from 0 to 2147483648, got '2147483649'"},
+        {ply_triangle(kBinary, "element edge 3x\n", ""),
+         "element count must be a decimal integer from 0 to 2147483648, got '3x'"},
+        {ply_triangle(kBinary, "element edge\n", ""),
+         "PLY header line 3: an element line is 'element NAME COUNT', got 'element edge'"},
+        {ply_triangle(kBinary, "property float w\n", ""),
+         "PLY header line 3: the property 'property float w' comes before any element line"},
+        {ply_triangle(kBinary, "", "property float\n"),
+         "PLY header line 9: a property line is 'property TYPE NAME' or 'property list "
+         "COUNT_TYPE TYPE NAME', got 'property float'"},
+        {ply_triangle(kBinary, "", "property list uchar int\n"),
+         "PLY header line 9: a property line is"},
+        {ply_triangle(kBinary, "", "property float32 quality extra\n"),
+         "PLY header line 9: a property line is"},
+        {ply_triangle(kBinary, "", "property floaty quality\n"),
+         "PLY header line 9: unknown property type 'floaty' in 'property floaty quality'"},
+        {ply_triangle(kBinary, "", "property list uchar integer neighbours\n"),
+         "PLY header line 9: unknown property type 'integer'"},
+        {ply_triangle(kBinary, "", "property list ushort int neighbours\n"),
+         "PLY header line 9: list count type must be uchar, uint8, uint16 or int (the ones "
+         "OpenMesh reads), got 'ushort'"},
+        {ply_triangle(kBinary, "", "property list uchar float texcoord\n"),
+         "PLY header line 9: the property 'texcoord' of the element 'face' is a list; OpenMesh "
+         "reads only one list, the face's vertex_indices (or vertex_index), and misreads the "
+         "rest of the file after any other; remove it"},
+        {ply_triangle(kBinary, "element edge 1\nproperty list uchar int vertex_indices\n", ""),
+         "PLY header line 4: the property 'vertex_indices' of the element 'edge' is a list"},
+        {"ply\nformat ascii 1.0\nelement face 1\nproperty list uchar float vertex_indices\n"
+         "end_header\n3 0 1 2\n",
+         "PLY header line 4: the face's corner indices must be of an integer type, got 'float'"},
+        {"ply\n" + kBinary + "\nelement vertex 1\nproperty int x\nend_header\n",
+         "PLY header line 4: OpenMesh reads the property 'x' of the element 'vertex' of a binary "
+         "PLY only as float, float32, double or float64, got 'int'; write it as float"},
+        {ply_triangle(kBinary, "", "property uchar double\n"),
+         "PLY header line 9: the property name 'double' in 'property uchar double' is a type "
+         "name, which PLY readers can take for the type; rename the property"},
+        {ply_triangle(kBinary, "", "property double red\n"),
+         "PLY header line 9: OpenMesh reads the property 'red' of the element 'face' of a binary "
+         "PLY only as an integer type, float or float32, got 'double'; write it as uchar or "
+         "float"},
+        {ply_triangle(kBinary, "element v\xc3\xa9rtex 0\n", ""),
+         "PLY header line 3: the byte 0xC3 in 'element v??rtex 0'; only comment and obj_info "
+         "lines may hold text beyond ASCII"},
+        {ply_triangle(kBinary, "obj_info element 3\n", ""),
+         "PLY header line 3: the obj_info line 'obj_info element 3' holds the word 'element', "
+         "which PLY readers can take for a header keyword; make it a comment line"},
+        {ply_triangle(kBinary, "\n", ""), "PLY header line 3: an empty line; remove it"},
+        {ply_triangle(kBinary, "element edge 2147483648\n", ""),
+         "PLY header line 3: the element 'edge' has 2147483648 rows but no property line "
+         "follows it; give it its properties or a count of 0"},
+        {ply_triangle(kBinary, "", "element edge 5\n"),
+         "PLY header line 9: the element 'edge' has 5 rows but no property line follows it"},
+        {ply_triangle(kBinary, "vertex 3\n", ""), "PLY header line 3: unknown line 'vertex 3'"},
+        {ply_triangle(kBinary, "", "end_header now\n"),
+         "PLY header line 9: end_header must be alone on its line, got 'end_header now'"},
+        // OpenMesh reads on from 12 bytes after the last word before end_header: after a
+        // comment or trailing blanks it read the triangle's coordinates one byte late, with
+        // exit 0 and no faces.
+        {ply_triangle(kBinary, "", "comment last line\n"),
+         "PLY header line 10: OpenMesh would read the binary data from byte 188, but they start "
+         "at byte 187; put end_header right after the previous line's last word and one line "
+         "break (no comment or trailing blanks before it)"},
+        {ply_triangle(kBinary, "", "property float quality \n"),
+         "PLY header line 10: OpenMesh would read the binary data from byte 192, but they start "
+         "at byte 193"},
+        {"PLY\nformat ascii 1.0\nend_header\n", "is not a PLY file (its first line is 'PLY', not 'ply')"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\n", "the PLY header has no 'end_header' line"},
+        {"ply\nformat ascii 1.0\n" + std::string(70000, 'c') + "\nend_header\n",
+         "the PLY header has no 'end_header' line in its first 65536 bytes"},
+    };
+    for (const auto& [bytes, message] : cases)
+    {
+        CAPTURE(bytes.substr(0, 200));
+        const std::string what = io_refusal(write_bytes("header.ply", bytes));
+        CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+    }
+}
+
+TEST_CASE("io: PLY headers within the grammar are read: comments, obj_info, UTF-8 text, CRLF")
+{
+    const std::vector<std::string> headers = {
+        ply_triangle(kBinary, "comment made by caf\xc3\xa9 \tscanner\nobj_info mm units\n",
+                     "property float quality\n"),
+        ply_triangle(kBinary, "comment made by x\r\nobj_info mm\r\n", "", "\r\n"),
+        ply_triangle("format ascii 1.0", "comment \xc3\xa9\n", "comment last\n"),
+        ply_triangle("format ascii 1.0", "obj_info a\r\n", "comment last\r\n", "\r\n"),
+        ply_triangle("format binary_little_endian\t1.0", "element edge 0\n", ""),
+    };
+    for (std::size_t i = 0; i < headers.size(); ++i)
+    {
+        CAPTURE(i);
+        std::string bytes = headers[i];
+        // The face's quality property of the first header: one more float after its corners.
+        if (i == 0)
+        {
+            const float quality = 7;
+            bytes.append(reinterpret_cast<const char*>(&quality), sizeof quality);
+        }
+        const RawMesh raw = read_raw_mesh(write_bytes("good.ply", bytes));
+        REQUIRE(raw.points.size() == 3);
+        CHECK(raw.points[1] == Eigen::Vector3d(1, 0, 0));
+        CHECK(raw.points[2] == Eigen::Vector3d(0, 1, 0));
+        CHECK(raw.faces == std::vector<std::vector<int>>{{0, 1, 2}});
     }
 }
 

@@ -224,104 +224,314 @@ void check_binary_ply_lists(const std::string& path, std::istream& in, const Ele
             }
 }
 
-void check_ply(const std::string& path, std::uintmax_t file_size)
+// The PLY header is checked against the grammar OpenMesh's reader (`_PLYReader_::can_u_read`)
+// assumes, and nothing else reaches it. That reader takes the header word by word across lines
+// (`>>`), never checks a word it reads as a number, and loops forever once its stream fails (an
+// unreadable version or count, a control byte where it splits words differently, the end of the
+// file); fuzzing found such hangs one after another. So every line must be one of:
+//   line 1   `ply`
+//   line 2   `format ascii|binary_little_endian|binary_big_endian 1.0`
+//   then     `comment TEXT`, `obj_info WORDS` (none of them a header keyword),
+//            `element NAME COUNT` (COUNT decimal, 0 to kMaxElements; with COUNT > 0 at least
+//            one property follows),
+//            `property TYPE NAME` (NAME not a type) after an element, TYPE a PLY type,
+//            `property list COUNT_TYPE TYPE NAME` only as the face element's vertex_indices
+//            (or vertex_index), COUNT_TYPE one OpenMesh reads (uchar, uint8, uint16, int),
+//            TYPE an integer type
+//   last     `end_header` alone
+// with words separated by spaces or tabs, lines by '\n' or "\r\n"; comment and obj_info lines
+// may hold bytes beyond ASCII (UTF-8 text), no line a control byte. The header must end within
+// kMaxPlyHeaderBytes. In binary files, OpenMesh's fixed conversions set the types of vertex
+// coordinates, normals, texture coordinates (floating-point) and colours (not double), and the
+// data must start where it looks for them: 12 bytes (14 with "\r\n") after the previous line's
+// last word, i.e. not after a comment or trailing blanks. Other layouts it misreads silently.
+
+//! Far more than any PLY header needs (a few lines per element); a file whose first 64 KiB hold
+//! no `end_header` line is refused rather than read further.
+constexpr std::size_t kMaxPlyHeaderBytes = 65536;
+
+struct PlyElement
+{
+    std::string name;
+    std::uintmax_t count = 0;
+    std::uintmax_t min_bytes = 0;  // per element
+    std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader
+{
+    std::string format;
+    std::vector<PlyElement> elements;
+    std::uintmax_t data_start = 0;  // byte offset of the first byte after the header
+};
+
+[[noreturn]] void bad_ply_line(const std::string& path, std::size_t line, const std::string& what)
+{
+    truncated(path, "PLY header line " + std::to_string(line) + ": " + what);
+}
+
+// \p text split at spaces and tabs (the only blanks a header line may hold).
+std::vector<std::string> ply_words(const std::string& text)
+{
+    std::vector<std::string> words;
+    std::size_t i = 0;
+    while (i < text.size())
+    {
+        while (i < text.size() && (text[i] == ' ' || text[i] == '\t'))
+            ++i;
+        const std::size_t begin = i;
+        while (i < text.size() && text[i] != ' ' && text[i] != '\t')
+            ++i;
+        if (i > begin)
+            words.push_back(text.substr(begin, i - begin));
+    }
+    return words;
+}
+
+std::string hex_byte(unsigned char c)
+{
+    static const char digits[] = "0123456789ABCDEF";
+    return std::string("0x") + digits[c >> 4] + digits[c & 15];
+}
+
+PlyHeader read_ply_header(const std::string& path, std::uintmax_t file_size)
 {
     std::ifstream in(path, std::ios::binary);
-    std::string line;
-    std::getline(in, line);
-    if (trimmed(line) != "ply")
-        throw IoError("read_raw_mesh: " + path + " is not a PLY file (the first line is not 'ply')");
-    std::string format;
-    struct Element
-    {
-        std::string name;
-        std::uintmax_t count = 0;
-        std::uintmax_t min_bytes = 0;  // per element; 0 with an unknown property type
-        bool known = true;
-        std::vector<PlyProperty> properties;
+    std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(file_size, kMaxPlyHeaderBytes)),
+                     '\0');
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    head.resize(static_cast<std::size_t>(in.gcount()));
+    const std::string first = head.substr(0, head.find('\n'));
+    if (first != "ply" && first != "ply\r")
+        throw IoError("read_raw_mesh: " + path + " is not a PLY file (its first line is '" +
+                      printable(first) + "', not 'ply')");
+    PlyHeader header;
+    // OpenMesh reads the rows of an element without properties as rows of no bytes, and reserves
+    // and adds up to 2^31 vertices or faces without reaching the end of the file.
+    std::size_t element_line = 0;
+    const auto check_last_element = [&] {
+        if (!header.elements.empty() && header.elements.back().count > 0 &&
+            header.elements.back().properties.empty())
+            bad_ply_line(path, element_line,
+                         "the element '" + printable(header.elements.back().name) + "' has " +
+                             std::to_string(header.elements.back().count) +
+                             " rows but no property line follows it; give it its properties "
+                             "or a count of 0");
     };
-    std::vector<Element> elements;
-    bool ended = false;
-    while (std::getline(in, line))
-    {
-        if (in.eof())
-            break;  // a header line cut by the end of the file: reported as truncated below
-        const std::string text = trimmed(line);
-        std::istringstream words(text);
-        std::string keyword;
-        words >> keyword;
-        // OpenMesh's PLY reader loops forever on some header lines that are not of the PLY
-        // grammar (found by fuzzing): format, element and property lines must have exactly
-        // their words.
-        const std::size_t n_words = detail::words_of(text).size();
-        const bool list = keyword == "property" && n_words > 1 && detail::words_of(text)[1] == "list";
-        if ((keyword == "format" && n_words != 3) || (keyword == "element" && n_words != 3) ||
-            (keyword == "property" && n_words != (list ? 5u : 3u)))
-            truncated(path, "the PLY header line '" + printable(line) +
-                                "' does not have the words of a PLY " + keyword + " line");
-        if (keyword == "end_header")
+    // OpenMesh reads a list as one value unless it is the face's corners, and in binary files
+    // reads some named properties with a fixed conversion that takes no bytes of another type;
+    // either way it reads on from the wrong byte (checked: a second face list dropped a face).
+    const auto check_openmesh_type = [&](std::size_t number, const PlyElement& e, bool list,
+                                         const std::string& type, const std::string& name) {
+        const bool integer = type != "float" && type != "float32" && type != "double" &&
+                             type != "float64";
+        const std::string what = "the property '" + printable(name) + "' of the element '" +
+                                 printable(e.name) + "'";
+        if (list)
         {
-            ended = true;
-            break;
+            const bool corners = e.name == "face" && (name == "vertex_indices" || name == "vertex_index");
+            const bool second = std::any_of(e.properties.begin(), e.properties.end(),
+                                            [](const PlyProperty& p) { return p.item_size > 0; });
+            if (!corners || second)
+                bad_ply_line(path, number,
+                             what + " is a list; OpenMesh reads only one list, the face's "
+                                    "vertex_indices (or vertex_index), and misreads the rest of "
+                                    "the file after any other; remove it");
+            if (!integer)
+                bad_ply_line(path, number, "the face's corner indices must be of an integer type, "
+                                           "got '" + type + "'");
+            return;
         }
-        if (keyword == "format")
-            words >> format;
-        else if (keyword == "property" && elements.empty())
-            truncated(path, "the PLY header has a property before any element");
-        else if (keyword != "element" && keyword != "property" && keyword != "comment" &&
-                 keyword != "obj_info" && !keyword.empty())
-            truncated(path, "the PLY header has an unknown line '" + printable(line) + "'");
-        // OpenMesh's PLY reader splits header lines at other bytes than ours and can then loop
-        // forever (a form feed inside a property line, found by fuzzing).
-        else if (std::any_of(text.begin(), text.end(), [](char c) {
-                     const auto u = static_cast<unsigned char>(c);
-                     return (u < 0x20 && c != '\t') || u == 0x7f;
-                 }))
-            truncated(path, "the PLY header line '" + printable(line) +
-                                "' contains a control character");
+        if (header.format == "ascii")
+            return;
+        static const std::vector<std::string> real = {"x", "y", "z", "nx", "ny", "nz",
+                                                      "u", "v", "s", "t"};
+        static const std::vector<std::string> vertex_colour = {
+            "red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue"};
+        const auto among = [&](const std::vector<std::string>& names) {
+            return std::find(names.begin(), names.end(), name) != names.end();
+        };
+        if (e.name == "vertex" && among(real) && integer)
+            bad_ply_line(path, number, "OpenMesh reads " + what + " of a binary PLY only as "
+                                       "float, float32, double or float64, got '" + type +
+                                       "'; write it as float");
+        const bool colour = (e.name == "vertex" && among(vertex_colour)) ||
+                            (e.name == "face" && among({"red", "green", "blue", "alpha"}));
+        if (colour && (type == "double" || type == "float64"))
+            bad_ply_line(path, number, "OpenMesh reads " + what + " of a binary PLY only as an "
+                                       "integer type, float or float32, got '" + type +
+                                       "'; write it as uchar or float");
+    };
+    std::size_t start = first.size() + 1;  // of the current line
+    std::size_t after_last_word = start;   // where OpenMesh's stream stands before end_header
+    for (std::size_t number = 2;; ++number)
+    {
+        const std::size_t newline = head.find('\n', start);
+        if (newline == std::string::npos)
+        {
+            if (file_size > kMaxPlyHeaderBytes)
+                truncated(path, "the PLY header has no 'end_header' line in its first " +
+                                    std::to_string(kMaxPlyHeaderBytes) +
+                                    " bytes (a PLY header is a few hundred bytes)");
+            truncated(path, "the PLY header has no 'end_header' line");
+        }
+        std::string line = head.substr(start, newline - start);
+        if (!line.empty() && line.back() == '\r')
+            line.pop_back();
+        const std::vector<std::string> words = ply_words(line);
+        const std::string keyword = words.empty() ? "" : words[0];
+        const std::string quoted = "'" + printable(line) + "'";
+        const bool text = keyword == "comment" || keyword == "obj_info";
+        for (const char c : line)
+        {
+            const auto u = static_cast<unsigned char>(c);
+            if ((u < 0x20 && c != '\t') || u == 0x7f)
+                bad_ply_line(path, number, "the control byte " + hex_byte(u) + " in " + quoted +
+                                               "; header lines are text (words separated by "
+                                               "spaces or tabs)");
+            if (u >= 0x80 && !text)
+                bad_ply_line(path, number, "the byte " + hex_byte(u) + " in " + quoted +
+                                               "; only comment and obj_info lines may hold "
+                                               "text beyond ASCII");
+        }
+        if (number == 2)
+        {
+            if (keyword != "format" || words.size() != 3)
+                bad_ply_line(path, number, "expected 'format ascii 1.0' (or binary_little_endian, "
+                                           "binary_big_endian), got " + quoted);
+            if (words[1] != "ascii" && words[1] != "binary_little_endian" &&
+                words[1] != "binary_big_endian")
+                bad_ply_line(path, number, "format must be ascii, binary_little_endian or "
+                                           "binary_big_endian, got '" + printable(words[1]) + "'");
+            if (words[2] != "1.0")
+                bad_ply_line(path, number, "format version must be 1.0, got '" +
+                                               printable(words[2]) + "'");
+            header.format = words[1];
+        }
+        else if (keyword == "end_header")
+        {
+            check_last_element();
+            if (words.size() != 1)
+                bad_ply_line(path, number, "end_header must be alone on its line, got " + quoted);
+            header.data_start = newline + 1;
+            if (header.format != "ascii")
+            {
+                // OpenMesh seeks from the stream position before the word end_header.
+                const bool crlf = head.compare(after_last_word, 2, "\r\n") == 0;
+                const std::size_t openmesh = after_last_word + (crlf ? 14 : 12);
+                if (openmesh != header.data_start)
+                    bad_ply_line(path, number,
+                                 "OpenMesh would read the binary data from byte " +
+                                     std::to_string(openmesh) + ", but they start at byte " +
+                                     std::to_string(header.data_start) +
+                                     "; put end_header right after the previous line's last "
+                                     "word and one line break (no comment or trailing blanks "
+                                     "before it)");
+            }
+            return header;
+        }
+        else if (keyword == "comment")
+        {
+        }
+        else if (keyword == "obj_info")
+        {
+            // OpenMesh reads the words after obj_info as header keywords.
+            for (std::size_t w = 1; w < words.size(); ++w)
+                if (words[w] == "element" || words[w] == "property" || words[w] == "end_header")
+                    bad_ply_line(path, number, "the obj_info line " + quoted + " holds the word '" +
+                                                   words[w] +
+                                                   "', which PLY readers can take for a header "
+                                                   "keyword; make it a comment line");
+        }
         else if (keyword == "element")
         {
-            Element e;
-            long long count = -1;
-            if (!(words >> e.name >> count) || count < 0 || count > kMaxElements)
-                truncated(path, "the PLY header line '" + printable(line) +
-                                    "' does not declare a valid element count");
-            e.count = static_cast<std::uintmax_t>(count);
-            elements.push_back(e);
-        }
-        else if (keyword == "property" && !elements.empty())
-        {
-            std::string type, index_type, name;
-            words >> type;
-            // OpenMesh's PLY reader can loop forever on a type it does not know.
-            if (ply_type_size(type) == 0 && type != "list")
-                truncated(path, "the PLY header line '" + printable(line) +
-                                    "' has an unknown property type");
-            Element& e = elements.back();
-            if (type == "list")
+            if (words.size() != 3)
+                bad_ply_line(path, number, "an element line is 'element NAME COUNT', got " + quoted);
+            const std::string& count = words[2];
+            std::uintmax_t n = 0;
+            bool ok = count.size() <= 12;
+            for (const char c : count)
             {
-                words >> type >> index_type >> name;
-                if (ply_type_size(type) == 0 || ply_type_size(index_type) == 0)
-                    truncated(path, "the PLY header line '" + printable(line) +
-                                        "' has an unknown list type");
+                ok = ok && c >= '0' && c <= '9';
+                n = ok ? n * 10 + static_cast<std::uintmax_t>(c - '0') : n;
+            }
+            if (!ok || n > static_cast<std::uintmax_t>(kMaxElements))
+                bad_ply_line(path, number, "element count must be a decimal integer from 0 to " +
+                                               std::to_string(kMaxElements) + ", got '" +
+                                               printable(count) + "'");
+            check_last_element();
+            header.elements.push_back({words[1], n, 0, {}});
+            element_line = number;
+        }
+        else if (keyword == "property")
+        {
+            const bool list = words.size() > 1 && words[1] == "list";
+            if (words.size() != (list ? 5u : 3u))
+                bad_ply_line(path, number,
+                             "a property line is 'property TYPE NAME' or 'property list "
+                             "COUNT_TYPE TYPE NAME', got " + quoted);
+            if (header.elements.empty())
+                bad_ply_line(path, number, "the property " + quoted +
+                                               " comes before any element line");
+            const std::string& type = words[list ? 3 : 1];
+            if (ply_type_size(type) == 0)
+                bad_ply_line(path, number, "unknown property type '" + printable(type) +
+                                               "' in " + quoted +
+                                               "; PLY types are char, uchar, short, ushort, int, "
+                                               "uint, float, double (or int8 ... float64)");
+            PlyElement& e = header.elements.back();
+            const std::string& name = words[list ? 4 : 2];
+            const std::string& count_type = words[2];
+            if (list && count_type != "uchar" && count_type != "uint8" && count_type != "uint16" &&
+                count_type != "int")
+                bad_ply_line(path, number, "list count type must be uchar, uint8, uint16 or int "
+                                           "(the ones OpenMesh reads), got '" +
+                                               printable(count_type) + "'");
+            // OpenMesh takes either word of `property A B` for the type (some writers swap
+            // them), so `property uchar double` would be a double to it.
+            if (!list && ply_type_size(name) > 0)
+                bad_ply_line(path, number, "the property name '" + name + "' in " + quoted +
+                                               " is a type name, which PLY readers can take for "
+                                               "the type; rename the property");
+            check_openmesh_type(number, e, list, type, name);
+            if (list)
+            {
                 // A face lists at least three corners; other lists may be empty.
                 const int corners = (name == "vertex_indices" || name == "vertex_index") ? 3 : 0;
-                e.known = e.known && ply_type_size(type) > 0 && ply_type_size(index_type) > 0;
-                e.min_bytes += ply_type_size(type) + corners * ply_type_size(index_type);
-                e.properties.push_back({name, type, ply_type_size(index_type)});
+                e.min_bytes += ply_type_size(count_type) + corners * ply_type_size(type);
+                e.properties.push_back({name, count_type, ply_type_size(type)});
             }
             else
             {
-                e.known = e.known && ply_type_size(type) > 0;
                 e.min_bytes += ply_type_size(type);
                 e.properties.push_back({name, type, 0});
             }
         }
+        else if (keyword.empty())
+            bad_ply_line(path, number, "an empty line; remove it");
+        else
+            bad_ply_line(path, number,
+                         "unknown line " + quoted +
+                             "; a PLY header line is comment, obj_info, element, property or "
+                             "end_header (format only as line 2)");
+        if (keyword != "comment")
+        {
+            const std::size_t last = line.find_last_not_of(" \t");
+            after_last_word = start + last + 1;
+        }
+        else
+            after_last_word = newline + 1;
+        start = newline + 1;
     }
-    if (!ended)
-        truncated(path, "the PLY header has no 'end_header' line");
-    if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-        truncated(path, "the PLY header has no valid 'format' line");
+}
+
+void check_ply(const std::string& path, std::uintmax_t file_size)
+{
+    const PlyHeader header = read_ply_header(path, file_size);
+    const std::string& format = header.format;
+    const std::vector<PlyElement>& elements = header.elements;
+    std::ifstream in(path, std::ios::binary);
+    in.seekg(static_cast<std::streamoff>(header.data_start));
     std::string counts;
     for (const auto& e : elements)
         counts += (counts.empty() ? "elements " : ", ") + e.name + " " + std::to_string(e.count);
@@ -340,14 +550,10 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
         check_ascii_ply_lists(path, in, elements);
         return;
     }
-    const auto header_bytes = static_cast<std::uintmax_t>(in.tellg());
+    const std::uintmax_t header_bytes = header.data_start;
     std::uintmax_t min_bytes = 0;
     for (const auto& e : elements)
-    {
-        if (!e.known)
-            return;  // OpenMesh refuses unknown types itself
         min_bytes += e.count * e.min_bytes;
-    }
     const std::uintmax_t data = file_size - std::min(file_size, header_bytes);
     if (data < min_bytes)
         truncated(path, "the binary PLY header declares " + counts + " (at least " +
