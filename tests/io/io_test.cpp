@@ -113,6 +113,11 @@ TEST_CASE("io: fuzzer findings are refused with a clear IoError")
         // "format binary_little_endian \x061.0": OpenMesh's PLY reader read no version and looped.
         {"ply_control_byte_in_format_version.ply",
          "PLY header line 2: the control byte 0x06 in 'format binary_little_endian ?1.0'"},
+        // The corner "1-4" in an ASCII face: OpenMesh read "1", then "-4" as the next face's
+        // corner count (2^32-4) and added corners until the fuzzer's 10 s timeout.
+        {"ply_ascii_corner_read_in_part.ply",
+         "face 14 has the corner '1-4' in its list vertex_indices, which is no vertex index (a "
+         "decimal integer)"},
         // Garbage after "OFF" on the first line; its counts "-1 1" were read as unsigned and
         // OpenMesh tried to allocate them (out of memory).
         {"off_negative_vertex_count.off", "the first line 'OFF????omm2' is not an OFF header"},
@@ -276,6 +281,52 @@ TEST_CASE("io: a PLY header outside the PLY grammar is refused with its line and
         const std::string what = io_refusal(write_bytes("header.ply", bytes));
         CHECK_MESSAGE(what.find(message) != std::string::npos, what);
     }
+}
+
+// OpenMesh reads ASCII PLY data word by word across lines: a word read in part or one too many
+// shifts every later value, and a shifted corner count can ask for billions of corners.
+TEST_CASE("io: ASCII PLY rows that OpenMesh would read shifted are refused")
+{
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                             "property float y\nproperty float z\nproperty uchar red\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"0 0 0 9\n1 0 0 9\n0 1 0 9\n3 0 1 2 4000000000\n",
+         "face 0 has 5 values on its line '3 0 1 2 4000000000', but its properties take 4; each "
+         "row is one line of exactly its values"},
+        {"0 0 0 9\n1 0 0\n9 0 1 0 9\n3 0 1 2\n",
+         "vertex 1 has 3 values on its line '1 0 0', but its properties take 4"},
+        {"0 0 0 9\n# a comment\n1 0 0 9\n0 1 0 9\n3 0 1 2\n",
+         "vertex 1 has 3 values on its line '# a comment', but its properties take 4"},
+        {"0 0 0 9\n\n1 0 0 9\n0 1 0 9\n3 0 1 2\n",
+         "vertex 1 has 0 values on its line '', but its properties take 4"},
+        {"0 0 0 9\n1 0 0x10 9\n0 1 0 9\n3 0 1 2\n",
+         "vertex 1 has the value '0x10' for z, which is no number C++ streams read in full "
+         "(OpenMesh would read on from inside it)"},
+        {"0 0 1e39 9\n1 0 0 9\n0 1 0 9\n3 0 1 2\n", "vertex 0 has the value '1e39' for z"},
+        {"0 0 0 9\n1 0 0 0.5\n0 1 0 9\n3 0 1 2\n", "vertex 1 has the value '0.5' for red"},
+        {"0 0 0 9\n1 0 0 9\n0 1 0 9\n3 0 1 -2\n",
+         "face 0 has the corner '-2' in its list vertex_indices, which is no vertex index"},
+        {"0 0 0 9\n1 0 0 9\n0 1 0 9\n3 0 1 2.0\n", "face 0 has the corner '2.0'"},
+        {"0 0 0 9\n1 0 0 9\n0 1 0 9\n+3 0 1 2\n",
+         "face 0 has the list vertex_indices of '+3' entries, but its line has 3 values after "
+         "the count"},
+        // The coordinates strtod cannot read keep their own message.
+        {"0 0 0 9\n1 nan 0 9\n0 1 0 9\n3 0 1 2\n",
+         "vertex 1 of " + temp_path("rows.ply") + " has a NaN, infinite or unreadable coordinate "
+         "('nan')"},
+    };
+    for (const auto& [rows, message] : cases)
+    {
+        CAPTURE(rows);
+        const std::string what = io_refusal(write_bytes("rows.ply", head + rows));
+        CHECK_MESSAGE(what.find(message) != std::string::npos, what);
+    }
+    // The same rows written well (any blanks between the values) are read.
+    const RawMesh raw = read_raw_mesh(
+        write_bytes("rows.ply", head + "0 0 0 9\n1 0 0\t9\n 0 1.0e0 0 9 \r\n3 0 1 2\n\n"));
+    CHECK(raw.points[2] == Eigen::Vector3d(0, 1, 0));
+    CHECK(raw.faces == std::vector<std::vector<int>>{{0, 1, 2}});
 }
 
 TEST_CASE("io: PLY headers within the grammar are read: comments, obj_info, UTF-8 text, CRLF")

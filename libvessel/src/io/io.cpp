@@ -133,43 +133,93 @@ struct PlyProperty
                         " of " + count + " entries, but " + room);
 }
 
-// Every list count of an ASCII PLY's elements: an integer from 0 to the words left on its line
-// (OpenMesh's reader reserves whatever count it reads: -1 or 2^31-1 asks for gigabytes).
-template <class Elements>
-void check_ascii_ply_lists(const std::string& path, std::istream& in, const Elements& elements)
+// Whether OpenMesh's reader, reading \p word from its stream with operator>> into a T, takes the
+// whole word: otherwise it reads on from inside the word, and every later value is shifted.
+template <class T>
+bool read_in_full(const std::string& word)
 {
+    std::istringstream in(word);
+    T value{};
+    in >> value;
+    return !in.fail() && in.peek() == std::char_traits<char>::eof();
+}
+
+// The rows of an ASCII PLY as OpenMesh reads them: word by word across lines, with operator>>
+// into float (vertex coordinates, normals, texture coordinates, float colours), int (other
+// colours) or unsigned int (the face's corner count and indices), every other value a word.
+// Each row must be one line with exactly the words its properties take, each such number read in
+// full, and each corner count a decimal from 0 to the words left on the line: a value read in
+// part or a word too many shifts everything after it, and a shifted count ('-4' read as 2^32-4)
+// made OpenMesh add billions of corners (a fuzz finding). A blank line is a row without values
+// (check_ply_coordinates() reads one vertex a line too).
+template <class Elements>
+void check_ascii_ply_rows(const std::string& path, std::istream& in, const Elements& elements)
+{
+    static const std::vector<std::string> real = {"x", "y", "z", "nx", "ny", "nz",
+                                                  "u", "v", "s", "t"};
+    static const std::vector<std::string> colour = {
+        "red", "green", "blue", "alpha", "diffuse_red", "diffuse_green", "diffuse_blue"};
+    const auto among = [](const std::vector<std::string>& names, const std::string& name) {
+        return std::find(names.begin(), names.end(), name) != names.end();
+    };
     std::string line;
     for (const auto& e : elements)
     {
-        const bool lists = std::any_of(e.properties.begin(), e.properties.end(),
-                                       [](const PlyProperty& p) { return p.item_size > 0; });
+        if (e.properties.empty())
+            continue;
+        const bool vertex = e.name == "vertex", face = e.name == "face";
         for (std::uintmax_t i = 0; i < e.count; ++i)
         {
-            do
-                std::getline(in, line);
-            while (in && (trimmed(line).empty() || trimmed(line)[0] == '#'));
-            if (!lists)
-                continue;
+            std::getline(in, line);
             const std::vector<std::string> words = detail::words_of(line);
             std::size_t w = 0;
             for (const auto& p : e.properties)
             {
-                if (p.item_size == 0)
-                {
-                    ++w;
-                    continue;
-                }
                 const std::string word = w < words.size() ? words[w] : "";
                 ++w;
+                if (p.item_size == 0)
+                {
+                    const bool is_float = p.type == "float" || p.type == "float32";
+                    bool ok = true;
+                    if ((vertex && among(real, p.name)) ||
+                        ((vertex || face) && among(colour, p.name) && is_float))
+                        ok = read_in_full<float>(word);
+                    else if ((vertex || face) && among(colour, p.name))
+                        ok = read_in_full<int>(word);
+                    // A NaN, infinite or unreadable coordinate is check_ply_coordinates()'s to
+                    // report; here only those strtod reads and the stream does not (0x10, 1e39).
+                    char* end = nullptr;
+                    const double x = std::strtod(word.c_str(), &end);
+                    const bool coordinate = p.name == "x" || p.name == "y" || p.name == "z";
+                    if (coordinate && (word.empty() || *end != '\0' || !std::isfinite(x)))
+                        ok = true;
+                    if (!ok && w <= words.size())
+                        truncated(path, e.name + " " + std::to_string(i) + " has the value '" +
+                                            printable(word) + "' for " + p.name +
+                                            ", which is no number C++ streams read in full "
+                                            "(OpenMesh would read on from inside it)");
+                    continue;
+                }
                 char* end = nullptr;
                 const long long n = std::strtoll(word.c_str(), &end, 10);
-                if (word.empty() || *end != '\0' || n < 0 ||
-                    n > static_cast<long long>(words.size() - w))
+                if (word.empty() || !std::isdigit(static_cast<unsigned char>(word[0])) ||
+                    *end != '\0' || n > static_cast<long long>(words.size() - std::min(w, words.size())))
                     bad_ply_list(path, e.name, i, p, "'" + printable(word) + "'",
                                  "its line has " + std::to_string(words.size() - std::min(w, words.size())) +
                                      " values after the count");
-                w += static_cast<std::size_t>(n);
+                for (long long k = 0; k < n; ++k, ++w)
+                    if (!std::isdigit(static_cast<unsigned char>(words[w][0])) ||
+                        !read_in_full<unsigned int>(words[w]))
+                        truncated(path, e.name + " " + std::to_string(i) + " has the corner '" +
+                                            printable(words[w]) + "' in its list " + p.name +
+                                            ", which is no vertex index (a decimal integer)");
             }
+            if (w != words.size())
+                truncated(path, e.name + " " + std::to_string(i) + " has " +
+                                    std::to_string(words.size()) + " values on its line '" +
+                                    printable(line) + "', but its properties take " +
+                                    std::to_string(w) + "; each row is one line of exactly its "
+                                    "values");
         }
     }
 }
@@ -547,7 +597,7 @@ void check_ply(const std::string& path, std::uintmax_t file_size)
                                 " lines) but only " + std::to_string(found) + " lines follow it");
         in.clear();
         in.seekg(data_start);
-        check_ascii_ply_lists(path, in, elements);
+        check_ascii_ply_rows(path, in, elements);
         return;
     }
     const std::uintmax_t header_bytes = header.data_start;
