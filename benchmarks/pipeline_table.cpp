@@ -117,7 +117,7 @@ struct Settings
     long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
     std::string method = "default";      // the timed pipeline: see pipeline_options()
     std::string cuts = "default";        // the cut rule: see pipeline_options()
-    int coarse_vertices = 0;             // stage F coarse-to-fine (MultilevelOptions); 0 = off
+    int coarse_vertices = vessel::MultilevelOptions{}.coarse_vertices;  // stage F coarse-to-fine; 0 = off
 };
 
 // The options of the timed pipeline: the library's defaults; with --method paper
@@ -660,8 +660,9 @@ std::string method_of(const std::vector<json>& results)
             std::string m = r["method"].get<std::string>();
             if (r.value("cuts", std::string("default")) != "default")
                 m += " --cuts " + r["cuts"].get<std::string>();
-            if (r.value("coarse_vertices", 0) > 0)
-                m += " --coarse-vertices " + std::to_string(r["coarse_vertices"].get<int>());
+            const int coarse = r.value("coarse_vertices", vessel::MultilevelOptions{}.coarse_vertices);
+            if (coarse != vessel::MultilevelOptions{}.coarse_vertices)
+                m += " --coarse-vertices " + std::to_string(coarse);
             return m;
         }
     return "default";
@@ -1110,7 +1111,7 @@ int main(int argc, char** argv)
         ->capture_default_str();
     app.add_option("--coarse-vertices", s.coarse_vertices,
                    "Stage F coarse-to-fine on a mesh decimated to N vertices, as vessel-flatten's "
-                   "--coarse-vertices (0 = off)")
+                   "--coarse-vertices (0 = every map at full resolution)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--peer-timeout", s.peer_timeout_s,

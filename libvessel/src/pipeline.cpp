@@ -336,6 +336,12 @@ FlattenOptions with_progress(const FlattenOptions& options)
         if (caller)
             caller(done);
     };
+    wired.multilevel.on_sweep = [report, caller = options.multilevel.on_sweep,
+                                 limit = options.multilevel.relax_sweeps](int sweeps) {
+        report("relax", sweeps, limit);
+        if (caller)
+            caller(sweeps);
+    };
     return wired;
 }
 

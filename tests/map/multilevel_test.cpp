@@ -7,6 +7,7 @@
 #include "vessel/map/multilevel.h"
 #include "vessel/quality/metrics.h"
 
+#include <limits>
 #include <set>
 
 using namespace vessel;
@@ -182,4 +183,47 @@ TEST_CASE("multilevel: coarsen_levels shrinks by levels, keeps corners, carries 
         CHECK(boundary_self_intersection(up, uv).first < 0);
     }
     CHECK(flat_quality(fine, uv).mean_abs_log_area < 0.02);
+}
+
+TEST_CASE("multilevel: levels that keep the boundary insert interior vertices only")
+{
+    const Mesh fine = test::cut_cylinder(1.0, 6.0, 48, 60);
+    const std::size_t n_boundary = test::boundary_vertices(fine).size();
+    const std::vector<CoarseMesh> first = coarsen_levels(fine, 100, {}, 1);
+    const std::vector<CoarseMesh> every =
+        coarsen_levels(fine, 100, {}, std::numeric_limits<std::size_t>::max());
+    REQUIRE(first.size() >= 2);
+    REQUIRE(!every.empty());
+    // The first level keeps every boundary vertex; below it the boundary is decimated.
+    for (VertexHandle v : test::boundary_vertices(fine))
+        CHECK(first[0].coarse_of[v.idx()] >= 0);
+    CHECK(test::boundary_vertices(first.back().mesh).size() < n_boundary);
+    // Kept on every level, and the vertex count counts the interior only.
+    CHECK(test::boundary_vertices(every.back().mesh).size() == n_boundary);
+    CHECK(every.back().mesh.n_vertices() > n_boundary);
+    CHECK(every.back().mesh.n_vertices() <= n_boundary + 110);
+    for (const CoarseMesh& level : every)
+        for (const Collapse& collapse : level.collapses)
+            CHECK(collapse.across < 0);  // no boundary vertex removed
+
+    // The carried map's boundary is the coarse map's: every boundary vertex where it was.
+    const Eigen::MatrixX2d coarse_uv = coarse_map(every.back().mesh);
+    Eigen::MatrixX2d uv = coarse_uv;
+    for (std::size_t l = every.size(); l-- > 0;)
+        uv = prolongate(l == 0 ? fine : every[l - 1].mesh, every[l], uv, 0.99);
+    std::vector<int> coarse_index(fine.n_vertices());
+    for (std::size_t v = 0; v < fine.n_vertices(); ++v)
+    {
+        int c = static_cast<int>(v);
+        for (const CoarseMesh& level : every)
+            c = level.coarse_of[c];
+        coarse_index[v] = c;
+    }
+    for (VertexHandle v : test::boundary_vertices(fine))
+    {
+        REQUIRE(coarse_index[v.idx()] >= 0);
+        CHECK((uv.row(v.idx()) - coarse_uv.row(coarse_index[v.idx()])).norm() == 0.0);
+    }
+    CHECK(test::count_flips(fine, uv) == 0);
+    CHECK(boundary_self_intersection(fine, uv).first < 0);
 }

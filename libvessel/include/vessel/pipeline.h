@@ -78,7 +78,8 @@ struct Progress
     //! The stage under its Table 1 name: "Z", "GC", "VC", "AC", "L" or "F".
     std::string stage;
     //! Within stage F, the solver iterating: "arap", "slim" (SLIM without a scaffold),
-    //! "scaffold" (SLIM with its scaffold) or "polish" (the area polish); empty for a stage's end.
+    //! "scaffold" (SLIM with its scaffold), "polish" (the area polish) or "relax" (a level's
+    //! relaxation sweeps of the coarse-to-fine map, multilevel.h); empty for a stage's end.
     std::string phase;
     int iteration = 0;        //!< the phase's iterations so far (0 for a stage's end)
     int max_iterations = 0;   //!< the phase's iteration limit (0 for a stage's end)

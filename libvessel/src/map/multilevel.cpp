@@ -182,7 +182,7 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
 }
 
 std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
-                                       std::vector<VertexHandle> keep)
+                                       std::vector<VertexHandle> keep, std::size_t boundary_levels)
 {
     if (coarse_vertices < 3)
         throw InvalidInputError("coarsen_levels: coarse_vertices must be >= 3, got " +
@@ -190,12 +190,20 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
     // A quarter per level: each level's sweeps then face an error of about twice its edge
     // length, which Gauss-Seidel removes in a few tens of sweeps.
     constexpr std::size_t kRatio = 4;
-    const std::size_t coarsest = static_cast<std::size_t>(coarse_vertices);
     std::vector<CoarseMesh> levels;
-    for (const Mesh* above = &fine; above->n_vertices() > coarsest;)
+    for (const Mesh* above = &fine;;)
     {
-        const std::size_t target = std::max(coarsest, above->n_vertices() / kRatio);
-        CoarseMesh level = coarsen(*above, static_cast<int>(target), keep);
+        std::vector<VertexHandle> level_keep = keep;
+        if (levels.size() < boundary_levels)
+            for (VertexHandle v : above->vertices())
+                if (above->is_boundary(v))
+                    level_keep.push_back(v);
+        const std::size_t floor =
+            static_cast<std::size_t>(coarse_vertices) + (level_keep.size() - keep.size());
+        if (above->n_vertices() <= floor)
+            break;
+        const std::size_t target = std::max(floor, above->n_vertices() / kRatio);
+        CoarseMesh level = coarsen(*above, static_cast<int>(target), level_keep);
         if (level.mesh.n_vertices() == above->n_vertices())
             break;  // nothing could be collapsed
         for (VertexHandle& v : keep)

@@ -220,6 +220,8 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         std::fill(next.begin(), next.end(), 0);
         current -= lowered;
         summary.sweeps = sweep + 1;
+        if (options.on_sweep)
+            options.on_sweep(summary.sweeps);
         if (lowered <= options.tolerance * std::max(current - minimum, 0.0))
             break;
     }

@@ -16,6 +16,7 @@
 
 #include <cstdio>
 #include <future>
+#include <limits>
 
 namespace vessel::detail {
 
@@ -124,12 +125,11 @@ std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t dep
 
 // Where two parts of the coarse map's boundary nearly touch (two branches laid side by side),
 // vertices put back onto their coarse edges can cross the other part by rounding. Each
-// crossing is undone by moving one of its four ends that is new on this level (not kept, not
-// pinned) part of the way toward the centre of its one ring, into the interior, to the first
-// point where its faces stay positive and that crossing is gone (another crossing found then
-// is taken in the next round). Returns whether the boundary is simple at the end.
-bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int>& kept_of,
-                   const Pins& pins)
+// crossing is undone by moving one of its four ends that is not pinned part of the way toward
+// the centre of its one ring, into the interior, to the first point where its faces stay
+// positive and that crossing is gone (another crossing found then is taken in the next round).
+// Returns whether the boundary is simple at the end.
+bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
 {
     std::vector<char> fixed(mesh.n_vertices(), 0);
     for (const Pin& pin : pins)
@@ -154,7 +154,7 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int
             for (VertexHandle v : {mesh.from_vertex_handle(mesh.halfedge_handle(h)),
                                    mesh.to_vertex_handle(mesh.halfedge_handle(h))})
             {
-                if (moved || kept_of[v.idx()] >= 0 || fixed[v.idx()])
+                if (moved || fixed[v.idx()])
                     continue;
                 Eigen::Vector2d centre = Eigen::Vector2d::Zero();
                 int ring = 0;
@@ -165,7 +165,7 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int
                 }
                 centre /= std::max(ring, 1);
                 const Eigen::Vector2d start = uv.row(v.idx()).transpose();
-                for (double t : {1e-3, 1e-2, 0.05, 0.1, 0.25, 0.5})
+                for (double t : {1e-3, 1e-2, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9})
                 {
                     uv.row(v.idx()) = (start + t * (centre - start)).transpose();
                     if (positive(v) && boundary_self_intersection(mesh, uv) != std::make_pair(h0, h1))
@@ -185,7 +185,8 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const std::vector<int
 
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                  const LayoutResult& placed, const FlattenOptions& options,
-                                 FlattenResult& result, bool& at_layout)
+                                 std::size_t boundary_levels, FlattenResult& result,
+                                 bool& at_layout)
 {
     // The hierarchy, each segment keeping its ends and evenly spaced vertices between them,
     // so that each loop keeps its run of the boundary and its shape: an outlet loop decimated
@@ -199,7 +200,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             keep.push_back(segment.vertices[(n - 1) * i / (per_segment - 1)]);
     }
     const MultilevelOptions& multilevel = options.multilevel;
-    const std::vector<CoarseMesh> levels = coarsen_levels(mesh, multilevel.coarse_vertices, keep);
+    const std::vector<CoarseMesh> levels =
+        coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels);
     const Mesh& coarsest = levels.back().mesh;
     const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
 
@@ -254,12 +256,19 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
         for (const Pin& pin : pins)
             uv.row(pin.vertex.idx()) = pin.uv.transpose();
-        const UntangleSummary untangled = untangle(above, uv, pins, options.untangle);
+        // Where this level kept the whole boundary, untangling leaves it where the coarser map
+        // put it, so that the boundary stays that map's simple polygon.
+        Pins held = pins;
+        if (l < boundary_levels)
+            for (VertexHandle v : above.vertices())
+                if (above.is_boundary(v))
+                    held.push_back({v, uv.row(v.idx()).transpose()});
+        const UntangleSummary untangled = untangle(above, uv, held, options.untangle);
         if (untangled.flipped_before > 0)
             result.notes.push_back("coarse-to-fine: " + untangled.report);
         if (untangled.flipped_after > 0)
             return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
-        if (keep_simple && !open_contacts(above, uv, levels[l].coarse_of, pins))
+        if (keep_simple && !open_contacts(above, uv, pins))
             return "the carried map's boundary crosses itself";
         const RelaxSummary relaxed = relax_area(above, uv, pins, lambda, multilevel);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
@@ -287,22 +296,45 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     if (options.refinement != Refinement::Injective || multilevel.coarse_vertices == 0 ||
         mesh.n_vertices() <= 2 * static_cast<std::size_t>(multilevel.coarse_vertices))
         return solve_single_level(mesh, input, placed, options, result);
-    bool at_layout = false;
-    std::string failed;
-    try
+    // First with the whole boundary kept on the finest level only: the boundary is decimated
+    // below it, so the coarse map is solved on few vertices, and the finest carry, whose
+    // vertices are the most and the closest together, inserts no boundary vertex. Where a
+    // coarser carry leaves the boundary crossing itself (branches laid side by side, the tip of
+    // a narrow slit between two boundary parts), again with the whole boundary kept on every
+    // level, which no carry can make cross but solves the coarse map on more vertices.
+    constexpr std::size_t kEveryLevel = std::numeric_limits<std::size_t>::max();
+    for (const std::size_t boundary_levels : {std::size_t{1}, kEveryLevel})
     {
-        failed = solve_coarse_to_fine(mesh, input, placed, options, result, at_layout);
+        bool at_layout = false;
+        std::string failed;
+        FlattenResult attempt;
+        try
+        {
+            failed = solve_coarse_to_fine(mesh, input, placed, options, boundary_levels,
+                                          attempt, at_layout);
+        }
+        catch (const InvalidInputError& error)  // relax_area() refused a degenerate carried map
+        {
+            failed = error.what();
+        }
+        result.notes.insert(result.notes.end(), attempt.notes.begin(), attempt.notes.end());
+        if (failed.empty())
+        {
+            result.uv = std::move(attempt.uv);
+            result.arap = attempt.arap;
+            result.untangle = attempt.untangle;
+            result.injective = attempt.injective;
+            result.look_retry = attempt.look_retry;
+            return at_layout;
+        }
+        result.notes.push_back(
+            "coarse-to-fine: " + failed +
+            (boundary_levels == 1
+                 ? "; tried again with the whole boundary kept on every level"
+                 : "; the map solved again at full resolution"));
     }
-    catch (const InvalidInputError& error)  // relax_area() refused a degenerate carried map
-    {
-        failed = error.what();
-    }
-    if (failed.empty())
-        return at_layout;
-    result.notes.push_back("coarse-to-fine: " + failed +
-                           "; the map solved again at full resolution");
     FlattenResult full;
-    at_layout = solve_single_level(mesh, input, placed, options, full);
+    const bool at_layout = solve_single_level(mesh, input, placed, options, full);
     result.uv = std::move(full.uv);
     result.arap = full.arap;
     result.untangle = full.untangle;

@@ -15,6 +15,7 @@
 #include "vessel/layout/pins.h"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace vessel {
@@ -22,20 +23,23 @@ namespace vessel {
 //! When and how stage F solves the map on a coarse mesh first (FlattenOptions::multilevel).
 struct MultilevelOptions
 {
-    //! Vertices of the coarse mesh. Cut meshes with more than twice as many vertices are
+    //! Vertices of the coarse mesh, besides the boundary vertices where it keeps the whole
+    //! boundary (coarsen_levels()). Cut meshes with more than twice as many vertices are
     //! flattened coarse-to-fine; smaller ones directly. 0 (the default) = never: every map is
-    //! solved at full resolution. Coarse-to-fine trades area distortion for time on large
-    //! meshes, and falls back to the full-resolution map (noted) where the carried map is not
-    //! one-to-one (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
+    //! solved at full resolution. Coarse-to-fine trades some area distortion for several times
+    //! less time on large meshes; where neither hierarchy gives a one-to-one carried map, the
+    //! map is solved at full resolution as well (noted), which then costs more than 0
+    //! (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
     int coarse_vertices = 0;
     //! Gauss-Seidel sweeps of relax_area() on each level, at most; they stop earlier once a
     //! sweep lowers the energy by less than `tolerance` of its excess over the isometric
     //! minimum.
     //! The sweeps converge slowly (Gauss-Seidel), and the vertices that have stopped moving are
-    //! skipped, so a tight rule costs little: at 1e-3 the carotid phantoms kept 1.5-1.7x the
-    //! full-resolution map's area distortion, at 3e-4 1.3-1.4x (docs/benchmarks.md).
+    //! skipped, so a tight rule costs little (docs/benchmarks.md "Coarse-to-fine").
     int relax_sweeps = 80;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
+    //! Called by relax_area() after each sweep with the number of sweeps made (progress).
+    std::function<void(int sweeps)> on_sweep;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -73,9 +77,15 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
 //! (cascadic multigrid, Bornemann and Deuflhard 1996, "The cascadic multigrid method for
 //! elliptic problems"), so that local steps at each level remove the error of that level's
 //! wavelength. \p keep as in coarsen(), kept on every level.
+//! The first \p boundary_levels levels keep every boundary vertex of the mesh they coarsen, so
+//! that carrying a map up to them inserts interior vertices only: the carried map keeps the
+//! coarser map's boundary polygon, and with it its simplicity, as long as no boundary vertex
+//! moves (a flip-free map of a disk with a simple boundary is one-to-one). On those levels
+//! \p coarse_vertices counts the vertices besides the boundary's.
 //! \throw InvalidInputError if \p coarse_vertices < 3.
 std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
-                                       std::vector<VertexHandle> keep);
+                                       std::vector<VertexHandle> keep,
+                                       std::size_t boundary_levels = 0);
 
 //! \brief Carry a map of the coarse mesh to every fine vertex: kept vertices keep their coarse
 //! (u, v); the collapses are undone in reverse order (Sander et al. 2001, "Texture mapping
