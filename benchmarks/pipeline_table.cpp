@@ -117,7 +117,8 @@ struct Settings
     long peer_max_faces = 0;             // no peer on larger meshes (0 = no limit)
     std::string method = "default";      // the timed pipeline: see pipeline_options()
     std::string cuts = "default";        // the cut rule: see pipeline_options()
-    int coarse_vertices = vessel::MultilevelOptions{}.coarse_vertices;  // stage F coarse-to-fine; 0 = off
+    // Stage F coarse-to-fine (MultilevelOptions); 0 = every map at full resolution
+    int coarse_vertices = vessel::MultilevelOptions{}.coarse_vertices;
 };
 
 // The options of the timed pipeline: the library's defaults; with --method paper
@@ -660,8 +661,9 @@ std::string method_of(const std::vector<json>& results)
             std::string m = r["method"].get<std::string>();
             if (r.value("cuts", std::string("default")) != "default")
                 m += " --cuts " + r["cuts"].get<std::string>();
-            const int coarse = r.value("coarse_vertices", vessel::MultilevelOptions{}.coarse_vertices);
-            if (coarse != vessel::MultilevelOptions{}.coarse_vertices)
+            const int library_default = vessel::MultilevelOptions{}.coarse_vertices;
+            const int coarse = r.value("coarse_vertices", library_default);
+            if (coarse != library_default)
                 m += " --coarse-vertices " + std::to_string(coarse);
             return m;
         }

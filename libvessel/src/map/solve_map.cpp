@@ -287,6 +287,16 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     return "";
 }
 
+// The map and the solvers' summaries of \p solved into \p result (not its notes).
+void take_map(FlattenResult& result, FlattenResult&& solved)
+{
+    result.uv = std::move(solved.uv);
+    result.arap = solved.arap;
+    result.untangle = solved.untangle;
+    result.injective = solved.injective;
+    result.look_retry = solved.look_retry;
+}
+
 }  // namespace
 
 bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
@@ -320,11 +330,7 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
         result.notes.insert(result.notes.end(), attempt.notes.begin(), attempt.notes.end());
         if (failed.empty())
         {
-            result.uv = std::move(attempt.uv);
-            result.arap = attempt.arap;
-            result.untangle = attempt.untangle;
-            result.injective = attempt.injective;
-            result.look_retry = attempt.look_retry;
+            take_map(result, std::move(attempt));
             return at_layout;
         }
         result.notes.push_back(
@@ -335,12 +341,8 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     }
     FlattenResult full;
     const bool at_layout = solve_single_level(mesh, input, placed, options, full);
-    result.uv = std::move(full.uv);
-    result.arap = full.arap;
-    result.untangle = full.untangle;
-    result.injective = full.injective;
-    result.look_retry = full.look_retry;
     result.notes.insert(result.notes.end(), full.notes.begin(), full.notes.end());
+    take_map(result, std::move(full));
     return at_layout;
 }
 
