@@ -1,4 +1,7 @@
-// The custom-cost example's cuts against the default's.
+// vessel-flatten's tuning flags, each checked by its effect on real output (issue 33: a flag no
+// test passes can stop working unseen), and the custom-cost example's cuts against the default's.
+// Cut flags run with `--refine none` (stage F does not change where cuts run), on the vmtk aorta,
+// whose later cut is one the join rules treat differently; map flags on artery-coarse.
 #include <doctest/doctest.h>
 
 #include "support/files.h"
@@ -30,6 +33,36 @@ namespace {
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 const std::string kData = VESSEL_SHARED_DATA;
 const std::string kArtery = kData + "/vampy/artery-coarse.ply";
+const std::string kAorta = kData + "/vmtk-test-data/aorta-surface-open-ends.ply";
+
+// Runs `vessel-flatten INPUT -o DIR/NAME.obj --report DIR/NAME.json -q ARGS`; its report.
+nlohmann::json flatten_report(const std::string& dir, const std::string& name,
+                              const std::string& input, const std::string& args)
+{
+    const std::string base = dir + "/" + name;
+    REQUIRE_MESSAGE(run(kFlatten + " " + input + " -o " + base + ".obj --report " + base +
+                        ".json -q " + args) == 0,
+                    "vessel-flatten " << args);
+    return nlohmann::json::parse(std::ifstream(base + ".json"));
+}
+
+// The report's cuts as (edges, length) per cut, in order: equal lists are the same cuts.
+std::vector<std::pair<int, double>> cuts_of(const nlohmann::json& report)
+{
+    std::vector<std::pair<int, double>> cuts;
+    for (const auto& cut : report["cuts"])
+        cuts.emplace_back(cut["edges"].get<int>(), cut["length"].get<double>());
+    return cuts;
+}
+
+double cut_length(const nlohmann::json& report, int k) { return report["cuts"][k]["length"]; }
+
+bool has_note(const nlohmann::json& report, const std::string& part)
+{
+    return std::any_of(report["notes"].begin(), report["notes"].end(), [&](const auto& note) {
+        return note.template get<std::string>().find(part) != std::string::npos;
+    });
+}
 
 // The seam of a flat OBJ: the 3D edges (vertex pairs, smaller first) whose two faces give them
 // different uv corners, read from the file's own arrays.
@@ -62,6 +95,31 @@ double seam_length(const vessel::test::FlatObj& obj, const std::set<std::pair<in
         length += (obj.v[a] - obj.v[b]).norm();
     return length;
 }
+
+// A one-step field over artery-coarse's vertices (CSV, wide: the header names the field), so
+// that --image has something to draw.
+std::string write_field_csv(const std::string& dir, int columns)
+{
+    const int n = static_cast<int>(vessel::read_raw_mesh(kArtery).points.size());
+    std::ostringstream csv;
+    csv << "vertex";
+    for (int c = 0; c < columns; ++c)
+        csv << ",s" << c;
+    csv << "\n";
+    for (int i = 0; i < n; ++i)
+    {
+        csv << i;
+        for (int c = 0; c < columns; ++c)
+            csv << "," << (c % 2 == 0 ? double(i) / n : 1.0 - double(i) / n);
+        csv << "\n";
+    }
+    const std::string path = dir + "/wss.csv";
+    std::ofstream(path) << csv.str();
+    return path;
+}
+
+// Is the pixel coloured (a field colour), not white, grey or black (background, lines, text)?
+bool coloured(const Eigen::Vector3d& rgb) { return rgb.maxCoeff() - rgb.minCoeff() > 0.1; }
 
 }  // namespace
 
@@ -106,4 +164,220 @@ TEST_CASE("cli: the custom-cost example's cuts differ from the default's on a re
     CHECK(std::stoul(m[1]) == default_seam.size());
     CHECK(std::stoul(m[2]) == shared.size());
     CHECK(std::stoul(m[3]) == moved);
+}
+
+TEST_CASE("cli: --join, --join-reach, --join-excess and --join-slack move where a later cut ends")
+{
+    // The aorta's iliac cut: the default (approach) cuts it back where it starts to run down
+    // the other iliac's cut; cheapest keeps the whole cheapest path; closest ends it on the cut
+    // vertex nearest its outlet, within --join-slack of the nearest one's distance.
+    const std::string dir = temp_dir("flags_join");
+    const auto approach = flatten_report(dir, "approach", kAorta, "--refine none");
+    const auto cheapest = flatten_report(dir, "cheapest", kAorta, "--refine none --join cheapest");
+    const auto no_reach = flatten_report(dir, "reach0", kAorta, "--refine none --join-reach 0");
+    const auto no_excess =
+        flatten_report(dir, "excess", kAorta, "--refine none --join-excess 1000");
+    const auto closest = flatten_report(dir, "closest", kAorta, "--refine none --join closest");
+    const auto tight =
+        flatten_report(dir, "slack0", kAorta, "--refine none --join closest --join-slack 0");
+    for (const auto* r : {&approach, &cheapest, &no_reach, &no_excess, &closest, &tight})
+    {
+        REQUIRE((*r)["cuts"].size() == 2);
+        CHECK((*r)["cuts"][1]["ends_on"] == "cut 0");
+        CHECK(cut_length(*r, 0) == cut_length(approach, 0));  // the first cut is not joined
+    }
+    MESSAGE("later cut, mm: approach " << cut_length(approach, 1) << ", cheapest "
+                                       << cut_length(cheapest, 1) << ", closest "
+                                       << cut_length(closest, 1) << ", closest slack 0 "
+                                       << cut_length(tight, 1));
+    // Cut back: shorter than the whole cheapest path.
+    CHECK(cut_length(approach, 1) < cut_length(cheapest, 1));
+    // No vertex within reach 0 radii, nor an excess over 1000 radii: nothing is cut back.
+    CHECK(cuts_of(no_reach) == cuts_of(cheapest));
+    CHECK(cuts_of(no_excess) == cuts_of(cheapest));
+    CHECK(cuts_of(closest) != cuts_of(cheapest));
+    // Slack 0 admits only the closest cut vertex's distance: a shorter cut than slack 0.25.
+    CHECK(cut_length(tight, 1) < cut_length(closest, 1));
+}
+
+TEST_CASE("cli: --stream-field, --band-rings and --join-rings steer the streamline cuts")
+{
+    const std::string dir = temp_dir("flags_streamline");
+    const std::string route = "--refine none --cut-route streamline";
+    const auto harmonic = flatten_report(dir, "harmonic", kAorta, route);
+    const auto direction =
+        flatten_report(dir, "direction", kAorta, route + " --stream-field direction");
+    const auto band = flatten_report(dir, "band", kAorta, route + " --band-rings 2");
+    const auto join0 = flatten_report(dir, "join0", kAorta, route + " --join-rings 0");
+    const auto join10 = flatten_report(dir, "join10", kAorta, route + " --join-rings 10");
+    for (const auto* r : {&harmonic, &direction, &band, &join0, &join10})
+        REQUIRE((*r)["cuts"].size() == 2);
+    // Another field to trace, another corridor for the cuts: other cuts.
+    CHECK(cuts_of(direction) != cuts_of(harmonic));
+    // A band of 2 edge rings around the streamline lets the cut leave its line: other cuts.
+    CHECK(cuts_of(band) != cuts_of(harmonic));
+    // The later cut joins the first once its streamline comes within N rings of it: the more
+    // rings, the sooner (a shorter cut); 0 rings, only where the streamline reaches the cut.
+    MESSAGE("later cut, mm: join-rings 0 " << cut_length(join0, 1) << ", 3 (default) "
+                                           << cut_length(harmonic, 1) << ", 10 "
+                                           << cut_length(join10, 1));
+    CHECK(cut_length(join0, 1) > cut_length(harmonic, 1));
+    CHECK(cut_length(join10, 1) < cut_length(harmonic, 1));
+}
+
+TEST_CASE("cli: --relief-target decides when relief cuts are tried")
+{
+    // artery-coarse's default map is far below the default target (mean |log area| 0.15): no
+    // relief cut. With target 0 every map is over it, and --relief-cuts caps what is added.
+    const std::string dir = temp_dir("flags_relief");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto target0 = flatten_report(dir, "target0", kArtery, "--relief-target 0");
+    const auto one = flatten_report(dir, "one", kArtery, "--relief-target 0 --relief-cuts 1");
+    CHECK(by_default["relief_cuts"].empty());
+    CHECK(!has_note(by_default, "relief cut"));
+    CHECK(has_note(target0, "relief cut 1"));  // tried ...
+    CHECK(!target0["relief_cuts"].empty());    // ... and kept: it lowers the distortion here
+    CHECK(target0["relief_cuts"].size() <= 2);
+    CHECK(one["relief_cuts"].size() == 1);
+    // Relief cuts open the seam further; the vessel cuts stay.
+    CHECK(target0["counts"]["seam_edges"] > by_default["counts"]["seam_edges"]);
+    CHECK(cuts_of(target0) == cuts_of(by_default));
+    CHECK(target0["quality"]["flipped_triangles"] == 0);
+}
+
+TEST_CASE("cli: --slim-iterations caps SLIM and --slim-momentum 0 takes plain SLIM steps")
+{
+    const std::string dir = temp_dir("flags_slim");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto capped = flatten_report(dir, "capped", kArtery, "--slim-iterations 3");
+    const auto plain = flatten_report(dir, "plain", kArtery, "--slim-momentum 0");
+    CAPTURE(by_default["slim"]["report"].get<std::string>());
+    REQUIRE(by_default["slim"]["iterations"].get<int>() > 3);  // the premise: SLIM runs longer
+    CHECK(capped["slim"]["iterations"] == 3);
+    CHECK(capped["slim"]["converged"] == false);
+    CHECK(contains(capped["slim"]["report"].get<std::string>(), "iteration limit"));
+    CHECK(contains(by_default["slim"]["report"].get<std::string>(), "steps with momentum"));
+    CHECK(!contains(plain["slim"]["report"].get<std::string>(), "momentum"));
+    CHECK(plain["slim"]["iterations"].get<int>() > 0);
+    for (const auto* r : {&capped, &plain})
+        CHECK((*r)["quality"]["flipped_triangles"] == 0);  // still the injective refinement
+}
+
+TEST_CASE("cli: --no-area-polish and --area-polish trade area for angle distortion")
+{
+    // The polish lowers the area term at the cost of the conformal one (area_polish.h): without
+    // it, or with a lower area weight, the map has more area and less conformal distortion.
+    const std::string dir = temp_dir("flags_area_polish");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto none = flatten_report(dir, "none", kArtery, "--no-area-polish");
+    const auto half = flatten_report(dir, "half", kArtery, "--area-polish 0.5");
+    CHECK(has_note(by_default, "area polish (lambda 0.99"));
+    CHECK(!has_note(none, "area polish"));
+    CHECK(has_note(half, "area polish (lambda 0.50"));
+    const auto area = [](const nlohmann::json& r) {
+        return r["quality"]["mean_abs_log_area_ratio"].get<double>();
+    };
+    const auto angle = [](const nlohmann::json& r) {
+        return r["quality"]["mean_conformal_distortion"].get<double>();
+    };
+    MESSAGE("mean |log area| / mean conformal: polish 0.99 " << area(by_default) << " / "
+            << angle(by_default) << ", 0.5 " << area(half) << " / " << angle(half) << ", none "
+            << area(none) << " / " << angle(none));
+    CHECK(area(none) > area(by_default));
+    CHECK(angle(none) < angle(by_default));
+    CHECK(area(half) > area(by_default));
+    CHECK(angle(half) < angle(by_default));
+    for (const auto* r : {&none, &half})
+        CHECK((*r)["quality"]["flipped_triangles"] == 0);
+}
+
+TEST_CASE("cli: --restart-circle and --keep-look choose where an overlapping layout map restarts")
+{
+    // artery-coarse's map at the layout crosses its boundary, so the default restarts it.
+    const std::string dir = temp_dir("flags_restart");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto tutte = flatten_report(dir, "tutte", kArtery, "--restart-circle tutte");
+    const auto look = flatten_report(dir, "look", kArtery, "--keep-look");
+    REQUIRE(has_note(by_default, "overlaps itself"));
+    CHECK(has_note(by_default, "restarted from the layout circle"));
+    CHECK(has_note(tutte, "restarted from the Tutte embedding"));
+    CHECK(has_note(look, "restarted from the fan start"));
+    const std::string map = read_bytes(dir + "/default.obj");
+    CHECK(read_bytes(dir + "/tutte.obj") != map);
+    CHECK(read_bytes(dir + "/look.obj") != map);
+    for (const auto* r : {&tutte, &look})
+    {
+        CHECK((*r)["quality"]["flipped_triangles"] == 0);  // one-to-one, from either start
+        CHECK((*r)["quality"]["overlapping_triangles"] == 0);
+    }
+}
+
+TEST_CASE("cli: --time-step spaces the steps of a series whose CSV header gives no times")
+{
+    const std::string dir = temp_dir("flags_time_step");
+    const std::string csv = write_field_csv(dir, 3);  // header s0,s1,s2: no times
+    for (const auto& [args, times] :
+         std::vector<std::pair<std::string, std::vector<std::string>>>{
+             {"", {"0", "1", "2"}}, {"--time-step 0.25", {"0", "0.25", "0.5"}}})
+    {
+        CAPTURE(args);
+        std::filesystem::remove_all(dir + "/out");
+        REQUIRE(run(kFlatten + " " + kArtery + " -o " + dir + "/out.vtp --fields " + csv +
+                    " --refine none -q " + args) == 0);
+        for (const std::string pvd : {"/out.pvd", "/out-map.pvd"})
+        {
+            const std::string text = read_bytes(dir + pvd);
+            std::vector<std::string> found;
+            const std::regex step("timestep=\"([^\"]*)\"");
+            for (auto it = std::sregex_iterator(text.begin(), text.end(), step);
+                 it != std::sregex_iterator(); ++it)
+                found.push_back((*it)[1]);
+            CHECK(found == times);
+        }
+    }
+}
+
+TEST_CASE("cli: --image-3d draws the 3D mesh beside the map, --image-units titles the colorbar")
+{
+    const std::string dir = temp_dir("flags_image");
+    const std::string csv = write_field_csv(dir, 1);
+    const std::string base = kFlatten + " " + kArtery + " --fields " + csv + " --refine none -q";
+    REQUIRE(run(base + " -o " + dir + "/a.obj --image " + dir + "/map.png") == 0);
+    REQUIRE(run(base + " -o " + dir + "/b.obj --image " + dir + "/map3d.png --image-3d") == 0);
+    REQUIRE(run(base + " -o " + dir + "/c.obj --image " + dir + "/units.png --image-units Pa") ==
+            0);
+    const vessel::test::Png map(dir + "/map.png"), map3d(dir + "/map3d.png"),
+        units(dir + "/units.png");
+    REQUIRE(map.width() == map3d.width());
+    REQUIRE(map.width() == units.width());
+    REQUIRE(map.height() == units.height());
+    // Runs of columns holding field colours, left of the colorbar (the image's right tenth):
+    // the map alone is one connected piece; with --image-3d the 3D view is a second one.
+    const auto runs = [](const vessel::test::Png& image) {
+        int count = 0;
+        bool inside = false;
+        for (int x = 0; x < image.width() * 88 / 100; ++x)
+        {
+            bool any = false;
+            for (int y = 0; y < image.height() && !any; ++y)
+                any = coloured(image.pixel(x, y));
+            count += any && !inside;
+            inside = any;
+        }
+        return count;
+    };
+    CHECK(runs(map) == 1);
+    CHECK(runs(map3d) == 2);
+    // The units change the colorbar's title only: every differing pixel lies right of the map.
+    int differ = 0, left = 0;
+    for (int y = 0; y < map.height(); ++y)
+        for (int x = 0; x < map.width(); ++x)
+            if (vessel::test::color_error(map.pixel(x, y), units.pixel(x, y)) > 0.0)
+            {
+                ++differ;
+                left += x < map.width() * 88 / 100;
+            }
+    MESSAGE("--image-units: " << differ << " pixels differ, " << left << " of them left of the bar");
+    CHECK(differ > 0);
+    CHECK(left == 0);
 }
