@@ -381,3 +381,55 @@ TEST_CASE("cli: --image-3d draws the 3D mesh beside the map, --image-units title
     CHECK(differ > 0);
     CHECK(left == 0);
 }
+
+TEST_CASE("cli: --look-retry force redoes a restarted map with --look-retry-pull's weight")
+{
+    // artery-coarse's restarted map keeps its look (no outlet below the inlet, no walk
+    // inversion), so the default (auto) does not retry it; force does, and reports the retry.
+    const std::string dir = temp_dir("flags_look_retry");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto forced = flatten_report(dir, "forced", kArtery, "--look-retry force");
+    const auto weak =
+        flatten_report(dir, "weak", kArtery, "--look-retry force --look-retry-pull 10");
+    REQUIRE(has_note(by_default, "restarted from"));
+    CHECK(by_default["look_retry"]["tried"] == false);
+    CHECK(!has_note(by_default, "look retry"));
+    CHECK(forced["look_retry"]["tried"] == true);
+    CHECK(has_note(forced, "look retry (pull 100)"));
+    CHECK(weak["look_retry"]["tried"] == true);
+    CHECK(has_note(weak, "look retry (pull 10)"));
+    // Another hinge weight, another pulled map (its mean |log area| is reported).
+    CHECK(weak["look_retry"]["pulled_area"] != forced["look_retry"]["pulled_area"]);
+    CHECK(forced["look_retry"]["pulled_area"].get<double>() > 0.0);
+}
+
+TEST_CASE("cli: --look-pull keeps the restart's look in SLIM, shaped by --look-pull-form, "
+          "--look-hold and --look-margin")
+{
+    const std::string dir = temp_dir("flags_look_pull");
+    const auto by_default = flatten_report(dir, "default", kArtery, "");
+    const auto hinges = flatten_report(dir, "hinges", kArtery, "--look-pull 100");
+    const auto rays = flatten_report(dir, "rays", kArtery, "--look-pull 100 --look-pull-form rays");
+    flatten_report(dir, "hold", kArtery, "--look-pull 100 --look-hold 1000");
+    flatten_report(dir, "margin", kArtery, "--look-pull 100 --look-margin 30");
+    REQUIRE(has_note(by_default, "restarted from"));  // the pull acts on a restarted map
+    // Each weight or form gives another map (the pull is a term of SLIM's and the polish's
+    // energy, so any change to it moves the map).
+    const std::vector<std::string> names = {"default", "hinges", "rays", "hold", "margin"};
+    for (std::size_t a = 0; a < names.size(); ++a)
+        for (std::size_t b = a + 1; b < names.size(); ++b)
+        {
+            CAPTURE(names[a] + " / " + names[b]);
+            CHECK(read_bytes(dir + "/" + names[a] + ".obj") !=
+                  read_bytes(dir + "/" + names[b] + ".obj"));
+        }
+    // Rays hold each outlet on its start ray (the layout's bearing), hinges only keep the
+    // order: the outlets' bearings are nearer the layout's with rays.
+    const auto bearing = [](const nlohmann::json& r) {
+        return r["quality"]["look"]["mean_bearing_error_deg"].get<double>();
+    };
+    MESSAGE("mean bearing error, deg: default " << bearing(by_default) << ", hinges "
+                                                << bearing(hinges) << ", rays " << bearing(rays));
+    CHECK(bearing(rays) < bearing(hinges));
+    CHECK(rays["quality"]["flipped_triangles"] == 0);
+}
