@@ -5,10 +5,14 @@
 #include "vessel/map/embedding.h"
 #include "vessel/map/injective.h"
 #include "vessel/map/multilevel.h"
+#include "vessel/phantom/phantom.h"
+#include "vessel/pipeline.h"
 #include "vessel/quality/metrics.h"
 
+#include <algorithm>
 #include <limits>
 #include <set>
+#include <string>
 
 using namespace vessel;
 
@@ -135,6 +139,9 @@ TEST_CASE("multilevel: relax_area and the options refuse what they cannot use")
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
     options.coarse_vertices = -1;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
+    options.coarse_vertices = 0;
+    options.max_energy_ratio = 1.0;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
 }
 
 TEST_CASE("multilevel: coarsen_levels shrinks by levels, keeps corners, carries one-to-one")
@@ -226,4 +233,38 @@ TEST_CASE("multilevel: levels that keep the boundary insert interior vertices on
     }
     CHECK(test::count_flips(fine, uv) == 0);
     CHECK(boundary_self_intersection(fine, uv).first < 0);
+}
+
+TEST_CASE("multilevel: a carried map above max_energy_ratio is refused for the full-resolution map")
+{
+    TreePhantomOptions tree;
+    tree.outlets = 3;
+    tree.seed = 3;
+    tree.edge_length = 0.75;
+    const Mesh mesh = tree_phantom(tree);
+    FlattenOptions options;
+    options.multilevel.coarse_vertices = 400;
+    const FlattenResult carried = flatten(mesh, options);
+    const auto noted = [](const FlattenResult& r, const std::string& text) {
+        return std::any_of(r.notes.begin(), r.notes.end(), [&](const std::string& note) {
+            return note.find(text) != std::string::npos;
+        });
+    };
+    REQUIRE(noted(carried, "coarse-to-fine: the map solved on 400 of"));
+    REQUIRE_FALSE(noted(carried, "solved again at full resolution"));
+
+    // Every map is above its isometric minimum, so this bound refuses both hierarchies' maps.
+    options.multilevel.max_energy_ratio = 1.0 + 1e-12;
+    const FlattenResult refused = flatten(mesh, options);
+    FlattenOptions full;
+    full.multilevel.coarse_vertices = 0;
+    const FlattenResult direct = flatten(mesh, full);
+    CHECK(noted(refused, "times its minimum (more than"));
+    CHECK(noted(refused, "the map solved again at full resolution"));
+    REQUIRE(refused.uv.rows() == direct.uv.rows());
+    REQUIRE(carried.uv.rows() == direct.uv.rows());
+    CHECK((refused.uv - direct.uv).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((carried.uv - direct.uv).cwiseAbs().maxCoeff() > 0.0);
+    CHECK(refused.quality.flipped_triangles == 0);
+    CHECK(refused.quality.overlapping_triangles == 0);
 }

@@ -23,6 +23,9 @@ void MultilevelOptions::validate() const
     if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
         throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
                                 std::to_string(tolerance));
+    if (!(max_energy_ratio > 1.0 && std::isfinite(max_energy_ratio)))
+        throw InvalidInputError("MultilevelOptions: max_energy_ratio must be > 1 and finite, got " +
+                                std::to_string(max_energy_ratio));
 }
 
 namespace {
@@ -381,12 +384,12 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
                 const Eigen::Vector2d ray(std::cos(angle), std::sin(angle));
                 for (double r = 0.5; r > 1e-4; r *= 0.5)
                 {
-                    const Eigen::Vector2d p = target + r * reach * ray;
-                    uv.row(collapse.v0) = p.transpose();
-                    if (star_positive(uv, collapse) && (p - wanted).norm() < best)
+                    const Eigen::Vector2d trial = target + r * reach * ray;
+                    uv.row(collapse.v0) = trial.transpose();
+                    if (star_positive(uv, collapse) && (trial - wanted).norm() < best)
                     {
-                        best = (p - wanted).norm();
-                        chosen = p;
+                        best = (trial - wanted).norm();
+                        chosen = trial;
                     }
                 }
             }

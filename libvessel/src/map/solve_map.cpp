@@ -107,7 +107,8 @@ Pins renumbered(const Pins& pins, const std::vector<int>& index)
 }
 
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
-// untangling, a crossing boundary) the reason, and result.uv untouched.
+// untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
+// untouched.
 // Index of each fine vertex in level `depth` of the hierarchy (0 = the fine mesh), or -1.
 std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t depth,
                           std::size_t n_fine)
@@ -281,6 +282,13 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                           relaxed.sweeps, relaxed.energy_before / minimum,
                           relaxed.energy_after / minimum);
             result.notes.push_back(line);
+            if (!(relaxed.energy_after <= multilevel.max_energy_ratio * minimum))
+            {
+                std::snprintf(line, sizeof line,
+                              "the carried map's energy is %.3g times its minimum (more than %g)",
+                              relaxed.energy_after / minimum, multilevel.max_energy_ratio);
+                return line;
+            }
         }
     }
     result.uv = std::move(uv);

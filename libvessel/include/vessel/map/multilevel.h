@@ -38,6 +38,13 @@ struct MultilevelOptions
     //! skipped, so a tight rule costs little (docs/benchmarks.md "Coarse-to-fine").
     int relax_sweeps = 80;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
+    //! A carried map whose relaxed energy (relax_area()'s, at the finest level) ends above
+    //! this multiple of its isometric minimum (twice the surface area) is refused, and the
+    //! map solved again as after a carry that crosses: the coarse solve stopped far from its
+    //! minimum (SLIM's scaffold steps stalling on a decimated many-outlet tree) and local
+    //! steps cannot recover it. Accepted maps end near 1, refused ones several times above
+    //! (docs/benchmarks.md "Coarse-to-fine"). Must be > 1.
+    double max_energy_ratio = 1.05;
     //! Called by relax_area() after each sweep with the number of sweeps made (progress).
     std::function<void(int sweeps)> on_sweep;
     //! \throw InvalidInputError naming the bad field.
