@@ -106,9 +106,6 @@ Pins renumbered(const Pins& pins, const std::vector<int>& index)
     return kept;
 }
 
-// The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
-// untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
-// untouched.
 // Index of each fine vertex in level `depth` of the hierarchy (0 = the fine mesh), or -1.
 std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t depth,
                           std::size_t n_fine)
@@ -184,6 +181,9 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
     return boundary_self_intersection(mesh, uv).first < 0;
 }
 
+// The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
+// untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
+// untouched.
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                  const LayoutResult& placed, const FlattenOptions& options,
                                  std::size_t boundary_levels, FlattenResult& result,

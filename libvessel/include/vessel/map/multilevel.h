@@ -27,8 +27,9 @@ struct MultilevelOptions
     //! boundary (coarsen_levels()). Cut meshes with more than twice as many vertices are
     //! flattened coarse-to-fine; smaller ones directly. 0 (the default) = never: every map is
     //! solved at full resolution. Coarse-to-fine trades some area distortion for several times
-    //! less time on large meshes; where neither hierarchy gives a one-to-one carried map, the
-    //! map is solved at full resolution as well (noted), which then takes longer than 0 would
+    //! less time on large meshes; where neither hierarchy gives a one-to-one carried map
+    //! within max_energy_ratio, the map is solved at full resolution as well (noted), which
+    //! then takes longer than 0 would
     //! (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
     int coarse_vertices = 0;
     //! Gauss-Seidel sweeps of relax_area() on each level, at most; they stop earlier once a
