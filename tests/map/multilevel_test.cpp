@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include "detail/boundary_guard.h"
+#include "detail/face_jacobian.h"
 #include "support/meshes.h"
 #include "vessel/core/errors.h"
 #include "vessel/map/embedding.h"
@@ -124,6 +126,49 @@ TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips no
     CHECK(boundary_self_intersection(mesh, uv).first < 0);
     CHECK((uv.row(held.idx()) - at).norm() == 0.0);
     CHECK(flat_quality(mesh, uv).mean_abs_log_area < before);
+}
+
+TEST_CASE("multilevel: the boundary guard keeps boundary parts a clearance apart")
+{
+    // Tutte's map of a cut cylinder: its boundary a convex polygon, two parts across it far
+    // apart. Vertex a is moved toward the edge (b, c) across the polygon.
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const Eigen::MatrixX2d uv = tutte_embedding(mesh);
+    const std::vector<int> walk = boundary_walk(mesh);
+    const std::size_t half = walk.size() / 2;
+    const int a = walk[0], b = walk[half], c = walk[half + 1];
+    Eigen::VectorXd xv = detail::interleaved(uv);
+    detail::BoundaryGuard guard(mesh);
+    guard.rebuild(xv.data());
+    const double clearance = guard.clearance();
+    REQUIRE(clearance > 0.0);
+    CHECK(guard.near_contacts(xv.data()).empty());
+
+    // Points on the far side's edge's inner normal, at a given distance from its midpoint.
+    const Eigen::Vector2d pb = uv.row(b).transpose(), pc = uv.row(c).transpose();
+    const Eigen::Vector2d mid = 0.5 * (pb + pc);
+    Eigen::Vector2d inward(-(pc - pb).y(), (pc - pb).x());
+    inward.normalize();
+    if (inward.dot(Eigen::Vector2d(uv.colwise().mean().transpose()) - mid) < 0.0)
+        inward = -inward;
+    const Eigen::Vector2d from = uv.row(a).transpose();
+    const auto at = [&](double distance) { return Eigen::Vector2d(mid + distance * inward); };
+    CHECK(guard.allows(xv.data(), a, from, at(3.0 * clearance)));
+    CHECK_FALSE(guard.allows(xv.data(), a, from, at(0.5 * clearance)));  // nearer than clearance
+    CHECK_FALSE(guard.allows(xv.data(), a, from, at(-0.5 * clearance)));  // across: crossing
+    CHECK(guard.gap(xv.data(), a, at(0.5 * clearance)) < clearance);
+
+    // Once a is that near, the contact is found at all its ends, and a may widen the gap but
+    // not narrow it.
+    xv[2 * a] = at(0.5 * clearance).x();
+    xv[2 * a + 1] = at(0.5 * clearance).y();
+    guard.rebuild(xv.data());
+    const std::vector<int> ends = guard.near_contacts(xv.data());
+    for (const int v : {a, b, c})
+        CHECK(std::count(ends.begin(), ends.end(), v) == 1);
+    const Eigen::Vector2d near = at(0.5 * guard.clearance());
+    CHECK(guard.allows(xv.data(), a, near, at(0.8 * guard.clearance())));
+    CHECK_FALSE(guard.allows(xv.data(), a, near, at(0.2 * guard.clearance())));
 }
 
 TEST_CASE("multilevel: relax_area and the options refuse what they cannot use")

@@ -32,4 +32,21 @@ inline bool segments_intersect(const Eigen::Vector2d& a, const Eigen::Vector2d& 
            (d3 == 0 && on_segment(a, b, c)) || (d4 == 0 && on_segment(a, b, d));
 }
 
+//! Distance between the closed segments ab and cd (0 where they intersect).
+inline double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                               const Eigen::Vector2d& c, const Eigen::Vector2d& d)
+{
+    if (segments_intersect(a, b, c, d))
+        return 0.0;
+    const auto to_segment = [](const Eigen::Vector2d& x, const Eigen::Vector2d& p,
+                               const Eigen::Vector2d& q) {
+        const Eigen::Vector2d pq = q - p;
+        const double squared = pq.squaredNorm();
+        const double t = squared > 0.0 ? std::clamp((x - p).dot(pq) / squared, 0.0, 1.0) : 0.0;
+        return (x - p - t * pq).norm();
+    };
+    return std::min({to_segment(a, c, d), to_segment(b, c, d), to_segment(c, a, b),
+                     to_segment(d, a, b)});
+}
+
 }  // namespace vessel::detail

@@ -3,6 +3,8 @@
 #include "detail/solve_map.h"
 
 #include "detail/look_retry.h"
+#include "detail/boundary_guard.h"
+#include "detail/face_jacobian.h"
 #include "detail/segments.h"
 #include "detail/refine_map.h"
 #include "vessel/map/embedding.h"
@@ -181,6 +183,80 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
     return boundary_self_intersection(mesh, uv).first < 0;
 }
 
+// Where two parts of the carried map's boundary come nearer each other than the boundary
+// guard's clearance (detail/boundary_guard.h: the coarse map's slits between branches laid side
+// by side, carried up), the map is one-to-one only up to the rounding of its written
+// coordinates. Each end of such a contact that is not pinned is moved part of the way toward
+// the centre of its one ring (into the map, away from the gap), to the first point where its
+// faces stay positive, the guard allows the move and its edges clear every other by the
+// clearance (or, where none does, the point that widens the gap most); a few rounds, the guard
+// rebuilt between them. Returns the number of boundary vertices still at a contact.
+std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
+{
+    std::vector<char> fixed(mesh.n_vertices(), 0);
+    for (const Pin& pin : pins)
+        fixed[pin.vertex.idx()] = 1;
+    Eigen::VectorXd xv = detail::interleaved(uv);
+    double* x = xv.data();
+    const auto at = [&](int v) { return Eigen::Vector2d(x[2 * v], x[2 * v + 1]); };
+    const auto positive = [&](VertexHandle v, const Eigen::Vector2d& p) {
+        for (auto h : mesh.voh_range(v))
+            if (!mesh.is_boundary(h) &&
+                !(detail::orient(p, at(mesh.to_vertex_handle(h).idx()),
+                                 at(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())) >
+                  0.0))
+                return false;
+        return true;
+    };
+    detail::BoundaryGuard guard(mesh);
+    std::vector<int> ends;
+    for (int round = 0; round < 8; ++round)
+    {
+        guard.rebuild(x);
+        ends = guard.near_contacts(x);
+        if (ends.empty())
+            return 0;
+        for (const int v : ends)
+        {
+            const Eigen::Vector2d start = at(v);
+            const double before = guard.gap(x, v, start);
+            if (fixed[v] || before >= guard.clearance())
+                continue;
+            Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+            int ring = 0;
+            for (auto w : mesh.vv_range(VertexHandle(v)))
+            {
+                centre += at(w.idx());
+                ++ring;
+            }
+            Eigen::Vector2d toward = centre / std::max(ring, 1) - start;
+            if (toward.norm() > guard.max_step())
+                toward *= guard.max_step() / toward.norm();
+            Eigen::Vector2d best = start;
+            double widest = before;
+            for (const double t : {0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0})
+            {
+                const Eigen::Vector2d p = start + t * toward;
+                if (!positive(VertexHandle(v), p) || !guard.allows(x, v, start, p))
+                    continue;
+                const double gap = guard.gap(x, v, p);
+                if (gap > widest)
+                {
+                    best = p;
+                    widest = gap;
+                }
+                if (gap >= guard.clearance())
+                    break;
+            }
+            x[2 * v] = best.x();
+            x[2 * v + 1] = best.y();
+        }
+    }
+    detail::deinterleave(xv, uv);
+    guard.rebuild(x);
+    return guard.near_contacts(x).size();
+}
+
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
 // untouched.
@@ -271,6 +347,11 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             return std::to_string(untangled.flipped_after) + " flipped triangles after untangling";
         if (keep_simple && !open_contacts(above, uv, pins))
             return "the carried map's boundary crosses itself";
+        if (keep_simple)
+            if (const std::size_t touching = open_near_contacts(above, uv, pins); touching > 0)
+                result.notes.push_back("coarse-to-fine: " + std::to_string(touching) +
+                                       " boundary vertices nearer another part than the "
+                                       "clearance after the carry");
         const RelaxSummary relaxed = relax_area(above, uv, pins, lambda, multilevel);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";

@@ -122,7 +122,10 @@ struct RelaxSummary
 //! \brief Lower the area-weighted distortion energy of area_polish() (weight \p area_weight) of
 //! a flip-free map by Gauss-Seidel sweeps of per-vertex projected Newton steps, each with a line
 //! search that keeps every incident face's orientation (the energy's barrier), so no face flips.
-//! Pinned vertices stay put; boundary vertices move. Each sweep costs O(|F|): it removes the
+//! Pinned vertices stay put; boundary vertices move, none so that the boundary crosses itself
+//! or two of its edges come nearer each other than a hundredth of the mean boundary edge (or,
+//! where they were that near already, any nearer): a contact would make the written map, its
+//! coordinates rounded, overlap itself. Each sweep costs O(|F|): it removes the
 //! short-wavelength error a prolongation leaves, not the long-wavelength one a global solve
 //! removes.
 //! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.

@@ -1,0 +1,197 @@
+#pragma once
+// BoundaryGuard: keeps a map's boundary simple, and its parts apart, while vertices move one at a
+// time (relax_area(), and the opening of near contacts after a coarse-to-fine carry).
+
+#include "detail/segments.h"
+#include "vessel/core/mesh.h"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace vessel::detail {
+
+// Keeps the map's boundary simple while boundary vertices move, and its parts apart: no move
+// brings a boundary edge nearer another than a clearance (a hundredth of the mean boundary
+// edge), or, where two were that near already, any nearer. Without it the area energy closes
+// the gap between two branches laid side by side to a contact that the written map's rounded
+// coordinates turn into overlapping triangles. A uniform grid of the boundary edges, each
+// entered in the cells of its box grown by `margin`. A vertex moves at most
+// margin / 2 per sweep, so every edge stays inside its entered box until the grid is rebuilt
+// (once per sweep), and a moved vertex's two edges need only be tested against the edges
+// entered in the cells they cross.
+class BoundaryGuard
+{
+public:
+    explicit BoundaryGuard(const Mesh& mesh)
+    {
+        for (auto h : mesh.halfedges())
+            if (h.is_boundary())
+                edges_.push_back({h.from().idx(), h.to().idx()});
+        next_.assign(mesh.n_vertices(), -1);
+        prev_.assign(mesh.n_vertices(), -1);
+        for (const auto& [a, b] : edges_)
+        {
+            next_[a] = b;
+            prev_[b] = a;
+        }
+    }
+
+    bool on_boundary(int v) const { return next_[v] >= 0; }
+    double max_step() const { return 0.5 * margin_; }
+
+    // Enter every boundary edge of the map x (interleaved) in the grid.
+    void rebuild(const double* x)
+    {
+        if (edges_.empty())
+            return;
+        // Cells twice the map's mean boundary edge long.
+        Eigen::Vector2d lo(x[2 * edges_[0][0]], x[2 * edges_[0][0] + 1]), hi = lo;
+        double length = 0.0;
+        for (const auto& e : edges_)
+        {
+            const Eigen::Vector2d a(x[2 * e[0]], x[2 * e[0] + 1]), b(x[2 * e[1]], x[2 * e[1] + 1]);
+            lo = lo.cwiseMin(a);
+            hi = hi.cwiseMax(a);
+            length += (b - a).norm();
+        }
+        const double mean = length / static_cast<double>(edges_.size());
+        cell_ = 2.0 * std::max(mean, 1e-12);
+        margin_ = 0.5 * cell_;
+        clearance_ = 0.01 * mean;
+        origin_ = lo - Eigen::Vector2d::Constant(cell_);
+        const Eigen::Vector2d span = hi - lo + Eigen::Vector2d::Constant(2.0 * cell_);
+        nx_ = std::max(1, static_cast<int>(std::ceil(span.x() / cell_)) + 1);
+        ny_ = std::max(1, static_cast<int>(std::ceil(span.y() / cell_)) + 1);
+        entries_.clear();
+        for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
+            for_cells(segment_box(x, edges_[e][0], edges_[e][1]), margin_,
+                      [&](long cell) { entries_.emplace_back(cell, e); });
+        std::sort(entries_.begin(), entries_.end());
+    }
+
+    // Whether moving boundary vertex v from `from` to p keeps its two edges clear of every
+    // other edge (x: the map, where v's own entry is not read).
+    bool allows(const double* x, int v, const Eigen::Vector2d& from, const Eigen::Vector2d& p) const
+    {
+        bool clear = true;
+        for_near_edges(x, v, p, [&](const Eigen::Vector2d& q, const Eigen::Vector2d& a,
+                                    const Eigen::Vector2d& b) {
+            if (!clear)
+                return;
+            // No crossing, nor a gap narrowed under the clearance.
+            const double gap = segment_distance(p, q, a, b);
+            clear = gap >= clearance_ || (gap > 0.0 && gap >= segment_distance(from, q, a, b));
+        });
+        return clear;
+    }
+
+    //! The clearance of the last rebuild(): a hundredth of the map's mean boundary edge.
+    double clearance() const { return clearance_; }
+
+    //! The boundary vertices at the ends of every two edges nearer each other than the clearance
+    //! (sharing no vertex) in the map x of the last rebuild(), each vertex once.
+    std::vector<int> near_contacts(const double* x) const
+    {
+        std::vector<int> ends;
+        for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
+        {
+            const Eigen::Vector2d a(x[2 * edges_[e][0]], x[2 * edges_[e][0] + 1]),
+                b(x[2 * edges_[e][1]], x[2 * edges_[e][1] + 1]);
+            for_cells(segment_box(x, edges_[e][0], edges_[e][1]), clearance_, [&](long cell) {
+                auto it = std::lower_bound(entries_.begin(), entries_.end(),
+                                           std::make_pair(cell, -1));
+                for (; it != entries_.end() && it->first == cell; ++it)
+                {
+                    const auto& f = edges_[it->second];
+                    if (it->second <= e || f[0] == edges_[e][0] || f[0] == edges_[e][1] ||
+                        f[1] == edges_[e][0] || f[1] == edges_[e][1])
+                        continue;
+                    const Eigen::Vector2d c(x[2 * f[0]], x[2 * f[0] + 1]),
+                        d(x[2 * f[1]], x[2 * f[1] + 1]);
+                    if (segment_distance(a, b, c, d) < clearance_)
+                        ends.insert(ends.end(), {edges_[e][0], edges_[e][1], f[0], f[1]});
+                }
+            });
+        }
+        std::sort(ends.begin(), ends.end());
+        ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+        return ends;
+    }
+
+    //! The nearest any edge other than v's two comes to v's two edges with v at p (at most the
+    //! clearance: nearer edges are not looked for).
+    double gap(const double* x, int v, const Eigen::Vector2d& p) const
+    {
+        double nearest = clearance_;
+        for_near_edges(x, v, p, [&](const Eigen::Vector2d& q, const Eigen::Vector2d& a,
+                                    const Eigen::Vector2d& b) {
+            nearest = std::min(nearest, segment_distance(p, q, a, b));
+        });
+        return nearest;
+    }
+
+private:
+    struct Box
+    {
+        Eigen::Vector2d lo, hi;
+    };
+
+    Box segment_box(const double* x, int a, int b) const
+    {
+        const Eigen::Vector2d p(x[2 * a], x[2 * a + 1]), q(x[2 * b], x[2 * b + 1]);
+        return {p.cwiseMin(q), p.cwiseMax(q)};
+    }
+
+    template <class Visit>
+    void for_cells(const Box& box, double grow, const Visit& visit) const
+    {
+        const auto index = [&](double value, double origin, int n) {
+            return std::clamp(static_cast<int>(std::floor((value - origin) / cell_)), 0, n - 1);
+        };
+        const int x0 = index(box.lo.x() - grow, origin_.x(), nx_);
+        const int x1 = index(box.hi.x() + grow, origin_.x(), nx_);
+        const int y0 = index(box.lo.y() - grow, origin_.y(), ny_);
+        const int y1 = index(box.hi.y() + grow, origin_.y(), ny_);
+        for (int i = x0; i <= x1; ++i)
+            for (int j = y0; j <= y1; ++j)
+                visit(static_cast<long>(i) * ny_ + j);
+    }
+
+    // Calls visit(q, a, b) for each of v's two edges with v at p (q its other end) and each
+    // edge ab that shares no vertex with it and is entered in a cell that the edge's box grown
+    // by the clearance meets (an edge may be visited more than once).
+    template <class Visit>
+    void for_near_edges(const double* x, int v, const Eigen::Vector2d& p, const Visit& visit) const
+    {
+        for (const int w : {prev_[v], next_[v]})
+        {
+            const Eigen::Vector2d q(x[2 * w], x[2 * w + 1]);
+            for_cells({p.cwiseMin(q), p.cwiseMax(q)}, clearance_, [&](long cell) {
+                auto it = std::lower_bound(entries_.begin(), entries_.end(),
+                                           std::make_pair(cell, -1));
+                for (; it != entries_.end() && it->first == cell; ++it)
+                {
+                    const auto& e = edges_[it->second];
+                    if (e[0] == v || e[1] == v || e[0] == w || e[1] == w)
+                        continue;
+                    visit(q, Eigen::Vector2d(x[2 * e[0]], x[2 * e[0] + 1]),
+                          Eigen::Vector2d(x[2 * e[1]], x[2 * e[1] + 1]));
+                }
+            });
+        }
+    }
+
+    std::vector<std::array<int, 2>> edges_;
+    std::vector<int> next_, prev_;
+    std::vector<std::pair<long, int>> entries_;
+    double cell_ = 1.0, margin_ = 0.5, clearance_ = 0.0;
+    Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+    int nx_ = 1, ny_ = 1;
+};
+
+}  // namespace vessel::detail
