@@ -183,8 +183,7 @@ struct FlattenOptions
     //! With Refinement::Injective and `multilevel.coarse_vertices` > 0: cut meshes of more than
     //! twice that many vertices are mapped coarse-to-fine (multilevel.h): the whole F above
     //! (initial map, SLIM, polish, look retry) on a decimated copy, then carried to every
-    //! vertex and relaxed there. Off by default (0: every map at full resolution). CLI
-    //! `--coarse-vertices N`.
+    //! vertex and relaxed there; 0 = every map at full resolution. CLI `--coarse-vertices N`.
     MultilevelOptions multilevel;
     //! With polish_area: SLIM's scaffold phase stops by this tolerance instead of
     //! InjectiveOptions::scaffold_tolerance (same rule: 3 iterations in a row lowering the

@@ -25,13 +25,13 @@ struct MultilevelOptions
 {
     //! Vertices of the coarse mesh, besides the boundary vertices where it keeps the whole
     //! boundary (coarsen_levels()). Cut meshes with more than twice as many vertices are
-    //! flattened coarse-to-fine; smaller ones directly. 0 (the default) = never: every map is
-    //! solved at full resolution. Coarse-to-fine trades some area distortion for several times
-    //! less time on large meshes; where neither hierarchy gives a one-to-one carried map
-    //! within max_energy_ratio, the map is solved at full resolution as well (noted), which
-    //! then takes longer than 0 would
-    //! (docs/benchmarks.md "Coarse-to-fine"). CLI `--coarse-vertices N`.
-    int coarse_vertices = 0;
+    //! flattened coarse-to-fine; smaller ones directly. 0 = never: every map is solved at full
+    //! resolution. Coarse-to-fine trades some area distortion (within max_energy_ratio of the
+    //! isometric energy) for several times less time on large meshes; where neither hierarchy
+    //! gives a one-to-one carried map within max_energy_ratio, the map is solved at full
+    //! resolution as well (noted), which then takes longer than 0 would (docs/benchmarks.md
+    //! "Coarse-to-fine"). CLI `--coarse-vertices N`.
+    int coarse_vertices = 4000;
     //! Gauss-Seidel sweeps of relax_area() on each level, at most; they stop earlier once a
     //! sweep lowers the energy by less than `tolerance` of its excess over the isometric
     //! minimum.
