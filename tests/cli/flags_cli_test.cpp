@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -432,4 +433,56 @@ TEST_CASE("cli: --look-pull keeps the restart's look in SLIM, shaped by --look-p
                                                 << bearing(hinges) << ", rays " << bearing(rays));
     CHECK(bearing(rays) < bearing(hinges));
     CHECK(rays["quality"]["flipped_triangles"] == 0);
+}
+
+TEST_CASE("cli: --look-retry off and --look-retry-area on the pulmonary Glenn tree")
+{
+    // Glenn's restarted map has an outlet below the inlet, so the default (auto) redoes it with
+    // the hinge pull and keeps the pulled map where its mean |log area| is within
+    // --look-retry-area (1.45) times the `keep` map's.
+    const std::string glenn = kData + "/svfsi-tests/pulmonary-glenn-wall.ply";
+    const std::string dir = temp_dir("flags_look_retry_glenn");
+    const auto by_default = flatten_report(dir, "default", glenn, "");
+    const auto off = flatten_report(dir, "off", glenn, "--look-retry off");
+    const auto retry = by_default["look_retry"];
+    REQUIRE(retry["tried"] == true);
+    REQUIRE(retry["kept"] == true);
+    const double ratio = retry["pulled_area"].get<double>() / retry["keep_area"].get<double>();
+    MESSAGE("Glenn: pulled map's mean |log area| / keep map's = " << ratio);
+    REQUIRE(ratio > 1.0);
+    REQUIRE(ratio <= 1.45);
+    CHECK(off["look_retry"]["tried"] == false);
+    CHECK(!has_note(off, "look retry"));
+    CHECK(read_bytes(dir + "/default.obj") != read_bytes(dir + "/off.obj"));
+
+    // A bound under the measured ratio: the pulled map is refused, the first map kept.
+    char bound[32];
+    std::snprintf(bound, sizeof bound, "%.4f", 0.5 * (1.0 + ratio));
+    const auto strict = flatten_report(dir, "strict", glenn, std::string("--look-retry-area ") + bound);
+    CHECK(strict["look_retry"]["tried"] == true);
+    CHECK(strict["look_retry"]["kept"] == false);
+    CHECK(has_note(strict, "area above the bound, kept the default map"));
+    CHECK(strict["look_retry"]["pulled_area"] == retry["pulled_area"]);
+}
+
+TEST_CASE("cli: --coarse-vertices: the default maps AneuRisk coarse-to-fine, 0 at full resolution")
+{
+    // 14 142 cut vertices, more than twice the default 4000.
+    const std::string aneurisk = kData + "/vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply";
+    const std::string dir = temp_dir("flags_coarse_vertices");
+    const auto by_default = flatten_report(dir, "default", aneurisk, "");
+    const auto full = flatten_report(dir, "full", aneurisk, "--coarse-vertices 0");
+    CHECK(has_note(by_default, "coarse-to-fine: the map solved on 4000 of 14142 vertices"));
+    CHECK(!has_note(by_default, "solved again at full resolution"));
+    CHECK(!has_note(full, "coarse-to-fine"));
+    for (const auto* r : {&by_default, &full})
+    {
+        CHECK((*r)["quality"]["flipped_triangles"] == 0);
+        CHECK((*r)["quality"]["overlapping_triangles"] == 0);
+    }
+    // Issue 27's bound on what coarse-to-fine may cost in area distortion.
+    const double coarse = by_default["quality"]["mean_abs_log_area_ratio"];
+    const double exact = full["quality"]["mean_abs_log_area_ratio"];
+    MESSAGE("AneuRisk mean |log area|: coarse-to-fine " << coarse << ", full resolution " << exact);
+    CHECK(coarse <= 1.5 * exact);
 }
