@@ -413,3 +413,34 @@ TEST_CASE("solver series: vessel-flatten takes an svFSI-style .pvd of .vtu files
     CHECK_FALSE(std::filesystem::exists(dir + "/again.vtp"));
     CHECK_FALSE(std::filesystem::exists(dir + "/again.pvd"));
 }
+
+TEST_CASE("solver series: --match-tolerance sets how far a paired point may lie from its vertex")
+{
+    // Four points of the solver's file written 1 mm from their wall vertices: paired by
+    // GlobalNodeID, they are refused at the default tolerance (1e-5 of the wall's bounding-box
+    // diagonal) and taken at a tolerance above 1 mm.
+    const std::string kFlatten = VESSEL_FLATTEN_EXE;
+    const std::string dir = temp_dir("solver_match_tolerance");
+    const Wall w = make_wall();
+    write_polydata(dir + "/wall.vtp", w.data);
+    StepFaults moved;
+    moved.moved = {1, 2, 30, 31};
+    write_vtu(dir + "/moved.vtu", w, 0.0, 6, moved);
+    Eigen::Vector3d lo = w.data.mesh.points.front(), hi = lo;
+    for (const Eigen::Vector3d& p : w.data.mesh.points)
+    {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+    }
+    const double diagonal = (hi - lo).norm();
+    const std::string flatten = kFlatten + " " + dir + "/wall.vtp --refine none -q --fields " +
+                                dir + "/moved.vtu -o " + dir;
+    CHECK(vessel::test::run(flatten + "/strict.vtp 2> " + dir + "/stderr.txt") == 1);
+    const std::string refusal = vessel::test::read_bytes(dir + "/stderr.txt");
+    CHECK_MESSAGE(contains(refusal, "is paired with point"), refusal);
+    CHECK_FALSE(std::filesystem::exists(dir + "/strict.vtp"));
+    const std::string tolerance = std::to_string(2.0 / diagonal);  // 2 mm
+    CHECK(vessel::test::run(flatten + "/loose.vtp --match-tolerance " + tolerance + " 2> " + dir +
+                            "/stderr.txt") == 0);
+    CHECK(std::filesystem::exists(dir + "/loose.vtp"));
+}
