@@ -486,3 +486,59 @@ TEST_CASE("cli: --coarse-vertices: the default maps AneuRisk coarse-to-fine, 0 a
     MESSAGE("AneuRisk mean |log area|: coarse-to-fine " << coarse << ", full resolution " << exact);
     CHECK(coarse <= 1.5 * exact);
 }
+
+namespace {
+
+// The iterate SLIM's scaffold phase went on from, as its report line states it; -1 if none.
+int scaffold_from(const nlohmann::json& report)
+{
+    static const std::regex pattern("scaffold from iterate ([0-9]+)");
+    std::smatch match;
+    const std::string line = report["slim"]["report"];
+    return std::regex_search(line, match, pattern) ? std::stoi(match[1]) : -1;
+}
+
+int slim_iterations(const nlohmann::json& report) { return report["slim"]["iterations"]; }
+
+}  // namespace
+
+TEST_CASE("cli: --scaffold-tolerance, --polished-scaffold-tolerance and --crossing-patience "
+          "steer SLIM's scaffold phase")
+{
+    // The vmtk aorta's restarted map crosses its boundary in SLIM, which goes back to its last
+    // simple iterate and on with a scaffold (full resolution: 6 220 cut vertices).
+    const std::string dir = temp_dir("flags_scaffold");
+    const auto by_default = flatten_report(dir, "default", kAorta, "");
+    REQUIRE(scaffold_from(by_default) > 1);
+    const int iterations = slim_iterations(by_default);
+    // With the polish after SLIM (default), SLIM stops by --polished-scaffold-tolerance.
+    const auto polished = flatten_report(dir, "polished", kAorta, "--polished-scaffold-tolerance 0.05");
+    CHECK(slim_iterations(polished) < iterations);
+    // Without the polish, by --scaffold-tolerance (tighter by default: more iterations).
+    const auto plain = flatten_report(dir, "plain", kAorta, "--no-area-polish");
+    const auto loose =
+        flatten_report(dir, "loose", kAorta, "--no-area-polish --scaffold-tolerance 0.05");
+    CHECK(slim_iterations(plain) > iterations);
+    CHECK(slim_iterations(loose) < slim_iterations(plain));
+    MESSAGE("SLIM iterations: default " << iterations << ", polished tolerance 0.05 "
+                                        << slim_iterations(polished) << ", no polish "
+                                        << slim_iterations(plain) << ", no polish tolerance 0.05 "
+                                        << slim_iterations(loose));
+    // --crossing-patience: iterations the boundary may stay crossed before SLIM goes back. At 1
+    // the scaffold starts from an earlier iterate; at 20 SLIM goes on crossed for longer before
+    // going back to the same iterate.
+    const auto impatient = flatten_report(dir, "impatient", kAorta, "--crossing-patience 1");
+    const auto patient = flatten_report(dir, "patient", kAorta, "--crossing-patience 20");
+    MESSAGE("scaffold from iterate: default " << scaffold_from(by_default) << ", patience 1 "
+                                              << scaffold_from(impatient) << ", patience 20 "
+                                              << scaffold_from(patient) << " ("
+                                              << slim_iterations(patient) << " iterations)");
+    CHECK(scaffold_from(impatient) >= 0);
+    CHECK(scaffold_from(impatient) < scaffold_from(by_default));
+    CHECK(slim_iterations(patient) > iterations);
+    for (const auto* r : {&polished, &plain, &loose, &impatient, &patient})
+    {
+        CHECK((*r)["quality"]["flipped_triangles"] == 0);
+        CHECK((*r)["quality"]["overlapping_triangles"] == 0);
+    }
+}
