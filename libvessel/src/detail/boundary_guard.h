@@ -102,20 +102,15 @@ public:
         {
             const Eigen::Vector2d a(x[2 * edges_[e][0]], x[2 * edges_[e][0] + 1]),
                 b(x[2 * edges_[e][1]], x[2 * edges_[e][1] + 1]);
-            for_cells(segment_box(x, edges_[e][0], edges_[e][1]), clearance_, [&](long cell) {
-                auto it = std::lower_bound(entries_.begin(), entries_.end(),
-                                           std::make_pair(cell, -1));
-                for (; it != entries_.end() && it->first == cell; ++it)
-                {
-                    const auto& f = edges_[it->second];
-                    if (it->second <= e || f[0] == edges_[e][0] || f[0] == edges_[e][1] ||
-                        f[1] == edges_[e][0] || f[1] == edges_[e][1])
-                        continue;
-                    const Eigen::Vector2d c(x[2 * f[0]], x[2 * f[0] + 1]),
-                        d(x[2 * f[1]], x[2 * f[1] + 1]);
-                    if (segment_distance(a, b, c, d) < clearance_)
-                        ends.insert(ends.end(), {edges_[e][0], edges_[e][1], f[0], f[1]});
-                }
+            for_entries(segment_box(x, edges_[e][0], edges_[e][1]), [&](int other) {
+                const auto& f = edges_[other];
+                if (other <= e || f[0] == edges_[e][0] || f[0] == edges_[e][1] ||
+                    f[1] == edges_[e][0] || f[1] == edges_[e][1])
+                    return;
+                const Eigen::Vector2d c(x[2 * f[0]], x[2 * f[0] + 1]),
+                    d(x[2 * f[1]], x[2 * f[1] + 1]);
+                if (segment_distance(a, b, c, d) < clearance_)
+                    ends.insert(ends.end(), {edges_[e][0], edges_[e][1], f[0], f[1]});
             });
         }
         std::sort(ends.begin(), ends.end());
@@ -162,6 +157,19 @@ private:
                 visit(static_cast<long>(i) * ny_ + j);
     }
 
+    // Calls visit(e) for each edge e entered in a cell that \p box grown by the clearance meets
+    // (an edge may be visited more than once).
+    template <class Visit>
+    void for_entries(const Box& box, const Visit& visit) const
+    {
+        for_cells(box, clearance_, [&](long cell) {
+            auto it =
+                std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(cell, -1));
+            for (; it != entries_.end() && it->first == cell; ++it)
+                visit(it->second);
+        });
+    }
+
     // Calls visit(q, a, b) for each of v's two edges with v at p (q its other end) and each
     // edge ab that shares no vertex with it and is entered in a cell that the edge's box grown
     // by the clearance meets (an edge may be visited more than once).
@@ -171,17 +179,12 @@ private:
         for (const int w : {prev_[v], next_[v]})
         {
             const Eigen::Vector2d q(x[2 * w], x[2 * w + 1]);
-            for_cells({p.cwiseMin(q), p.cwiseMax(q)}, clearance_, [&](long cell) {
-                auto it = std::lower_bound(entries_.begin(), entries_.end(),
-                                           std::make_pair(cell, -1));
-                for (; it != entries_.end() && it->first == cell; ++it)
-                {
-                    const auto& e = edges_[it->second];
-                    if (e[0] == v || e[1] == v || e[0] == w || e[1] == w)
-                        continue;
-                    visit(q, Eigen::Vector2d(x[2 * e[0]], x[2 * e[0] + 1]),
-                          Eigen::Vector2d(x[2 * e[1]], x[2 * e[1] + 1]));
-                }
+            for_entries({p.cwiseMin(q), p.cwiseMax(q)}, [&](int other) {
+                const auto& e = edges_[other];
+                if (e[0] == v || e[1] == v || e[0] == w || e[1] == w)
+                    return;
+                visit(q, Eigen::Vector2d(x[2 * e[0]], x[2 * e[0] + 1]),
+                      Eigen::Vector2d(x[2 * e[1]], x[2 * e[1] + 1]));
             });
         }
     }

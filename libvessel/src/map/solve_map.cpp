@@ -123,6 +123,33 @@ std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t dep
     return index;
 }
 
+// Whether every face around v stays counter-clockwise with v at p; `at(w)` is the map's point
+// of vertex w (v's own is not read).
+template <class At>
+bool star_positive_at(const Mesh& mesh, VertexHandle v, const Eigen::Vector2d& p, const At& at)
+{
+    for (auto h : mesh.voh_range(v))
+        if (!mesh.is_boundary(h) &&
+            !(detail::orient(p, at(mesh.to_vertex_handle(h).idx()),
+                             at(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())) > 0.0))
+            return false;
+    return true;
+}
+
+// The mean of the map's points (`at(w)`) of v's one ring.
+template <class At>
+Eigen::Vector2d ring_centre(const Mesh& mesh, VertexHandle v, const At& at)
+{
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    int ring = 0;
+    for (auto w : mesh.vv_range(v))
+    {
+        centre += at(w.idx());
+        ++ring;
+    }
+    return centre / std::max(ring, 1);
+}
+
 // Where two parts of the coarse map's boundary nearly touch (two branches laid side by side),
 // vertices put back onto their coarse edges can cross the other part by rounding. Each
 // crossing is undone by moving one of its four ends that is not pinned part of the way toward
@@ -134,16 +161,7 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
     std::vector<char> fixed(mesh.n_vertices(), 0);
     for (const Pin& pin : pins)
         fixed[pin.vertex.idx()] = 1;
-    const auto positive = [&](VertexHandle v) {
-        for (auto h : mesh.voh_range(v))
-            if (!mesh.is_boundary(h) &&
-                !(detail::orient(uv.row(v.idx()).transpose(),
-                                 uv.row(mesh.to_vertex_handle(h).idx()).transpose(),
-                                 uv.row(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())
-                                     .transpose()) > 0.0))
-                return false;
-        return true;
-    };
+    const auto row = [&](int w) { return Eigen::Vector2d(uv.row(w).transpose()); };
     for (int round = 0; round < 100; ++round)
     {
         const auto [h0, h1] = boundary_self_intersection(mesh, uv);
@@ -156,19 +174,14 @@ bool open_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins)
             {
                 if (moved || fixed[v.idx()])
                     continue;
-                Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-                int ring = 0;
-                for (auto w : mesh.vv_range(v))
-                {
-                    centre += uv.row(w.idx()).transpose();
-                    ++ring;
-                }
-                centre /= std::max(ring, 1);
-                const Eigen::Vector2d start = uv.row(v.idx()).transpose();
+                const Eigen::Vector2d centre = ring_centre(mesh, v, row);
+                const Eigen::Vector2d start = row(v.idx());
                 for (double t : {1e-3, 1e-2, 0.05, 0.1, 0.25, 0.5, 0.75, 0.9})
                 {
-                    uv.row(v.idx()) = (start + t * (centre - start)).transpose();
-                    if (positive(v) && boundary_self_intersection(mesh, uv) != std::make_pair(h0, h1))
+                    const Eigen::Vector2d p = start + t * (centre - start);
+                    uv.row(v.idx()) = p.transpose();
+                    if (star_positive_at(mesh, v, p, row) &&
+                        boundary_self_intersection(mesh, uv) != std::make_pair(h0, h1))
                     {
                         moved = true;
                         break;
@@ -199,37 +212,22 @@ std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pin
     Eigen::VectorXd xv = detail::interleaved(uv);
     double* x = xv.data();
     const auto at = [&](int v) { return Eigen::Vector2d(x[2 * v], x[2 * v + 1]); };
-    const auto positive = [&](VertexHandle v, const Eigen::Vector2d& p) {
-        for (auto h : mesh.voh_range(v))
-            if (!mesh.is_boundary(h) &&
-                !(detail::orient(p, at(mesh.to_vertex_handle(h).idx()),
-                                 at(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())) >
-                  0.0))
-                return false;
-        return true;
-    };
     detail::BoundaryGuard guard(mesh);
-    std::vector<int> ends;
     for (int round = 0; round < 8; ++round)
     {
         guard.rebuild(x);
-        ends = guard.near_contacts(x);
+        const std::vector<int> ends = guard.near_contacts(x);
         if (ends.empty())
             return 0;
         for (const int v : ends)
         {
+            if (fixed[v])
+                continue;
             const Eigen::Vector2d start = at(v);
             const double before = guard.gap(x, v, start);
-            if (fixed[v] || before >= guard.clearance())
+            if (before >= guard.clearance())
                 continue;
-            Eigen::Vector2d centre = Eigen::Vector2d::Zero();
-            int ring = 0;
-            for (auto w : mesh.vv_range(VertexHandle(v)))
-            {
-                centre += at(w.idx());
-                ++ring;
-            }
-            Eigen::Vector2d toward = centre / std::max(ring, 1) - start;
+            Eigen::Vector2d toward = ring_centre(mesh, VertexHandle(v), at) - start;
             if (toward.norm() > guard.max_step())
                 toward *= guard.max_step() / toward.norm();
             Eigen::Vector2d best = start;
@@ -237,7 +235,7 @@ std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pin
             for (const double t : {0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0})
             {
                 const Eigen::Vector2d p = start + t * toward;
-                if (!positive(VertexHandle(v), p) || !guard.allows(x, v, start, p))
+                if (!star_positive_at(mesh, VertexHandle(v), p, at) || !guard.allows(x, v, start, p))
                     continue;
                 const double gap = guard.gap(x, v, p);
                 if (gap > widest)
@@ -403,8 +401,7 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     // level, which no carry can make cross but solves the coarse map on more vertices.
     // A boundary of more vertices than coarse_vertices, kept on every level, leaves the
     // coarse mesh mostly boundary, its faces needles on which the coarse map is no better
-    // (Glenn split4: 7 018 boundary vertices beside 4 000, 20 flips left after untangling):
-    // then the second try is not made.
+    // (docs/benchmarks.md, "Coarse-to-fine"): then the second try is not made.
     constexpr std::size_t kEveryLevel = std::numeric_limits<std::size_t>::max();
     std::size_t boundary = 0;
     for (VertexHandle v : mesh.vertices())
