@@ -5,6 +5,7 @@
 #include "vessel/phantom/phantom.h"
 #include "vessel/check/repair.h"
 #include "vessel/check/validation.h"
+#include "vessel/core/errors.h"
 
 #include <algorithm>
 
@@ -106,4 +107,32 @@ TEST_CASE("repair: a mesh with a NaN coordinate is returned unchanged for the va
     const RepairedMesh r = repair_raw_mesh(raw);
     CHECK(r.mesh.faces == raw.faces);
     CHECK(r.summary.notes().empty());
+}
+
+TEST_CASE("repair: holes below fill_holes_below are filled, the vessel ends are kept")
+{
+    const RawMesh raw = vessel::test::tube_with_holes(24, 30, 5);
+    RepairOptions options;
+    options.fill_holes_below = 2.0;  // the holes are about 0.9 around, the rims 6.28
+    const RepairedMesh r = repair_raw_mesh(raw, options);
+    CHECK(r.summary.filled_holes == 5);
+    CHECK(r.summary.unfilled_holes == 0);
+    CHECK(r.summary.hole_faces >= 5);
+    CHECK(r.summary.longest_filled_hole < 2.0);
+    CHECK(r.summary.removed_vertices == 0);
+    CHECK(r.mesh.points.size() == raw.points.size() + r.summary.hole_vertices);
+    for (std::size_t i = 0; i < raw.points.size(); ++i)  // input order kept, new ones after
+        CHECK(r.mesh.points[i] == raw.points[i]);
+    const auto notes = r.summary.notes();
+    REQUIRE(notes.size() == 1);
+    CHECK(notes[0].rfind("repair: filled 5 holes (perimeter up to 0.", 0) == 0);
+    const TreeSurface s = make_tree_surface(r.mesh);
+    CHECK(boundary_loops(s.mesh).size() == 2);
+    CHECK(s.mesh.n_faces() == raw.faces.size() + r.summary.hole_faces);
+
+    // Below the holes' perimeter nothing is filled; a negative perimeter is refused.
+    options.fill_holes_below = 0.5;
+    CHECK(repair_raw_mesh(raw, options).summary.filled_holes == 0);
+    options.fill_holes_below = -1.0;
+    CHECK_THROWS_AS(repair_raw_mesh(raw, options), InvalidInputError);
 }

@@ -201,6 +201,71 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
     CHECK(refusal(out_of_range).find("refers to vertex 100000") != std::string::npos);
 }
 
+TEST_CASE("validation: one-triangle holes in the wall are refused with a perimeter to fill "
+          "them below; the ends of a coarse tube are vessel ends")
+{
+    const RawMesh raw = tube_with_holes(24, 30, 5);
+    const std::string why = refusal(raw);
+    CHECK_MESSAGE(why.find("5 boundary loops of at most 6 edges and under 0.5 times the largest "
+                           "loop's perimeter") != std::string::npos, why);
+    CHECK_MESSAGE(why.find("look like holes in the wall, not vessel ends") != std::string::npos,
+                  why);
+    const std::size_t at = why.find("--fill-holes ");
+    REQUIRE(at != std::string::npos);
+    const double fill = std::stod(why.substr(at + 13));
+    // Accepted as they are with the rule off: 2 rims and 5 loops of 3 edges. The suggested
+    // perimeter is above every hole's and below the rims'.
+    TreeSurfaceOptions every_loop;
+    every_loop.hole_max_edges = 0;
+    const auto loops = boundary_loops(make_tree_surface(raw, every_loop).mesh);
+    REQUIRE(loops.size() == 7);
+    for (std::size_t i = 2; i < loops.size(); ++i)
+    {
+        CHECK(loops[i].halfedges.size() == 3);
+        CHECK(loops[i].arc_length < fill);
+    }
+    CHECK(fill < loops[1].arc_length);
+    CHECK(refusal(tube_with_holes(24, 30, 1)).find("1 boundary loop of at most 6 edges") !=
+          std::string::npos);
+    // 6 edges around both ends: short loops, but as long as the largest, so vessel ends.
+    CHECK_NOTHROW(make_tree_surface(to_raw_mesh(open_cylinder(1.0, 4.0, 6, 4))));
+}
+
+TEST_CASE("validation: a vertex far from all others (a corrupt coordinate) is named, not the "
+          "faces it makes look degenerate")
+{
+    RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 16, 8));
+    SUBCASE("one vertex at 1e38")
+    {
+        raw.points[30].x() = 1e38;
+        const std::string why = refusal(raw);
+        CHECK_MESSAGE(why.find("vertex 30 at (1e+38, ") != std::string::npos, why);
+        CHECK_MESSAGE(why.find("times as far from the middle of the surface as its vertices "
+                               "typically do") != std::string::npos, why);
+        CHECK(why.find("degenerate") == std::string::npos);
+    }
+    SUBCASE("one vertex at -1e308 (the areas would overflow)")
+    {
+        raw.points[7].z() = -1e308;
+        CHECK(refusal(raw).find("vertex 7 at (") != std::string::npos);
+    }
+    SUBCASE("three vertices at 1e6 on a tube of radius 1")
+    {
+        for (int v : {3, 40, 41})
+            raw.points[v].y() = 1e6;
+        const std::string why = refusal(raw);
+        CHECK_MESSAGE(why.find("3 vertices lie over 1e+03 times as far") != std::string::npos, why);
+        CHECK(why.find("the farthest vertex 3 at") != std::string::npos);
+    }
+    SUBCASE("off: the faces are then refused as degenerate")
+    {
+        raw.points[30].x() = 1e38;
+        TreeSurfaceOptions off;
+        off.far_vertex_factor = 0.0;
+        CHECK(refusal(raw, off).find("degenerate") != std::string::npos);
+    }
+}
+
 TEST_CASE("boundary: loops are sorted by arc length and follow the face winding")
 {
     // A truncated cone: radius 2 at z = 0, radius 1 at z = 3.

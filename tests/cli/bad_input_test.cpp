@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -168,6 +169,81 @@ std::string vtp_inline_garbled(const std::string& dir)
     return v.text.substr(0, v.data) + data + v.text.substr(v.end);
 }
 
+// A tube as a file in \p format ("ply" ASCII, "bply" binary little-endian, "off", "obj", "stl"
+// ASCII) with coordinate \p axis of vertex \p vertex written as \p value (if \p vertex >= 0)
+// and corner 2 of face 0 written as \p corner (if not empty).
+std::string tube_file(const vessel::RawMesh& raw, const std::string& format, int vertex = -1,
+                      int axis = 0, const std::string& value = "", const std::string& corner = "")
+{
+    const auto coordinate = [&](std::size_t v, int k) {
+        if (static_cast<int>(v) == vertex && k == axis)
+            return value;
+        std::ostringstream out;
+        out.precision(9);
+        out << raw.points[v][k];
+        return out.str();
+    };
+    const auto index = [&](std::size_t f, int k, int base) {
+        return f == 0 && k == 2 && !corner.empty() ? corner
+                                                   : std::to_string(raw.faces[f][k] + base);
+    };
+    std::ostringstream out;
+    if (format == "ply" || format == "bply")
+        out << "ply\nformat " << (format == "ply" ? "ascii" : "binary_little_endian")
+            << " 1.0\nelement vertex " << raw.points.size()
+            << "\nproperty float x\nproperty float y\nproperty float z\nelement face "
+            << raw.faces.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    if (format == "off")
+        out << "OFF\n" << raw.points.size() << " " << raw.faces.size() << " 0\n";
+    if (format == "stl")
+    {
+        out << "solid t\n";
+        for (std::size_t f = 0; f < raw.faces.size(); ++f)
+        {
+            out << "facet normal 0 0 1\nouter loop\n";
+            for (int k = 0; k < 3; ++k)
+            {
+                const auto v = static_cast<std::size_t>(raw.faces[f][k]);
+                out << "vertex " << coordinate(v, 0) << " " << coordinate(v, 1) << " "
+                    << coordinate(v, 2) << "\n";
+            }
+            out << "endloop\nendfacet\n";
+        }
+        out << "endsolid t\n";
+        return out.str();
+    }
+    for (std::size_t v = 0; v < raw.points.size(); ++v)
+    {
+        if (format == "bply")
+        {
+            for (int k = 0; k < 3; ++k)
+                out << le_float(static_cast<int>(v) == vertex && k == axis
+                                    ? std::stof(value)
+                                    : static_cast<float>(raw.points[v][k]));
+            continue;
+        }
+        out << (format == "obj" ? "v " : "") << coordinate(v, 0) << " " << coordinate(v, 1)
+            << " " << coordinate(v, 2) << "\n";
+    }
+    for (std::size_t f = 0; f < raw.faces.size(); ++f)
+    {
+        if (format == "bply")
+        {
+            out << '\3';
+            for (int k = 0; k < 3; ++k)
+                out << le32(f == 0 && k == 2 && !corner.empty() ? std::stoi(corner)
+                                                                : raw.faces[f][k]);
+            continue;
+        }
+        const int base = format == "obj" ? 1 : 0;
+        out << (format == "obj" ? "f" : "3");
+        for (int k = 0; k < 3; ++k)
+            out << " " << index(f, k, base);
+        out << "\n";
+    }
+    return out.str();
+}
+
 struct BadFile
 {
     BadFile(std::string name_, std::string bytes_, std::string message_, bool fields_ = false)
@@ -191,6 +267,7 @@ TEST_CASE("bad input: crashing, bomb and silently misread files are refused in o
     fs::create_directories(dir);
     const std::string tube = dir + "/tube.ply";
     vessel::write_mesh(vessel::open_cylinder(1.0, 4.0, 12, 6), tube);
+    const vessel::RawMesh small_tube = vessel::to_raw_mesh(vessel::open_cylinder(1.0, 4.0, 12, 6));
     const std::vector<BadFile> files = {
         // VTK's readers crashed (SIGSEGV) on these.
         {"truncated_polygons.vtk", kLegacyHead + "POLYGONS 1 4\n3 0 1",
@@ -261,6 +338,32 @@ TEST_CASE("bad input: crashing, bomb and silently misread files are refused in o
          dir + "/nan.csv line 2, column 2 ('0'): 'nan' is not a number", true},
         {"inf.csv", "vertex,0\n0,1\n1,inf\n",
          dir + "/inf.csv line 3, column 2 ('0'): 'inf' is not a number", true},
+        // Wrong diagnoses (issue 31, item 10): one far vertex was "1920 degenerate faces" (its
+        // edges set the scale), a coordinate beyond float was "face 1916 refers to vertex -1"
+        // (OpenMesh's OBJ reader dropped the vertex line) or a value "C++ streams do not read in
+        // full", a bad PLY corner was always "vertex -1".
+        {"far_1e38.ply", tube_file(small_tube, "bply", 30, 0, "1e38"),
+         "vertex 30 at (1e+38, "},
+        {"far_1e38.obj", tube_file(small_tube, "obj", 30, 0, "1e38"), "vertex 30 at (1e+38, "},
+        {"far_1e308.off", tube_file(small_tube, "off", 30, 1, "1e308"),
+         "times as far from the middle of the surface as its vertices typically do"},
+        {"float_1e39.obj", tube_file(small_tube, "obj", 30, 0, "1e39"),
+         "vertex 30 of " + dir + "/float_1e39.obj has the coordinate '1e39', beyond the range "
+         "of float"},
+        {"float_1e308.stl", tube_file(small_tube, "stl", 0, 2, "1e308"),
+         "has the coordinate '1e308', beyond the range of float"},
+        {"float_1e39.ply", tube_file(small_tube, "ply", 30, 0, "1e39"),
+         "vertex 30 of " + dir + "/float_1e39.ply has the value '1e39' for x, beyond the range "
+         "of float"},
+        {"corner_5000.ply", tube_file(small_tube, "bply", -1, 0, "", "5000"),
+         "face 0 refers to vertex 5000 but the file has 84 vertices"},
+        {"corner_minus_7.ply", tube_file(small_tube, "bply", -1, 0, "", "-7"),
+         "face 0 refers to vertex -7 but the file has 84 vertices"},
+        // Many holes (item 9): each one-triangle hole was cut to as an outlet (minutes each on a
+        // 93k-face tube, a useless map with 1000).
+        {"holes.ply", tube_file(vessel::test::tube_with_holes(24, 30, 40), "bply"),
+         "40 boundary loops of at most 6 edges and under 0.5 times the largest loop's "
+         "perimeter"},
     };
     for (const auto& f : files)
     {

@@ -6,6 +6,7 @@
 #include "support/meshes.h"
 #include "vessel/io/io.h"
 #include "vessel/phantom/phantom.h"
+#include "vessel/quality/metrics.h"
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +21,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 using namespace vessel;
 using vessel::test::read_bytes;
@@ -637,6 +640,83 @@ TEST_CASE("cli: what --repair cannot fix is refused, saying what it did")
     REQUIRE(fs::exists(input));
     const auto dir = temp_dir("cli_repair_openlb");
     check_bad(dir, input + " --repair", "[still, after --repair (removed 1 duplicate face; ");
+}
+
+TEST_CASE("cli: one-triangle holes are refused with a --fill-holes perimeter, which fills them "
+          "into a valid map")
+{
+    const auto dir = temp_dir("cli_holes");
+    write_binary_ply(dir + "/in.ply", soup(test::tube_with_holes(24, 30, 12)));
+    const std::string message = "in.ply: not a valid vessel tree surface: 12 boundary loops of "
+                                "at most 6 edges";
+    check_bad(dir, dir + "/in.ply", message);
+    const Outcome refused = flatten_cli(dir, dir + "/in.ply -o " + dir + "/flat.obj");
+    CHECK(std::count(refused.err.begin(), refused.err.end(), '\n') == 1);
+    const std::size_t at = refused.err.find("--fill-holes ");
+    REQUIRE(at != std::string::npos);
+    const std::string fill = refused.err.substr(at + 13, refused.err.find(',', at) - at - 13);
+
+    const Outcome o = flatten_cli(dir, dir + "/in.ply -o " + dir + "/flat.obj --fill-holes " +
+                                           fill + " --report " + dir + "/r.json");
+    CHECK_MESSAGE(o.status == 0, o.err);
+    CHECK_MESSAGE(o.err.find("note: repair: filled 12 holes (perimeter up to ") != std::string::npos,
+                  o.err);
+    CHECK(o.err.find("warning:") == std::string::npos);
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
+    CHECK(report["repairs"]["holes_filled"] == 12);
+    CHECK(report["repairs"]["holes_left_unfilled"] == 0);
+    CHECK(report["repairs"]["hole_faces_added"].get<int>() >= 12);
+    // Only the holes: the other repairs were not asked for and found nothing anyway.
+    CHECK(report["repairs"]["faces_reoriented"] == 0);
+    CHECK(report["counts"]["boundary_loops"].size() == 2);
+    CHECK(report["quality"]["mean_abs_log_area_ratio"].get<double>() < kMaxUsefulMeanAbsLogArea);
+    const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
+    CHECK(c.euler == 1);
+    CHECK(c.flipped == 0);
+
+    // A perimeter below the holes' fills none, and the refusal says so.
+    fs::remove(dir + "/flat.obj");
+    fs::remove(dir + "/r.json");
+    check_bad(dir, dir + "/in.ply --fill-holes 0.1",
+              "[still, after --fill-holes changed nothing]");
+    // Taking every loop for a vessel end is possible, and flattens (slowly with many holes).
+    write_binary_ply(dir + "/two.ply", soup(test::tube_with_holes(24, 30, 2)));
+    CHECK(flatten_cli(dir, dir + "/two.ply -o " + dir + "/flat.obj --max-hole-edges 0").status ==
+          0);
+}
+
+TEST_CASE("cli: an unreadable input is refused as unreadable, not as malformed, in every format")
+{
+    // Permissions bind no one as root: the run is then made as nobody (setpriv, util-linux).
+    std::string as_user;
+    if (::geteuid() == 0)
+    {
+        if (run("command -v setpriv > /dev/null 2>&1") != 0)
+        {
+            MESSAGE("skipped: root without setpriv");
+            return;
+        }
+        as_user = "setpriv --reuid=65534 --regid=65534 --clear-groups ";
+    }
+    const auto dir = temp_dir("cli_unreadable");
+    fs::permissions(dir, fs::perms::all);  // nobody writes its stderr and would-be outputs here
+    for (const std::string ext : {"ply", "obj", "off", "stl"})
+    {
+        CAPTURE(ext);
+        const std::string in = dir + "/in." + ext;
+        write_mesh(open_cylinder(1.0, 4.0, 12, 6), in);
+        fs::permissions(in, fs::perms::none);
+        Outcome o;
+        o.status = run(as_user + kFlatten + " " + in + " -o " + dir + "/flat.obj 2> " + dir +
+                       "/stderr.txt");
+        o.err = read_bytes(dir + "/stderr.txt");
+        CHECK(o.status == 1);
+        CHECK_MESSAGE(o.err == "vessel-flatten: read_raw_mesh: cannot open " + in +
+                                   ": Permission denied; check that the file is readable (its "
+                                   "permissions)\n",
+                      o.err);
+        CHECK_FALSE(fs::exists(dir + "/flat.obj"));
+    }
 }
 
 TEST_CASE("cli: several components are refused")

@@ -38,3 +38,16 @@ TEST_CASE("metrics: scaling, stretching and mirroring are measured")
     CHECK(q.flipped_triangles == static_cast<int>(grid.n_faces()));
     CHECK_THROWS_AS(flat_quality(grid, Eigen::MatrixX2d(3, 2)), InvalidInputError);
 }
+
+TEST_CASE("metrics: a map above the useful mean |log area| gets a warning with advice")
+{
+    FlatQuality q;
+    q.mean_abs_log_area = 0.149;  // the Glenn tree's map
+    CHECK(distortion_warning(q).empty());
+    q.mean_abs_log_area = kMaxUsefulMeanAbsLogArea;
+    CHECK(distortion_warning(q).empty());
+    q.mean_abs_log_area = 6.8;  // 1000 one-triangle holes on a 19k-face tube
+    const std::string w = distortion_warning(q);
+    CHECK_MESSAGE(w.find("mean |log area| 6.8, above 1") != std::string::npos, w);
+    CHECK(w.find("--fill-holes") != std::string::npos);
+}

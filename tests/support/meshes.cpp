@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace vessel::test {
 
@@ -196,6 +198,47 @@ RawMesh split_tube()
 }  // namespace vessel::test
 
 namespace vessel::test {
+
+RawMesh tube_with_holes(int n_around, int n_along, int holes)
+{
+    RawMesh raw = to_raw_mesh(
+        open_cylinder(1.0, n_along * 2.0 * M_PI / n_around, n_around, n_along));
+    // Vertex (i, j), i around and j along, is j * n_around + i (split_tube() relies on it too).
+    std::vector<char> taken(raw.points.size(), 0);
+    for (int i = 0; i < n_around; ++i)
+        taken[i] = taken[n_along * n_around + i] = 1;  // the rims
+    std::vector<char> removed(raw.faces.size(), 0);
+    int left = holes;
+    // A stride through the faces spreads the holes along the tube.
+    const std::size_t stride = std::max<std::size_t>(1, raw.faces.size() / (2 * holes + 1));
+    for (std::size_t start = 0; start < stride && left > 0; ++start)
+        for (std::size_t f = start; f < raw.faces.size() && left > 0; f += stride)
+        {
+            const auto& face = raw.faces[f];
+            if (face.size() != 3 ||
+                std::any_of(face.begin(), face.end(), [&](int v) { return taken[v]; }))
+                continue;
+            removed[f] = 1;
+            --left;
+            for (const int v : face)
+            {
+                const int i = v % n_around, j = v / n_around;
+                for (int dj = -1; dj <= 1; ++dj)
+                    for (int di = -1; di <= 1; ++di)
+                        if (j + dj >= 0 && j + dj <= n_along)
+                            taken[(j + dj) * n_around + (i + di + n_around) % n_around] = 1;
+            }
+        }
+    if (left > 0)
+        throw std::invalid_argument("tube_with_holes: only " + std::to_string(holes - left) +
+                                    " holes fit");
+    std::vector<std::vector<int>> kept;
+    for (std::size_t f = 0; f < raw.faces.size(); ++f)
+        if (!removed[f])
+            kept.push_back(raw.faces[f]);
+    raw.faces = std::move(kept);
+    return raw;
+}
 
 RawMesh blind_tube(double radius, double length, int n_around, int n_along, int n_cap)
 {

@@ -69,6 +69,12 @@ RawMesh blind_tube(double radius, double length, int n_around, int n_along, int 
 //! by a fan around the loop's centroid, as segmentations leave caps on vessel ends.
 RawMesh cap_loops_except(const Mesh& mesh, int keep);
 
+//! \brief open_cylinder(1, n_along * 2 pi / n_around, n_around, n_along) (near-equilateral
+//! triangles) with \p holes of its faces removed: each a one-triangle hole (a boundary loop of 3
+//! edges) whose vertices are off the rims and off every other hole's vertices and their
+//! neighbours, spread along the tube; throws std::invalid_argument if they do not fit.
+RawMesh tube_with_holes(int n_around, int n_along, int holes);
+
 //! A Moebius strip: \p n quads around a circle of radius 1, width \p width, half a twist.
 RawMesh moebius_strip(int n, double width);
 

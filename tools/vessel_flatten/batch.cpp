@@ -1,5 +1,7 @@
 #include "batch.h"
 
+#include "common/error_text.h"
+
 #include "vessel/core/errors.h"
 #include "vessel/io/flat_io.h"
 #include "vessel/io/io.h"
@@ -325,6 +327,17 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
 
 }  // namespace
 
+std::optional<RepairOptions> BatchOptions::repair_options() const
+{
+    if (!repair && fill_holes <= 0.0)
+        return std::nullopt;
+    RepairOptions r;
+    if (!repair)  // only the holes
+        r.remove_duplicate_faces = r.orient = r.stitch_borders = r.remove_degenerate_faces = false;
+    r.fill_holes_below = fill_holes;
+    return r;
+}
+
 int run_batch(const BatchOptions& batch, const FlattenOptions& options)
 {
     std::vector<Input> files;
@@ -385,7 +398,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
                 std::lock_guard<std::mutex> lock(read_mutex);
                 raw = read_raw_mesh(row.file);
             }
-            const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair);
+            const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair_options());
             const TreeSurface& surface = in.surface;
             validated = true;
             const double read_s = seconds_since(start);
@@ -418,7 +431,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         catch (const std::exception& e)
         {
             row.status = "failed";
-            row.message = e.what();
+            row.message = error_text(e, row.file);
         }
         catch (...)
         {

@@ -5,6 +5,7 @@
 
 #include "vessel/pipeline.h"
 
+#include <optional>
 #include <string>
 
 namespace vessel::cli {
@@ -23,6 +24,11 @@ struct BatchOptions
     bool quiet = false;      //!< no progress lines on stderr
     TreeSurfaceOptions surface;  //!< how every input is validated
     bool repair = false;         //!< apply repair_raw_mesh() before the validation
+    //! Fill holes of perimeter below this (mesh units) before the validation
+    //! (RepairOptions::fill_holes_below), with or without the other repairs; 0 = none.
+    double fill_holes = 0.0;
+    //! The repairs asked for (`repair`, `fill_holes`), or none.
+    std::optional<RepairOptions> repair_options() const;
 };
 
 //! \brief Flatten every input of \p batch with \p options (its `on_stage` is ignored) and write

@@ -1,5 +1,6 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
 #include "../vessel_view/command.h"
+#include "common/error_text.h"
 #include "batch.h"
 #include "field_input.h"
 #include "images.h"
@@ -169,6 +170,20 @@ int main(int argc, char** argv)
     app.add_flag("--repair", batch.repair,
                  "Apply the safe repairs (CGAL): remove degenerate and duplicate faces, orient "
                  "the faces consistently, stitch coincident borders; each is reported")
+        ->group(input_tuning);
+    app.add_option("--fill-holes", batch.fill_holes,
+                   "Fill the boundary loops of perimeter below MAX_PERIMETER (mesh units) with "
+                   "CGAL's hole filling (triangulated, refined, faired; reported): holes in the "
+                   "wall that would be refused as not vessel ends. With or without --repair")
+        ->option_text("MAX_PERIMETER")
+        ->check(CLI::PositiveNumber)
+        ->group(input_tuning);
+    app.add_option("--max-hole-edges", surface_options.hole_max_edges,
+                   "Refuse boundary loops of at most this many edges and under half the largest "
+                   "loop's perimeter as holes in the wall (not vessel ends); 0 takes every loop "
+                   "for a vessel end")
+        ->capture_default_str()
+        ->check(CLI::NonNegativeNumber)
         ->group(input_tuning);
     bool refuse_polygons = false;
     app.add_flag("--refuse-polygons", refuse_polygons,
@@ -584,8 +599,20 @@ int main(int argc, char** argv)
             vessel::cli::read_field_input(input, field_args);
         images.field = field_args.name;
         vessel::cli::check_images(images, field_input.fields, field_input.series);
-        const vessel::cli::PreparedInput in =
-            vessel::cli::prepare_input(field_input.data.mesh, surface_options, batch.repair);
+        // The validation's messages name the defect, not the file: say which file it is.
+        const vessel::cli::PreparedInput in = [&] {
+            try
+            {
+                return vessel::cli::prepare_input(field_input.data.mesh, surface_options,
+                                                  batch.repair_options());
+            }
+            catch (const vessel::InvalidInputError& e)
+            {
+                if (std::string(e.what()).find(input) != std::string::npos)
+                    throw;
+                throw vessel::InvalidInputError(input + ": " + e.what());
+            }
+        }();
         const vessel::TreeSurface& surface = in.surface;
         const std::vector<vessel::Field>& fields = field_input.fields;
         const vessel::TimeSeries& series = field_input.series;
@@ -593,8 +620,9 @@ int main(int argc, char** argv)
             throw vessel::InvalidInputError(
                 "--fields gives " + std::to_string(series.size()) +
                 " time steps; write them with an OUT.vtp output (OUT.pvd series)");
-        if (batch.repair && (!fields.empty() || series.size() > 0))
-            throw vessel::InvalidInputError("--repair may merge or drop vertices and faces; "
+        if ((batch.repair || batch.fill_holes > 0.0) && (!fields.empty() || series.size() > 0))
+            throw vessel::InvalidInputError("--repair and --fill-holes may merge, drop or add "
+                                            "vertices and faces; "
                                             "fields cannot be carried through it (repair the "
                                             "mesh first, then compute the fields on it)");
         if (!split_at.empty() && (!fields.empty() || series.size() > 0))
@@ -624,6 +652,10 @@ int main(int argc, char** argv)
             if (!quiet)
                 for (const auto& note : result.notes)
                     std::fprintf(stderr, "note: %s\n", note.c_str());
+            // Shown even with --quiet, like the orientation warning: the map is of little use.
+            const std::string distortion = vessel::distortion_warning(result.quality);
+            if (!distortion.empty())
+                std::fprintf(stderr, "warning: %s: %s\n", input.c_str(), distortion.c_str());
 
             start = Clock::now();
             const std::vector<vessel::Field> cut_fields =
@@ -717,7 +749,8 @@ int main(int argc, char** argv)
     }
     catch (const std::exception& e)
     {
-        std::fprintf(stderr, "vessel-flatten: %s\n", e.what());
+        std::fprintf(stderr, "vessel-flatten: %s\n",
+                     vessel::cli::error_text(e, input.empty() ? batch.inputs : input).c_str());
         return 1;
     }
 }

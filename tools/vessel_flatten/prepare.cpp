@@ -7,12 +7,13 @@
 
 namespace vessel::cli {
 
-PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair)
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options,
+                            const std::optional<RepairOptions>& repair)
 {
     PreparedInput in;
     if (repair)
     {
-        RepairedMesh repaired = repair_raw_mesh(raw);
+        RepairedMesh repaired = repair_raw_mesh(raw, *repair);
         raw = std::move(repaired.mesh);
         in.repairs = repaired.summary;
     }
@@ -29,7 +30,10 @@ PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool
         std::string done;
         for (const auto& note : notes)
             done += (done.empty() ? "" : "; ") + note.substr(note.find(' ') + 1);
-        throw InvalidInputError(std::string(e.what()) + " [still, after --repair " +
+        const bool only_holes = !repair->orient && !repair->stitch_borders &&
+                                !repair->remove_duplicate_faces && !repair->remove_degenerate_faces;
+        throw InvalidInputError(std::string(e.what()) + " [still, after " +
+                                (only_holes ? "--fill-holes " : "--repair ") +
                                 (done.empty() ? "changed nothing" : "(" + done + ")") + "]");
     }
     in.surface.notes.insert(in.surface.notes.begin(), notes.begin(), notes.end());

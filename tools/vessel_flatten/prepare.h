@@ -15,8 +15,9 @@ struct PreparedInput
     TreeSurface surface;  //!< its notes start with the repairs that changed something
 };
 
-//! \brief Repairs \p raw if \p repair, then validates it with make_tree_surface().
-//! \throw InvalidInputError as make_tree_surface().
-PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options, bool repair);
+//! \brief Repairs \p raw with \p repair if given, then validates it with make_tree_surface().
+//! \throw InvalidInputError as make_tree_surface(), saying what the repairs did.
+PreparedInput prepare_input(RawMesh raw, const TreeSurfaceOptions& options,
+                            const std::optional<RepairOptions>& repair);
 
 }  // namespace vessel::cli

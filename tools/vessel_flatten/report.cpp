@@ -5,6 +5,7 @@
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/cut/cut_winding.h"
 #include "vessel/direction/direction.h"
+#include "vessel/quality/metrics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -56,7 +57,12 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"faces_reoriented", s.reoriented_faces},
                         {"vertices_split", s.split_vertices},
                         {"edges_stitched", s.stitched_edges},
-                        {"vertices_removed", s.removed_vertices}};
+                        {"vertices_removed", s.removed_vertices},
+                        {"holes_filled", s.filled_holes},
+                        {"longest_filled_hole", s.longest_filled_hole},
+                        {"hole_faces_added", s.hole_faces},
+                        {"hole_vertices_added", s.hole_vertices},
+                        {"holes_left_unfilled", s.unfilled_holes}};
     }
     const auto& t = r.timings;
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
@@ -173,6 +179,8 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     nlohmann::json notes = surface.notes;
     for (const auto& note : r.notes)
         notes.push_back(note);
+    if (const std::string warning = distortion_warning(q); !warning.empty())
+        notes.push_back("warning: " + warning);
     j["notes"] = notes;
     return j;
 }

@@ -1,7 +1,15 @@
 // CGAL is confined to this file: it is heavy to compile, and no CGAL type appears in a header.
+// Hole fairing solves with Eigen's SparseLU, which CGAL offers only with this defined.
+#ifndef CGAL_EIGEN3_ENABLED
+#define CGAL_EIGEN3_ENABLED
+#endif
 #include "vessel/check/repair.h"
 
+#include "vessel/core/errors.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_degeneracies.h>
@@ -11,6 +19,9 @@
 #include <CGAL/boost/graph/helpers.h>
 
 #include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <sstream>
 
 namespace vessel {
 
@@ -82,7 +93,53 @@ RawMesh to_raw(const SurfaceMesh& mesh)
     return raw;
 }
 
+// Fills the boundary loops of perimeter below \p below; counts into \p s.
+void fill_holes(SurfaceMesh& mesh, double below, RepairSummary& s)
+{
+    using Halfedge = SurfaceMesh::Halfedge_index;
+    std::vector<Halfedge> cycles;
+    PMP::extract_boundary_cycles(mesh, std::back_inserter(cycles));
+    // Perimeters first: filling one hole adds faces but leaves the other loops' halfedges.
+    std::vector<Halfedge> holes;
+    std::vector<double> perimeters;
+    for (const Halfedge h : cycles)
+    {
+        double perimeter = 0.0;
+        for (const Halfedge b : CGAL::halfedges_around_face(h, mesh))
+            perimeter += std::sqrt(CGAL::to_double(
+                CGAL::squared_distance(mesh.point(mesh.source(b)), mesh.point(mesh.target(b)))));
+        if (perimeter < below)
+        {
+            holes.push_back(h);
+            perimeters.push_back(perimeter);
+        }
+    }
+    for (std::size_t i = 0; i < holes.size(); ++i)
+    {
+        std::vector<SurfaceMesh::Face_index> faces;
+        std::vector<SurfaceMesh::Vertex_index> vertices;
+        PMP::triangulate_refine_and_fair_hole(mesh, holes[i], std::back_inserter(faces),
+                                              std::back_inserter(vertices));
+        if (faces.empty())
+        {
+            ++s.unfilled_holes;
+            continue;
+        }
+        ++s.filled_holes;
+        s.longest_filled_hole = std::max(s.longest_filled_hole, perimeters[i]);
+        s.hole_faces += faces.size();
+        s.hole_vertices += vertices.size();
+    }
+}
+
 }  // namespace
+
+void RepairOptions::validate() const
+{
+    if (!std::isfinite(fill_holes_below) || fill_holes_below < 0.0)
+        throw InvalidInputError("RepairOptions: fill_holes_below must be a perimeter of 0 or "
+                                "more (mesh units), got " + std::to_string(fill_holes_below));
+}
 
 std::vector<std::string> RepairSummary::notes() const
 {
@@ -105,11 +162,25 @@ std::vector<std::string> RepairSummary::notes() const
         out.push_back("repair: removed " +
                       count_of(removed_vertices, "vertex", "vertices") +
                       " (merged by stitching or no longer used)");
+    if (filled_holes > 0)
+    {
+        std::ostringstream longest;
+        longest.precision(3);
+        longest << longest_filled_hole;
+        out.push_back("repair: filled " + count_of(filled_holes, "hole", "holes") +
+                      " (perimeter up to " + longest.str() + ") with " +
+                      count_of(hole_faces, "face", "faces") + " and " +
+                      count_of(hole_vertices, "new vertex", "new vertices"));
+    }
+    if (unfilled_holes > 0)
+        out.push_back("repair: could not fill " + count_of(unfilled_holes, "hole", "holes") +
+                      " (CGAL found no triangulation)");
     return out;
 }
 
 RepairedMesh repair_raw_mesh(const RawMesh& raw, const RepairOptions& options)
 {
+    options.validate();
     RepairedMesh out;
     if (!is_readable(raw))
     {
@@ -160,8 +231,13 @@ RepairedMesh repair_raw_mesh(const RawMesh& raw, const RepairOptions& options)
         PMP::remove_degenerate_faces(mesh);
         s.degenerate_faces += faces - mesh.number_of_faces();
     }
+    if (options.fill_holes_below > 0.0 && CGAL::is_triangle_mesh(mesh))
+    {
+        mesh.set_recycle_garbage(false);  // new vertices after the others, not in freed slots
+        fill_holes(mesh, options.fill_holes_below, s);
+    }
     out.mesh = to_raw(mesh);
-    s.removed_vertices = points.size() - out.mesh.points.size();
+    s.removed_vertices = points.size() + s.hole_vertices - out.mesh.points.size();
     return out;
 }
 

@@ -127,6 +127,81 @@ void check_degenerate(const RawMesh& raw, const Triangulated& tri,
                "Faces')");
 }
 
+// "(x, y, z)" of a vertex, to locate a defect in a message.
+std::string position(const Eigen::Vector3d& p)
+{
+    std::ostringstream out;
+    out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
+    return out.str();
+}
+
+// A number in a message, to 3 significant digits.
+std::string number(double x)
+{
+    std::ostringstream out;
+    out.precision(3);
+    out << x;
+    return out.str();
+}
+
+// A vertex far outside the rest of the surface (a corrupt coordinate such as 1e38) made every
+// other face look degenerate beside its long edges, or overflowed the areas to infinity, and
+// was reported as that; it is named instead. The scale is robust to a few such vertices: the
+// median distance (largest coordinate difference, which cannot overflow) of the used vertices
+// from their coordinate-wise median.
+void check_far_vertices(const RawMesh& raw, const Triangulated& tri,
+                        const TreeSurfaceOptions& options)
+{
+    if (options.far_vertex_factor <= 0.0)
+        return;
+    std::vector<char> used(raw.points.size(), 0);
+    for (const auto& t : tri.triangles)
+        for (const int v : t)
+            used[v] = 1;
+    std::vector<int> ids;
+    for (std::size_t i = 0; i < used.size(); ++i)
+        if (used[i])
+            ids.push_back(static_cast<int>(i));
+    const auto median = [](std::vector<double> values) {
+        const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+        std::nth_element(values.begin(), middle, values.end());
+        return *middle;
+    };
+    Eigen::Vector3d centre;
+    std::vector<double> values(ids.size());
+    for (int k = 0; k < 3; ++k)
+    {
+        for (std::size_t i = 0; i < ids.size(); ++i)
+            values[i] = raw.points[ids[i]][k];
+        centre[k] = median(values);
+    }
+    for (std::size_t i = 0; i < ids.size(); ++i)
+        values[i] = (raw.points[ids[i]] - centre).lpNorm<Eigen::Infinity>();
+    const double typical = median(values);
+    if (!(typical > 0.0))
+        return;  // most vertices at one point: the zero-area check names the faces
+    std::size_t count = 0;
+    std::size_t farthest = 0;
+    for (std::size_t i = 0; i < ids.size(); ++i)
+        if (values[i] > options.far_vertex_factor * typical)
+        {
+            if (count++ == 0 || values[i] > values[farthest])
+                farthest = i;
+        }
+    if (count == 0)
+        return;
+    const int v = ids[farthest];
+    const std::string where = "vertex " + std::to_string(v) + " at " + position(raw.points[v]);
+    const std::string scale = "(median " + number(typical) + " along an axis)";
+    if (count == 1)
+        refuse(where + " lies " + number(values[farthest] / typical) +
+               " times as far from the middle of the surface as its vertices typically do " +
+               scale + "; its coordinate looks corrupt: fix or remove it in the source");
+    refuse(plural(count, "vertex") + " lie over " + number(options.far_vertex_factor) +
+           " times as far from the middle of the surface as its vertices typically do " + scale +
+           ", the farthest " + where + "; their coordinates look corrupt: fix them in the source");
+}
+
 // Two triangles with the same three vertices (in either winding) are duplicates; they would
 // otherwise be reported as non-manifold edges, which hides the simple fix.
 void check_duplicates(const Triangulated& tri)
@@ -153,14 +228,6 @@ void check_duplicates(const Triangulated& tri)
                "face " + std::to_string(tri.source_face[first]) + " (a copy of face " +
                std::to_string(tri.source_face[original]) +
                "); remove them (vessel-flatten --repair, or MeshLab 'Remove Duplicate Faces')");
-}
-
-// "(x, y, z)" of a vertex, to locate a defect in a message.
-std::string position(const Eigen::Vector3d& p)
-{
-    std::ostringstream out;
-    out << "(" << p.x() << ", " << p.y() << ", " << p.z() << ")";
-    return out.str();
 }
 
 // Boundary vertices at exactly the same position as another boundary vertex: the surface was
@@ -383,6 +450,48 @@ double closed_volume(const Mesh& mesh, const std::vector<BoundaryLoop>& loops)
     return six_volume / 6.0;
 }
 
+// Boundary loops of a few edges, much shorter than the largest loop, are holes in the wall (a
+// missing triangle or two), not vessel ends: the pipeline would cut to each as an outlet, which
+// took minutes per hole and gave a useless map (50 one-triangle holes: a 93k-face tube took
+// 400 s instead of 50; 1000 holes: mean |log area| 6.8). The message suggests a --fill-holes
+// perimeter above every hole's and, where possible, below every vessel end's.
+void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOptions& options)
+{
+    if (options.hole_max_edges <= 0 || loops.size() < 2)
+        return;
+    const double largest = loops.front().arc_length;  // loops are sorted longest first
+    std::vector<const BoundaryLoop*> holes;
+    double shortest_end = largest;
+    for (const auto& loop : loops)
+    {
+        if (static_cast<int>(loop.halfedges.size()) <= options.hole_max_edges &&
+            loop.arc_length < options.hole_perimeter_fraction * largest)
+            holes.push_back(&loop);
+        else
+            shortest_end = std::min(shortest_end, loop.arc_length);
+    }
+    if (holes.empty())
+        return;
+    const double longest_hole = holes.front()->arc_length;
+    // 1.2 times the longest hole, rounded up to two significant digits, unless that reaches a
+    // vessel end; then halfway between.
+    const double step = std::pow(10.0, std::floor(std::log10(1.2 * longest_hole)) - 1.0);
+    double fill = std::ceil(1.2 * longest_hole / step) * step;
+    if (fill >= shortest_end)
+        fill = 0.5 * (longest_hole + shortest_end);
+    std::ostringstream perimeters;
+    perimeters << "perimeter " << number(holes.back()->arc_length);
+    if (number(longest_hole) != number(holes.back()->arc_length))
+        perimeters << " to " << number(longest_hole);
+    refuse(plural(holes.size(), "boundary loop") + " of at most " +
+           plural(static_cast<std::size_t>(options.hole_max_edges), "edge") + " and under " +
+           number(options.hole_perimeter_fraction) + " times the largest loop's perimeter (" +
+           number(largest) + ") look like holes in the wall, not vessel ends (" +
+           perimeters.str() + (holes.size() > 1 ? ", the longest" : "") + " around " +
+           position(holes.front()->centroid) + "); fill them (vessel-flatten --fill-holes " +
+           number(fill) + ", CGAL hole filling of the loops shorter than that) or in the source");
+}
+
 // Winds all faces alike (issue 6: inconsistent orientation is fixed with a warning); refuses a
 // surface that cannot be (a Moebius strip).
 void orient(Triangulated& tri, std::size_t n_vertices, TreeSurface& out)
@@ -409,6 +518,7 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
         refuse("the mesh has no faces; expected a triangulated vessel wall");
     check_coordinates(raw);
     Triangulated tri = triangulate(raw, options);
+    check_far_vertices(raw, tri, options);
     check_degenerate(raw, tri, options);
     check_duplicates(tri);
     TreeSurface out;
@@ -430,6 +540,7 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
         refuse("genus " + std::to_string(genus) + " (Euler characteristic " +
                std::to_string(chi) + " with " + plural(loops.size(), "boundary loop") +
                "): the surface has handles (e.g. touching branches fused together); remove them");
+    check_holes(loops, options);
 
     if (tri.polygons > 0)
         out.notes.push_back("triangulated " + plural(tri.polygons, "polygon") +

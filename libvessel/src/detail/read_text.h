@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -53,9 +54,11 @@ inline std::vector<std::string> words_of(const std::string& text)
 }
 
 //! The coordinates in \p columns of the words of vertex \p vertex's line; throws the IoError of
-//! a NaN, infinite or unreadable coordinate.
+//! a NaN, infinite or unreadable coordinate, and with \p as_float (the reader reads floats) of
+//! one beyond float's range, which OpenMesh's OBJ reader dropped with its whole vertex line.
 inline std::vector<double> coordinates(const std::string& path, const std::vector<std::string>& all,
-                                       std::size_t vertex, const std::vector<int>& columns)
+                                       std::size_t vertex, const std::vector<int>& columns,
+                                       bool as_float = false)
 {
     std::vector<double> values;
     for (const int k : columns)
@@ -67,6 +70,11 @@ inline std::vector<double> coordinates(const std::string& path, const std::vecto
             throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
                           " has a NaN, infinite or unreadable coordinate ('" + printable(word) +
                           "'); fix or remove it in the source");
+        if (as_float && std::abs(value) > std::numeric_limits<float>::max())
+            throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
+                          " has the coordinate '" + printable(word) +
+                          "', beyond the range of float (3.4e38), in which this format is read; "
+                          "fix the value or the unit in the source");
         values.push_back(value);
     }
     return values;

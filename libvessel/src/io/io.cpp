@@ -11,12 +11,16 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <sstream>
@@ -63,10 +67,12 @@ public:
     {
         std::vector<int>& face = raw_.faces.emplace_back();
         face.reserve(corners.size());
+        // A corner beyond the file's vertices keeps the file's index (the PLY reader passes it
+        // as the handle), so that the validation names it instead of -1.
         for (auto v : corners)
             face.push_back(v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_index_.size()
                                ? raw_index_[v.idx()]
-                               : -1);
+                               : v.idx());
         return ImporterT::add_face(corners);
     }
 
@@ -193,6 +199,14 @@ void check_ascii_ply_rows(const std::string& path, std::istream& in, const Eleme
                     const bool coordinate = p.name == "x" || p.name == "y" || p.name == "z";
                     if (coordinate && (word.empty() || *end != '\0' || !std::isfinite(x)))
                         ok = true;
+                    // A number beyond float's range (1e39) is no corruption of the row.
+                    if (!ok && w <= words.size() && *end == '\0' && !word.empty() &&
+                        std::isfinite(x) && std::abs(x) > std::numeric_limits<float>::max())
+                        throw IoError("read_raw_mesh: " + e.name + " " + std::to_string(i) +
+                                      " of " + path + " has the value '" + printable(word) +
+                                      "' for " + p.name + ", beyond the range of float (3.4e38), "
+                                      "in which OpenMesh reads it; fix the value or the unit in "
+                                      "the source");
                     if (!ok && w <= words.size())
                         truncated(path, e.name + " " + std::to_string(i) + " has the value '" +
                                             printable(word) + "' for " + p.name +
@@ -629,7 +643,7 @@ void check_ascii_stl(const std::string& path)
             corners = 0;
         else if (words[0] == "vertex")
         {
-            detail::coordinates(path, {words.begin() + 1, words.end()}, vertex++, {0, 1, 2});
+            detail::coordinates(path, {words.begin() + 1, words.end()}, vertex++, {0, 1, 2}, true);
             ++corners;
         }
         else if (words[0] == "endfacet")
@@ -767,7 +781,7 @@ void check_obj(const std::string& path)
             ++normals;
         else if (keyword == "v")
             detail::coordinates(path, detail::words_of(line.substr(line.find('v') + 1)),
-                                static_cast<std::size_t>(vertices++), {0, 1, 2});
+                                static_cast<std::size_t>(vertices++), {0, 1, 2}, true);
         else if (keyword == "f")
         {
             std::vector<long> corners;
@@ -897,9 +911,27 @@ void register_mesh_reader(const std::string& extension, MeshReader reader)
 
 RawMesh read_raw_mesh(const std::string& path)
 {
-    if (!std::filesystem::exists(path))
+    // Checked through error codes and an open(): an unreadable file (EACCES) was reported by each
+    // format's check as a malformed file ("not a PLY file"), and a folder that cannot be searched
+    // as a raw std::filesystem error.
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    if (status.type() == std::filesystem::file_type::not_found)
         throw IoError("read_raw_mesh: file not found: " + path);
-    if (std::filesystem::file_size(path) == 0)
+    if (ec)
+        throw IoError("read_raw_mesh: cannot reach " + path + ": " + ec.message() +
+                      "; check the permissions of its folders");
+    if (std::filesystem::is_directory(status))
+        throw IoError("read_raw_mesh: " + path + " is a folder, not a mesh file");
+    if (std::FILE* file = std::fopen(path.c_str(), "rb"))
+        std::fclose(file);
+    else
+        throw IoError("read_raw_mesh: cannot open " + path + ": " + std::strerror(errno) +
+                      "; check that the file is readable (its permissions)");
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec)
+        throw IoError("read_raw_mesh: cannot read the size of " + path + ": " + ec.message());
+    if (size == 0)
         throw IoError("read_raw_mesh: file is empty: " + path);
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });

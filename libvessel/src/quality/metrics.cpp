@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -98,6 +99,20 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     q.overlap_fraction = overlaps.overlap_fraction;
     q.overlapping_faces = std::move(overlaps.triangles);
     return q;
+}
+
+std::string distortion_warning(const FlatQuality& quality)
+{
+    if (!(quality.mean_abs_log_area > kMaxUsefulMeanAbsLogArea))
+        return {};
+    std::ostringstream out;
+    out.precision(3);
+    out << "the map distorts areas too much to be of use (mean |log area| "
+        << quality.mean_abs_log_area << ", above " << kMaxUsefulMeanAbsLogArea
+        << ": a triangle's area is off by a factor " << std::exp(quality.mean_abs_log_area)
+        << " on average); check the input for holes in the wall (vessel-flatten --fill-holes) "
+           "or for boundary loops that are not vessel ends";
+    return out.str();
 }
 
 }  // namespace vessel

@@ -23,6 +23,21 @@ struct TreeSurfaceOptions
     bool keep_largest_component = false;
     //! Faces whose area is below `degenerate_area_factor * (mean edge length)^2` are degenerate.
     double degenerate_area_factor = 1e-10;
+    //! A vertex farther than `far_vertex_factor` times the median distance of the vertices from
+    //! their (coordinate-wise) median point is refused as a corrupt coordinate (e.g. one vertex
+    //! at 1e38: it would otherwise make every other face look degenerate, or overflow the areas).
+    //! Real trees stay within 10 times; 0 turns the check off.
+    double far_vertex_factor = 1000.0;
+    //! A boundary loop of at most `hole_max_edges` edges whose perimeter is below
+    //! `hole_perimeter_fraction` of the largest loop's is a hole in the wall, not a vessel end,
+    //! and is refused (each loop would be cut to as an outlet: a useless map, and minutes of
+    //! work per hole). Fill such holes first (RepairOptions::fill_holes_below, vessel-flatten
+    //! --fill-holes). A one-triangle hole has 3 edges, the star of a vertex about 6; the vessel
+    //! ends of the real trees have 10 or more (docs/bad-input.md). 0 accepts every loop.
+    int hole_max_edges = 6;
+    //! See hole_max_edges: loops as long as this fraction of the largest are never holes, so a
+    //! coarse tube whose ends have few edges stays valid.
+    double hole_perimeter_fraction = 0.5;
 };
 
 //! A validated vessel tree surface.
@@ -43,7 +58,7 @@ struct TreeSurface
 //! 2-manifold, genus-0 surface with at least one open end, finite coordinates, no degenerate
 //! or duplicate faces, no boundary loops lying on each other) and build the mesh. One open end
 //! makes a disk, which flatten() maps without cuts. Checks run in this order: coordinates, face
-//! corners, zero area, duplicates, orientation (fixed, see orient_consistently; a
+//! corners, far vertices, zero area, duplicates, orientation (fixed, see orient_consistently; a
 //! non-orientable surface is refused), non-manifold edge, orientation (only without
 //! orient_consistently), non-manifold vertex, coincident boundary loops, components, closed,
 //! genus.
