@@ -202,7 +202,7 @@ TEST_CASE("validation: every invalid class is refused with a message naming it")
 }
 
 TEST_CASE("validation: one-triangle holes in the wall are refused with a perimeter to fill "
-          "them below; the ends of a coarse tube are vessel ends")
+          "them below, the ends of a coarse tube are vessel ends")
 {
     const RawMesh raw = tube_with_holes(24, 30, 5);
     const std::string why = refusal(raw);

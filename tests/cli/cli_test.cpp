@@ -527,7 +527,7 @@ TEST_CASE("cli: coincident boundary loops are refused")
               "not a valid vessel tree surface: coincident boundary loops: 24 boundary vertices lie "
               "exactly on other boundary vertices (first: vertices 36 and 84 at (1, 0, 2)), so "
               "pieces of the surface only touch along a seam; stitch them (vessel-flatten "
-              "--repair)");
+              "--repair; ");
 }
 
 TEST_CASE("cli: polygons are refused with --refuse-polygons")
@@ -683,6 +683,32 @@ TEST_CASE("cli: one-triangle holes are refused with a --fill-holes perimeter, wh
     write_binary_ply(dir + "/two.ply", soup(test::tube_with_holes(24, 30, 2)));
     CHECK(flatten_cli(dir, dir + "/two.ply -o " + dir + "/flat.obj --max-hole-edges 0").status ==
           0);
+}
+
+TEST_CASE("cli: holes touching at a vertex are refused with advice, and --repair --fill-holes "
+          "maps them")
+{
+    const auto dir = temp_dir("cli_touching_holes");
+    write_binary_ply(dir + "/in.ply", soup(test::tube_with_touching_holes()));
+    check_bad(dir, dir + "/in.ply",
+              "(where holes in the wall touch, as here on the boundary, vessel-flatten --repair "
+              "--fill-holes MAX_PERIMETER splits the vertex and fills them)");
+    // --repair alone splits the vertex; its two copies then lie on each other.
+    check_bad(dir, dir + "/in.ply --repair",
+              "fill them too: --repair --fill-holes MAX_PERIMETER) [still, after --repair (split "
+              "1 non-manifold vertex)]");
+    // Split, the two holes are one loop of 6 edges (4.06 around, the rims 6.21), through the
+    // vertex's two copies.
+    const Outcome o = flatten_cli(dir, dir + "/in.ply -o " + dir + "/flat.obj --repair "
+                                           "--fill-holes 5 --report " + dir + "/r.json");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
+    CHECK(report["repairs"]["vertices_split"] == 1);
+    CHECK(report["repairs"]["holes_filled"] == 1);
+    CHECK(report["counts"]["boundary_loops"].size() == 2);
+    const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
+    CHECK(c.euler == 1);
+    CHECK(c.flipped == 0);
 }
 
 TEST_CASE("cli: an unreadable input is refused as unreadable, not as malformed, in every format")

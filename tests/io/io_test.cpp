@@ -303,7 +303,10 @@ TEST_CASE("io: ASCII PLY rows that OpenMesh would read shifted are refused")
         {"0 0 0 9\n1 0 0x10 9\n0 1 0 9\n3 0 1 2\n",
          "vertex 1 has the value '0x10' for z, which is no number C++ streams read in full "
          "(OpenMesh would read on from inside it)"},
-        {"0 0 1e39 9\n1 0 0 9\n0 1 0 9\n3 0 1 2\n", "vertex 0 has the value '1e39' for z"},
+        // A number beyond float's range is said to be one (it was "no number C++ streams read").
+        {"0 0 1e39 9\n1 0 0 9\n0 1 0 9\n3 0 1 2\n",
+         "vertex 0 of " + temp_path("rows.ply") + " has the value '1e39' for z, beyond the range "
+         "of float (3.4e38)"},
         {"0 0 0 9\n1 0 0 0.5\n0 1 0 9\n3 0 1 2\n", "vertex 1 has the value '0.5' for red"},
         {"0 0 0 9\n1 0 0 9\n0 1 0 9\n3 0 1 -2\n",
          "face 0 has the corner '-2' in its list vertex_indices, which is no vertex index"},

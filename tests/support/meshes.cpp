@@ -240,6 +240,28 @@ RawMesh tube_with_holes(int n_around, int n_along, int holes)
     return raw;
 }
 
+RawMesh tube_with_touching_holes()
+{
+    RawMesh raw = to_raw_mesh(open_cylinder(1.0, 4.0, 12, 6));
+    const auto inside = [](const std::vector<int>& f) {
+        return std::all_of(f.begin(), f.end(), [](int v) { return v >= 12 && v < 72; });
+    };
+    for (std::size_t a = 0; a < raw.faces.size(); ++a)
+        for (std::size_t b = a + 1; b < raw.faces.size(); ++b)
+        {
+            int shared = 0;
+            for (const int v : raw.faces[a])
+                shared += static_cast<int>(
+                    std::count(raw.faces[b].begin(), raw.faces[b].end(), v));
+            if (shared != 1 || !inside(raw.faces[a]) || !inside(raw.faces[b]))
+                continue;
+            raw.faces.erase(raw.faces.begin() + static_cast<std::ptrdiff_t>(b));
+            raw.faces.erase(raw.faces.begin() + static_cast<std::ptrdiff_t>(a));
+            return raw;
+        }
+    throw std::logic_error("tube_with_touching_holes: no two faces share one vertex");
+}
+
 RawMesh blind_tube(double radius, double length, int n_around, int n_along, int n_cap)
 {
     RawMesh raw;

@@ -75,6 +75,10 @@ RawMesh cap_loops_except(const Mesh& mesh, int keep);
 //! neighbours, spread along the tube; throws std::invalid_argument if they do not fit.
 RawMesh tube_with_holes(int n_around, int n_along, int holes);
 
+//! \brief open_cylinder(1, 4, 12, 6) without two faces off the rims that share exactly one
+//! vertex: two one-triangle holes touching at that vertex (a non-manifold vertex).
+RawMesh tube_with_touching_holes();
+
 //! A Moebius strip: \p n quads around a circle of radius 1, width \p width, half a twist.
 RawMesh moebius_strip(int n, double width);
 

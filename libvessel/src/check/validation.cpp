@@ -265,7 +265,8 @@ void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
            " lie exactly on other boundary vertices (first: vertices " + std::to_string(first_a) +
            " and " + std::to_string(first_b) + " at " + position(P[first_a]) +
            "), so pieces of the surface only touch along a seam; stitch them (vessel-flatten "
-           "--repair)");
+           "--repair; where holes in the wall touch at a vertex, which --repair splits, fill "
+           "them too: --repair --fill-holes MAX_PERIMETER)");
 }
 
 // Checks edges and vertices for 2-manifoldness and consistent orientation and that no boundary
@@ -335,6 +336,14 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
         fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
     });
 
+    std::vector<int> border;  // the vertices of edges with one face, sorted
+    for_each_edge([&](std::size_t i, std::size_t count) {
+        if (count == 1)
+            border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
+                                         T[corners[i].triangle][(corners[i].local + 1) % 3]});
+    });
+    std::sort(border.begin(), border.end());
+
     std::vector<int> first_fan(n, -1);
     for (std::size_t t = 0; t < T.size(); ++t)
         for (int k = 0; k < 3; ++k)
@@ -344,17 +353,22 @@ std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
             if (seen < 0)
                 seen = root;
             else if (seen != root)
-                refuse("non-manifold vertex " + std::to_string(T[t][k]) + " at " +
-                       position(raw.points[T[t][k]]) + ": its faces form several fans that touch only at this vertex; split or "
-                       "remove the pinched part");
+            {
+                // Open fans meeting at a vertex are most often holes in the wall that touch
+                // (missing triangles side by side): --repair splits the vertex, then the holes
+                // can be filled.
+                const int v = T[t][k];
+                const bool open = std::binary_search(border.begin(), border.end(), v);
+                refuse("non-manifold vertex " + std::to_string(v) + " at " +
+                       position(raw.points[v]) +
+                       ": its faces form several fans that touch only at this vertex; split or "
+                       "remove the pinched part" +
+                       (open ? std::string(" (where holes in the wall touch, as here on the "
+                                           "boundary, vessel-flatten --repair --fill-holes "
+                                           "MAX_PERIMETER splits the vertex and fills them)")
+                             : std::string()));
+            }
         }
-
-    std::vector<int> border;
-    for_each_edge([&](std::size_t i, std::size_t count) {
-        if (count == 1)
-            border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
-                                         T[corners[i].triangle][(corners[i].local + 1) % 3]});
-    });
     check_coincident_borders(raw, std::move(border));
 
     std::vector<int> component(T.size());
