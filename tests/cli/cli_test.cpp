@@ -417,6 +417,14 @@ TEST_CASE("cli: NaN and infinite coordinates are refused")
         write_binary_ply(dir + "/in.ply", s);
         check_bad(dir, dir + "/in.ply", "vertex 7 has a NaN or infinite coordinate");
     }
+    SUBCASE("a double beyond float's range in a binary PLY (OpenMesh reads it as infinite)")
+    {
+        s.v[5].x() = 1e308;
+        write_binary_ply(dir + "/in.ply", s);
+        check_bad(dir, dir + "/in.ply",
+                  "vertex 5 has a NaN or infinite coordinate (in a binary PLY also a double "
+                  "beyond float's 3.4e38, which OpenMesh reads as infinite)");
+    }
     SUBCASE("nan written as text in an OBJ")
     {
         s.v[5].y() = std::numeric_limits<double>::quiet_NaN();

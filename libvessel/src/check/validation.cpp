@@ -97,7 +97,9 @@ void check_coordinates(const RawMesh& raw)
     for (std::size_t i = 0; i < raw.points.size(); ++i)
         if (!raw.points[i].allFinite())
             refuse("vertex " + std::to_string(i) +
-                   " has a NaN or infinite coordinate; fix or remove it in the source");
+                   " has a NaN or infinite coordinate (in a binary PLY also a double beyond "
+                   "float's 3.4e38, which OpenMesh reads as infinite); fix or remove it in the "
+                   "source");
 }
 
 void check_degenerate(const RawMesh& raw, const Triangulated& tri,
