@@ -520,7 +520,7 @@ py::dict flatten_arrays(const Array2d& points, const Array2i& faces, const std::
     std::string report;
     {
         py::gil_scoped_release unlocked;
-        in = vessel::cli::prepare_input(std::move(raw), o.surface, false);
+        in = vessel::cli::prepare_input(std::move(raw), o.surface, std::nullopt);
         const double read_s = std::chrono::duration<double>(Clock::now() - start).count();
         r = vessel::flatten(in.surface.mesh, o.flatten);
         report = vessel::cli::report_json("<numpy arrays>", in, r, read_s, 0.0).dump();
