@@ -26,7 +26,8 @@ def test_refused_real_mesh_same_message_as_cli(name, real_data, flatten_exe, tmp
     assert REFUSED[name] in message
     done = run_cli(flatten_exe, mesh, tmp_path / "out.obj")
     assert done.returncode == 1
-    assert done.stderr.strip() == f"vessel-flatten: {message}"
+    # The CLI names the input before the library's message (one line: file, place, what to do).
+    assert done.stderr.strip() == f"vessel-flatten: {mesh}: {message}"
 
 
 @pytest.fixture(scope="module")
