@@ -620,7 +620,7 @@ int main(int argc, char** argv)
             throw vessel::InvalidInputError(
                 "--fields gives " + std::to_string(series.size()) +
                 " time steps; write them with an OUT.vtp output (OUT.pvd series)");
-        if ((batch.repair || batch.fill_holes > 0.0) && (!fields.empty() || series.size() > 0))
+        if (batch.repair_options() && (!fields.empty() || series.size() > 0))
             throw vessel::InvalidInputError("--repair and --fill-holes may merge, drop or add "
                                             "vertices and faces; "
                                             "fields cannot be carried through it (repair the "

@@ -44,8 +44,9 @@ double signed_map_area(const Mesh& mesh, const Eigen::MatrixX2d& uv);
 void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv);
 
 //! Above this FlatQuality::mean_abs_log_area a map is of little use: its triangles' areas are
-//! off by a factor e = 2.7 on average. The maps of the real trees stay below 0.2
-//! (docs/results.md); stalled maps measured 1.5 to 2; a tube with 1000 one-triangle holes 6.8.
+//! off by a factor e = 2.7 on average. The maps of the real trees stay far below it
+//! (docs/results.md); maps above it come from inputs such as holes in the wall
+//! (docs/bad-input.md).
 inline constexpr double kMaxUsefulMeanAbsLogArea = 1.0;
 
 //! One line saying that \p quality is above kMaxUsefulMeanAbsLogArea and what to check, or an
