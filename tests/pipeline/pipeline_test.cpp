@@ -21,6 +21,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 using namespace vessel;
 using vessel::test::check_flat_obj;
 using vessel::test::read_flat_obj;
@@ -321,6 +323,22 @@ TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
     // docs/overlaps.md). Since branch look4 the look retry redoes it with the hinge pull (8
     // outlets below the inlet by default) and keeps that map: 0.0106, 0 below, 347 CPU s.
     check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21);
+    // Mapped coarse-to-fine by the first hierarchy: its carries keep the boundary simple
+    // (prolongate() puts no boundary vertex back across another boundary edge), so the map is
+    // not solved again at full resolution.
+    const auto report = nlohmann::json::parse(std::ifstream(
+        std::filesystem::temp_directory_path() /
+        ("vessel_test_" + std::to_string(::getpid()) + "_pulmonary-glenn-wall-split4") /
+        "report.json"));
+    bool coarse = false, again = false;
+    for (const std::string note : report["notes"])
+    {
+        coarse = coarse || note.rfind("coarse-to-fine: the map solved on 4000 of", 0) == 0;
+        again = again || note.find("solved again at full resolution") != std::string::npos ||
+                note.find("tried again with the whole boundary") != std::string::npos;
+    }
+    CHECK(coarse);
+    CHECK_FALSE(again);
 }
 TEST_CASE("cli: coronary phantom tree (7 loops) flattens")
 {

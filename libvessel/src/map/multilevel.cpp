@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 namespace vessel {
 
@@ -305,6 +306,135 @@ void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eige
     uv(collapse.v0, 1) = x[1];
 }
 
+// The carried map's boundary edges while prolongate() undoes the collapses, in a uniform grid,
+// so that a boundary vertex's candidate places can be tested against every other boundary edge
+// near them (multilevel.h). Indices are the fine mesh's.
+class GrowingBoundary
+{
+public:
+    GrowingBoundary(const CoarseMesh& coarse, const Eigen::MatrixX2d& uv)
+    {
+        for (auto h : coarse.mesh.halfedges())
+            if (h.is_boundary())
+                add(coarse.fine_of[h.from().idx()], coarse.fine_of[h.to().idx()]);
+        if (edges_.empty())
+            return;
+        Eigen::Vector2d lo = uv.row(edges_[0].a).transpose(), hi = lo;
+        double length = 0.0;
+        for (const Edge& e : edges_)
+        {
+            lo = lo.cwiseMin(uv.row(e.a).transpose());
+            hi = hi.cwiseMax(uv.row(e.a).transpose());
+            length += (uv.row(e.b) - uv.row(e.a)).norm();
+        }
+        // Cells about twice the mean boundary edge, at most ~4 per edge in all.
+        const Eigen::Vector2d span = (hi - lo).cwiseMax(1e-12);
+        cell_ = std::max(2.0 * length / static_cast<double>(edges_.size()),
+                         std::sqrt(span.x() * span.y() / (4.0 * static_cast<double>(edges_.size()))));
+        origin_ = lo;
+        nx_ = static_cast<int>(span.x() / cell_) + 1;
+        ny_ = static_cast<int>(span.y() / cell_) + 1;
+        cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
+        for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
+            enter(e, uv);
+    }
+
+    // Whether a boundary vertex put back at p between v1 and `across` keeps its two edges off
+    // every other boundary edge.
+    bool clear(const Eigen::MatrixX2d& uv, int v1, int across, const Eigen::Vector2d& p) const
+    {
+        return clear_of(uv, v1, across, uv.row(v1).transpose(), p) &&
+               clear_of(uv, across, v1, p, uv.row(across).transpose());
+    }
+
+    // Replace the edge between v1 and `across` by the two through v0 (at its place in uv).
+    void split(const Eigen::MatrixX2d& uv, int v0, int v1, int across)
+    {
+        const auto found = edge_of_.find(key(v1, across));
+        if (found == edge_of_.end())
+            return;  // not a boundary edge of this map (the caller's fallbacks keep going)
+        const Edge old = edges_[found->second];
+        edges_[found->second].alive = false;
+        edge_of_.erase(found);
+        for (const auto& [a, b] : {std::array<int, 2>{old.a, v0}, std::array<int, 2>{v0, old.b}})
+        {
+            add(a, b);
+            if (!cells_.empty())
+                enter(static_cast<int>(edges_.size()) - 1, uv);
+        }
+    }
+
+private:
+    struct Edge
+    {
+        int a = 0, b = 0;
+        bool alive = true;
+    };
+
+    static long long key(int a, int b)
+    {
+        return static_cast<long long>(std::min(a, b)) << 32 | static_cast<unsigned>(std::max(a, b));
+    }
+
+    void add(int a, int b)
+    {
+        edge_of_[key(a, b)] = static_cast<int>(edges_.size());
+        edges_.push_back({a, b, true});
+    }
+
+    // The cells of the box of segment pq, clamped to the grid (consistently for entries and
+    // queries, so two segments that meet share a cell).
+    template <class F>
+    void for_cells(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const F& f) const
+    {
+        const auto ix = [&](double u) {
+            return std::clamp(static_cast<int>(std::floor((u - origin_.x()) / cell_)), 0, nx_ - 1);
+        };
+        const auto iy = [&](double u) {
+            return std::clamp(static_cast<int>(std::floor((u - origin_.y()) / cell_)), 0, ny_ - 1);
+        };
+        for (int i = ix(std::min(p.x(), q.x())); i <= ix(std::max(p.x(), q.x())); ++i)
+            for (int j = iy(std::min(p.y(), q.y())); j <= iy(std::max(p.y(), q.y())); ++j)
+                f(static_cast<std::size_t>(i) * ny_ + j);
+    }
+
+    void enter(int e, const Eigen::MatrixX2d& uv)
+    {
+        for_cells(uv.row(edges_[e].a).transpose(), uv.row(edges_[e].b).transpose(),
+                  [&](std::size_t c) { cells_[c].push_back(e); });
+    }
+
+    // Whether segment pq, from vertex `from` (its edges not tested) and replacing the edge
+    // (from, other), meets no other live boundary edge.
+    bool clear_of(const Eigen::MatrixX2d& uv, int from, int other, const Eigen::Vector2d& p,
+                  const Eigen::Vector2d& q) const
+    {
+        if (cells_.empty())
+            return true;
+        bool clear = true;
+        for_cells(p, q, [&](std::size_t c) {
+            for (int e : cells_[c])
+            {
+                const Edge& edge = edges_[e];
+                if (!clear || !edge.alive || edge.a == from || edge.b == from ||
+                    key(edge.a, edge.b) == key(from, other))
+                    continue;
+                if (detail::segments_intersect(p, q, uv.row(edge.a).transpose(),
+                                               uv.row(edge.b).transpose()))
+                    clear = false;
+            }
+        });
+        return clear;
+    }
+
+    std::vector<Edge> edges_;
+    std::unordered_map<long long, int> edge_of_;
+    std::vector<std::vector<int>> cells_;
+    Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+    double cell_ = 1.0;
+    int nx_ = 1, ny_ = 1;
+};
+
 }  // namespace
 
 Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
@@ -316,6 +446,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
     Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(fine.n_vertices(), 2);
     for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
         uv.row(coarse.fine_of[c]) = coarse_uv.row(c);
+    GrowingBoundary boundary(coarse, uv);
     // Undo the collapses, the last first: each vertex comes back into the star it left, whose
     // other vertices are all placed: a boundary vertex onto (or just inside) the edge it was
     // cut from, an interior one at the fitted position; where a face of its star would flip
@@ -360,15 +491,20 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             {
                 for (const double s : fractions)
                 {
-                    uv.row(collapse.v0) = (target + s * edge + lift * inward).transpose();
-                    if ((placed = star_positive(uv, collapse)))
+                    const Eigen::Vector2d trial = target + s * edge + lift * inward;
+                    uv.row(collapse.v0) = trial.transpose();
+                    if ((placed = star_positive(uv, collapse) &&
+                                  boundary.clear(uv, collapse.v1, collapse.across, trial)))
                         break;
                 }
                 if (placed)
                     break;
             }
             if (placed)
+            {
+                boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
                 continue;
+            }
             // Where the coarse boundary turns sharply at the target, no point of the edge
             // keeps the star positive: the point of the star's kernel nearest the edge's,
             // among rays from the target at halving radii.
@@ -386,7 +522,8 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
                 {
                     const Eigen::Vector2d trial = target + r * reach * ray;
                     uv.row(collapse.v0) = trial.transpose();
-                    if (star_positive(uv, collapse) && (trial - wanted).norm() < best)
+                    if (star_positive(uv, collapse) && (trial - wanted).norm() < best &&
+                        boundary.clear(uv, collapse.v1, collapse.across, trial))
                     {
                         best = (trial - wanted).norm();
                         chosen = trial;
@@ -396,6 +533,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             if (std::isfinite(best))
             {
                 uv.row(collapse.v0) = chosen.transpose();
+                boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
                 continue;
             }
         }
@@ -441,6 +579,8 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
         }
         if (placed && collapse.across < 0)
             settle(fine, collapse, area_weight, uv);
+        if (collapse.across >= 0)
+            boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
     }
     return uv;
 }

@@ -123,16 +123,25 @@ std::vector<int> index_at(const std::vector<CoarseMesh>& levels, std::size_t dep
     return index;
 }
 
-// Whether every face around v stays counter-clockwise with v at p; `at(w)` is the map's point
-// of vertex w (v's own is not read).
+// A face whose doubled area is below this fraction of the squared lengths of its two edges at
+// a vertex counts as collapsed: its Jacobian's determinant, computed from other differences,
+// is then within rounding of 0 and can come out non-positive, which relax_area() refuses.
+constexpr double kCollapsed = 1e-10;
+
+// Whether every face around v stays counter-clockwise with v at p, none collapsed; `at(w)` is
+// the map's point of vertex w (v's own is not read).
 template <class At>
 bool star_positive_at(const Mesh& mesh, VertexHandle v, const Eigen::Vector2d& p, const At& at)
 {
     for (auto h : mesh.voh_range(v))
-        if (!mesh.is_boundary(h) &&
-            !(detail::orient(p, at(mesh.to_vertex_handle(h).idx()),
-                             at(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx())) > 0.0))
+    {
+        if (mesh.is_boundary(h))
+            continue;
+        const Eigen::Vector2d a = at(mesh.to_vertex_handle(h).idx());
+        const Eigen::Vector2d b = at(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)).idx());
+        if (!(detail::orient(p, a, b) > kCollapsed * ((a - p).squaredNorm() + (b - p).squaredNorm())))
             return false;
+    }
     return true;
 }
 

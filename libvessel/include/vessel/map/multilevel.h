@@ -100,12 +100,15 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
 //! progressive meshes"), each interior vertex placed where an affine fit of the map over its
 //! one ring puts it, each boundary vertex on the boundary edge it was cut from (at its 3D
 //! fraction, else at another fraction, else lifted off the edge by the least that keeps its
-//! star positive). A flip-free coarse map gives a flip-free fine map (each star is kept
-//! positive; near the target it is); boundary vertices on their edges keep the coarse
-//! boundary's shape, and so its simplicity, except where no point near the edge keeps the star
-//! positive (a sharp turn of the coarse boundary at the target: then the vertex goes to the
-//! point of its star's kernel nearest the edge's). Each re-inserted interior vertex then takes
-//! a few of relax_area()'s Newton steps in its star.
+//! star positive), at the first of these places where its two edges meet no other boundary
+//! edge. A flip-free coarse map gives a flip-free fine map (each star is kept positive; near
+//! the target it is); boundary vertices on their edges keep the coarse boundary's shape, and
+//! so its simplicity, except where no point near the edge keeps the star positive (a sharp
+//! turn of the coarse boundary at the target: then the vertex goes to the point of its star's
+//! kernel nearest the edge's that meets no other boundary edge). The boundary check is what
+//! keeps a vertex lifted off its edge at the tip of a narrow slit between two boundary parts
+//! (branches laid side by side) from landing across the slit's other side. Each re-inserted
+//! interior vertex then takes a few of relax_area()'s Newton steps in its star.
 //! \return |V_fine| x 2, row `v.idx()`.
 //! \param area_weight lambda of the energy each re-inserted interior vertex is settled with
 //! (relax_area()).
