@@ -344,9 +344,14 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
         // put it, so that the boundary stays that map's simple polygon.
         Pins held = pins;
         if (l < boundary_levels)
+        {
+            std::vector<char> pinned(above.n_vertices(), 0);
+            for (const Pin& pin : pins)
+                pinned[pin.vertex.idx()] = 1;
             for (VertexHandle v : above.vertices())
-                if (above.is_boundary(v))
+                if (above.is_boundary(v) && !pinned[v.idx()])
                     held.push_back({v, uv.row(v.idx()).transpose()});
+        }
         const UntangleSummary untangled = untangle(above, uv, held, options.untangle);
         if (untangled.flipped_before > 0)
             result.notes.push_back("coarse-to-fine: " + untangled.report);
