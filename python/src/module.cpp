@@ -233,8 +233,7 @@ const std::map<std::string, Setter>& setters()
         {"overlaps", choice<vessel::OverlapPolicy>(
                          {{"prevent", vessel::OverlapPolicy::Prevent},
                           {"restart", vessel::OverlapPolicy::Restart},
-                          {"keep", vessel::OverlapPolicy::Keep},
-                          {"scaffold", vessel::OverlapPolicy::RestartWithScaffold}},
+                          {"keep", vessel::OverlapPolicy::Keep}},
                          [](CallOptions& o) -> vessel::OverlapPolicy& {
                              return o.flatten.overlaps;
                          })},

@@ -156,13 +156,13 @@ TEST_CASE("injective: on a map of more than 100k vertices (the global step order
     MESSAGE(s.report);
 }
 
-TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free map and the "
-          "scaffold ones do not overlap themselves")
+TEST_CASE("pipeline: on a real tree every overlap policy returns a flip-free map and the "
+          "default's does not overlap itself")
 {
     const TreeSurface surface =
         load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply");
-    for (const auto policy : {OverlapPolicy::Keep, OverlapPolicy::Restart,
-                              OverlapPolicy::RestartWithScaffold, OverlapPolicy::Prevent})
+    for (const auto policy :
+         {OverlapPolicy::Keep, OverlapPolicy::Restart, OverlapPolicy::Prevent})
     {
         FlattenOptions options;
         options.overlaps = policy;
@@ -170,7 +170,7 @@ TEST_CASE("pipeline: on a real tree every refinement policy returns a flip-free 
         CAPTURE(static_cast<int>(policy));
         CHECK(r.quality.flipped_triangles == 0);
         CHECK(r.untangle.flipped_after == 0);
-        if (policy == OverlapPolicy::RestartWithScaffold || policy == OverlapPolicy::Prevent)
+        if (policy == OverlapPolicy::Prevent)
             CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
     }
 }

@@ -365,13 +365,11 @@ int main(int argc, char** argv)
     add_choice(app, "--overlaps", options.overlaps,
                {{"prevent", vessel::OverlapPolicy::Prevent},
                 {"keep", vessel::OverlapPolicy::Keep},
-                {"restart", vessel::OverlapPolicy::Restart},
-                {"scaffold", vessel::OverlapPolicy::RestartWithScaffold}},
+                {"restart", vessel::OverlapPolicy::Restart}},
                "With --refine injective, when the map at the layout overlaps "
                "itself: prevent (restart from a Tutte map; if SLIM's map would "
                "overlap, a scaffold from its last one-to-one iterate: no overlaps), "
-               "keep it, restart (Tutte map, fast, overlaps not excluded) or "
-               "scaffold (restart with a scaffold throughout)")
+               "keep it or restart (Tutte map, fast, overlaps not excluded)")
         ->group(map_tuning);
     app.add_option("--alpha", options.alpha_deg, "Branch angle of the fan layout, degrees")
         ->check(CLI::Range(0.0, 89.9))
@@ -407,7 +405,7 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(map_tuning);
     app.add_option("--scaffold-tolerance", options.injective.scaffold_tolerance,
-                   "With --overlaps prevent/scaffold and --no-area-polish: SLIM stops once 3 "
+                   "With --overlaps prevent and --no-area-polish: SLIM stops once 3 "
                    "scaffold iterations in a row lower the energy by less than this fraction")
         ->check(CLI::PositiveNumber)
         ->capture_default_str()

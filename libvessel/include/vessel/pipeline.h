@@ -60,9 +60,6 @@ enum class OverlapPolicy
     //! a triangle but can let the boundary cross (overlaps shrink, e.g. 42% -> 3% of the area
     //! on the pulmonary tree, but are not excluded)
     Restart,
-    //! as Restart, with a scaffold (free-space triangulation, InjectiveOptions::scaffold)
-    //! from the first iteration: no overlaps, but slower and more area distortion than Prevent
-    RestartWithScaffold,
     //! The default. As Restart, and the boundary is checked after every SLIM step; if the end
     //! map's boundary crosses itself, SLIM goes back to the last iterate whose boundary was
     //! simple and goes on with a scaffold that keeps the boundary's parts apart

@@ -85,7 +85,6 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull,
                                            options.look_pull_form, options.look_margin_deg,
                                            options.look_hold);
-        slim.scaffold = options.overlaps == OverlapPolicy::RestartWithScaffold;
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }
     if (slim.max_iterations > 0)
