@@ -404,6 +404,30 @@ TEST_CASE("cli: --look-retry force redoes a restarted map with --look-retry-pull
     CHECK(forced["look_retry"]["pulled_area"].get<double>() > 0.0);
 }
 
+TEST_CASE("cli: --look-retry-inversions sets how many walk inversions make a look broken")
+{
+    // The 10-outlet tree phantom (seed 11)'s restarted map has no outlet below the inlet and 1
+    // walk inversion in 45 outlet pairs (2%): under the default fraction (0.05) its look holds
+    // and is not retried; with 0 that one inversion breaks it, with 1 none can.
+    const std::string dir = temp_dir("flags_look_inversions");
+    const std::string tree = dir + "/tree10.ply";
+    REQUIRE(run(std::string(VESSEL_PHANTOM_EXE) + " tree --outlets 10 --seed 11 --edge-length 0.75 -o " +
+                tree) == 0);
+    const auto by_default = flatten_report(dir, "default", tree, "");
+    const auto strict = flatten_report(dir, "strict", tree, "--look-retry-inversions 0");
+    const auto lenient = flatten_report(dir, "lenient", tree, "--look-retry-inversions 1");
+    for (const auto* report : {&by_default, &strict, &lenient})
+    {
+        REQUIRE((*report)["look_retry"]["default_outlets_below_inlet"] == 0);
+        REQUIRE((*report)["look_retry"]["default_walk_inversions"] == 1);
+    }
+    CHECK(by_default["look_retry"]["tried"] == false);
+    CHECK(strict["look_retry"]["tried"] == true);
+    CHECK(has_note(strict, "1 walk inversions -> "));
+    CHECK(lenient["look_retry"]["tried"] == false);
+    CHECK(!has_note(lenient, "look retry"));
+}
+
 TEST_CASE("cli: --look-pull keeps the restart's look in SLIM, shaped by --look-pull-form, "
           "--look-hold and --look-margin")
 {
