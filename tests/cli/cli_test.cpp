@@ -875,6 +875,16 @@ TEST_CASE("cli: --split-at writes one flat map per piece, --layout sector runs")
     const Outcome bad = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/bad.obj --split-at 1,2");
     CHECK(bad.status == 1);
     CHECK_MESSAGE(bad.err.find("not one subtree") != std::string::npos, bad.err);
+    // The refusal names the input and the option, not the library function.
+    CHECK_MESSAGE(bad.err.find("vessel-flatten: " + dir + "/tree.ply: --split-at: ") !=
+                      std::string::npos,
+                  bad.err);
+    CHECK_MESSAGE(bad.err.find("split_tree") == std::string::npos, bad.err);
+    const Outcome missing = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/bad.obj --split-at 9");
+    CHECK(missing.status == 1);
+    CHECK_MESSAGE(missing.err.find(dir + "/tree.ply: --split-at: 9 is not an outlet; outlets are 1..4") !=
+                      std::string::npos,
+                  missing.err);
     const Outcome sector =
         flatten_cli(dir, dir + "/tree.ply -o " + dir + "/sector.obj --layout sector -q");
     CHECK_MESSAGE(sector.status == 0, sector.err);

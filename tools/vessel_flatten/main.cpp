@@ -726,7 +726,21 @@ int main(int argc, char** argv)
         }
         if (!html.empty())
             throw vessel::InvalidInputError("--html shows one map; it cannot be used with --split-at");
-        const auto pieces = vessel::split_tree(surface.mesh, split_at);
+        // split_tree()'s refusals name the library function; say which file and option instead.
+        const auto pieces = [&] {
+            try
+            {
+                return vessel::split_tree(surface.mesh, split_at);
+            }
+            catch (const vessel::InvalidInputError& e)
+            {
+                std::string message = e.what();
+                const std::string api = "split_tree: ";
+                if (message.rfind(api, 0) == 0)
+                    message = message.substr(api.size());
+                throw vessel::InvalidInputError(input + ": --split-at: " + message);
+            }
+        }();
         for (std::size_t i = 0; i < pieces.size(); ++i)
         {
             const auto named = [&](const std::string& path) {
