@@ -53,6 +53,17 @@ inline std::vector<std::string> words_of(const std::string& text)
     return {std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
 }
 
+//! The IoError of a number beyond float's range in a format that OpenMesh reads as float (a
+//! 1e39 is no corruption of the file, but it cannot be read): \p what names the element
+//! ("vertex 3"), \p value the number ("the coordinate '1e39'").
+inline IoError beyond_float(const std::string& path, const std::string& what,
+                            const std::string& value)
+{
+    return IoError("read_raw_mesh: " + what + " of " + path + " has " + value +
+                   ", beyond the range of float (3.4e38), in which this format is read; fix "
+                   "the value or the unit in the source");
+}
+
 //! The coordinates in \p columns of the words of vertex \p vertex's line; throws the IoError of
 //! a NaN, infinite or unreadable coordinate, and with \p as_float (the reader reads floats) of
 //! one beyond float's range, which OpenMesh's OBJ reader dropped with its whole vertex line.
@@ -71,10 +82,8 @@ inline std::vector<double> coordinates(const std::string& path, const std::vecto
                           " has a NaN, infinite or unreadable coordinate ('" + printable(word) +
                           "'); fix or remove it in the source");
         if (as_float && std::abs(value) > std::numeric_limits<float>::max())
-            throw IoError("read_raw_mesh: vertex " + std::to_string(vertex) + " of " + path +
-                          " has the coordinate '" + printable(word) +
-                          "', beyond the range of float (3.4e38), in which this format is read; "
-                          "fix the value or the unit in the source");
+            throw beyond_float(path, "vertex " + std::to_string(vertex),
+                               "the coordinate '" + printable(word) + "'");
         values.push_back(value);
     }
     return values;

@@ -202,11 +202,9 @@ void check_ascii_ply_rows(const std::string& path, std::istream& in, const Eleme
                     // A number beyond float's range (1e39) is no corruption of the row.
                     if (!ok && w <= words.size() && *end == '\0' && !word.empty() &&
                         std::isfinite(x) && std::abs(x) > std::numeric_limits<float>::max())
-                        throw IoError("read_raw_mesh: " + e.name + " " + std::to_string(i) +
-                                      " of " + path + " has the value '" + printable(word) +
-                                      "' for " + p.name + ", beyond the range of float (3.4e38), "
-                                      "in which OpenMesh reads it; fix the value or the unit in "
-                                      "the source");
+                        throw detail::beyond_float(path, e.name + " " + std::to_string(i),
+                                                   "the value '" + printable(word) + "' for " +
+                                                       p.name);
                     if (!ok && w <= words.size())
                         truncated(path, e.name + " " + std::to_string(i) + " has the value '" +
                                             printable(word) + "' for " + p.name +
