@@ -467,10 +467,10 @@ double closed_volume(const Mesh& mesh, const std::vector<BoundaryLoop>& loops)
 }
 
 // Boundary loops of a few edges, much shorter than the largest loop, are holes in the wall (a
-// missing triangle or two), not vessel ends: the pipeline would cut to each as an outlet, which
-// took minutes per hole and gave a useless map (50 one-triangle holes: a 93k-face tube took
-// 400 s instead of 50; 1000 holes: mean |log area| 6.8). The message suggests a --fill-holes
-// perimeter above every hole's and, where possible, below every vessel end's.
+// missing triangle or two), not vessel ends: the pipeline would cut to each as an outlet, at a
+// cost that grows with the number of holes and with a map whose area distortion grows with it
+// too (docs/bad-input.md). The message suggests a --fill-holes perimeter above every hole's
+// and, where possible, below every vessel end's.
 void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOptions& options)
 {
     if (options.hole_max_edges <= 0 || loops.size() < 2)
