@@ -53,7 +53,8 @@ TEST_CASE("overlaps: by default, tree phantoms with 3, 10 and 30 outlets map one
           "1.5x of the unconstrained map's area distortion")
 {
     // Issue 7's bound, by default: the area polish (lambda 0.99, Newton steps) runs on both
-    // maps. Without it 1.65x on 10 outlets and 1.93x on 30 (docs/overlaps.md).
+    // maps. Without it 1.65x on 10 outlets and 1.93x on 30 (docs/overlaps.md "Area polish by
+    // default").
     for (int outlets : {3, 10, 30})
         check_one_to_one(outlets, static_cast<std::uint32_t>(outlets));
 }
@@ -64,8 +65,9 @@ TEST_SUITE("slow")
     // the name unescaped, so a name with a comma would lose its label.
     TEST_CASE("overlaps: the 1.5x bound holds by default on two more seeds of 10 and 30 outlets")
     {
-        // With the default case's seeds 10 and 30, three seeds each; docs/overlaps.md: 0.98-1.13x
-        // on 10 outlets, 1.22-1.32x on 30 (before the polish was the default: 1.60-2.26x).
+        // With the default case's seeds 10 and 30, three seeds each; docs/overlaps.md "Area
+        // polish by default": 0.98-1.13x on 10 outlets, 1.22-1.32x on 30 (before the polish was
+        // the default: 1.60-2.26x).
         for (std::uint32_t seed : {11u, 12u})
             check_one_to_one(10, seed);
         for (std::uint32_t seed : {32u, 33u})

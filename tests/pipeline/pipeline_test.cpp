@@ -265,7 +265,8 @@ TEST_CASE("cli: AneuRisk lateral aneurysm (4 loops) flattens")
 {
     // With the area polish (default) the first map is at 0.013 mean |log area|, so no relief
     // cut is made; with --no-area-polish the saccular aneurysm needs relief cuts (relief_cut.h)
-    // to get under 0.15 (0.142 with two, 0.31 without them; docs/overlaps.md).
+    // to get under 0.15 (0.142 with two: docs/overlaps.md "Area polish by default"; 0.31
+    // without them: docs/journal/overlaps-2026-11.md).
     check_real_mesh("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply", 4);
 }
 TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
@@ -320,8 +321,9 @@ TEST_CASE("cli: pulmonary Glenn tree split4 (277k faces) flattens")
     // Default options: one-to-one (no overlapping pair) and, with the area polish, 0.0054 mean
     // |log area| (111 CPU s; without the polish the scaffold phase stopped at 0.153 > 0.15
     // after 627 CPU s, so this case ran `--overlaps restart` until branch area8;
-    // docs/overlaps.md). Since branch look4 the look retry redoes it with the hinge pull (8
-    // outlets below the inlet by default) and keeps that map: 0.0106, 0 below, 347 CPU s.
+    // docs/overlaps.md "Area polish by default", the 627 s in docs/journal/overlaps-2026-11.md).
+    // Since branch look4 the look retry redoes it with the hinge pull (8 outlets below the
+    // inlet by default) and keeps that map: 0.0106, 0 below, 347 CPU s ("The adaptive look").
     check_real_mesh("svfsi-tests/pulmonary-glenn-wall-split4.ply", 21);
     // Mapped coarse-to-fine by the first hierarchy: its carries keep the boundary simple
     // (prolongate() puts no boundary vertex back across another boundary edge), so the map is
