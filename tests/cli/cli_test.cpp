@@ -719,6 +719,40 @@ TEST_CASE("cli: holes touching at a vertex are refused with advice, and --repair
     CHECK(c.flipped == 0);
 }
 
+TEST_CASE("cli: a map that distorts areas too much is written with a warning, even with -q")
+{
+    // Tutte's map of a 10-outlet tree, unrefined, crushes the branches into the circle's middle
+    // (mean |log area| ~2.1, above the warning's 1.0); the paper's map of the same tree is
+    // ~0.05 and gets no warning. Both are written (exit 0): the warning is no refusal.
+    const auto dir = temp_dir("cli_distortion_warning");
+    TreePhantomOptions tree;
+    tree.outlets = 10;
+    tree.seed = 10;
+    tree.edge_length = 1.0;
+    write_mesh(tree_phantom(tree), dir + "/tree.ply");
+    const Outcome crushed = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/crushed.obj --report " +
+                                                 dir + "/crushed.json -q --refine none --init tutte");
+    REQUIRE_MESSAGE(crushed.status == 0, crushed.err);
+    CHECK(fs::exists(dir + "/crushed.obj"));
+    const auto report = nlohmann::json::parse(std::ifstream(dir + "/crushed.json"));
+    CHECK(report["quality"]["mean_abs_log_area_ratio"].get<double>() > 1.0);
+    CHECK_MESSAGE(crushed.err.find("warning: " + dir + "/tree.ply: the map distorts areas too much") !=
+                      std::string::npos,
+                  crushed.err);
+    bool noted = false;
+    for (const auto& note : report["notes"])
+        noted = noted || note.get<std::string>().find("the map distorts areas too much") !=
+                             std::string::npos;
+    CHECK(noted);
+
+    const Outcome paper = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/paper.obj --report " +
+                                               dir + "/paper.json -q --preset paper");
+    REQUIRE_MESSAGE(paper.status == 0, paper.err);
+    const auto paper_report = nlohmann::json::parse(std::ifstream(dir + "/paper.json"));
+    CHECK(paper_report["quality"]["mean_abs_log_area_ratio"].get<double>() < 1.0);
+    CHECK_MESSAGE(paper.err.find("distorts areas") == std::string::npos, paper.err);
+}
+
 TEST_CASE("cli: an unreadable input is refused as unreadable, not as malformed, in every format")
 {
     // Permissions bind no one as root: the run is then made as nobody (setpriv, util-linux).
