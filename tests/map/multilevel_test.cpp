@@ -7,7 +7,6 @@
 #include "vessel/map/embedding.h"
 #include "vessel/map/injective.h"
 #include "vessel/map/multilevel.h"
-#include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
 #include "vessel/quality/metrics.h"
 
@@ -290,11 +289,7 @@ TEST_CASE("multilevel: levels that keep the boundary insert interior vertices on
 
 TEST_CASE("multilevel: a carried map above max_energy_ratio is refused for the full-resolution map")
 {
-    TreePhantomOptions tree;
-    tree.outlets = 3;
-    tree.seed = 3;
-    tree.edge_length = 0.75;
-    const Mesh mesh = tree_phantom(tree);
+    const Mesh mesh = test::test_tree_phantom(3);
     FlattenOptions options;
     options.multilevel.coarse_vertices = 400;
     const FlattenResult carried = flatten(mesh, options);
@@ -322,11 +317,7 @@ TEST_CASE("multilevel: with overlaps kept the map is carried, the inlet's pins h
     // Under OverlapPolicy::Keep the inlet stays pinned at its layout place, and the levels
     // that keep the boundary hold it too: a pin held twice made untangle() refuse every carry,
     // so each such map was solved again at full resolution.
-    TreePhantomOptions tree;
-    tree.outlets = 10;
-    tree.seed = 11;
-    tree.edge_length = 0.75;
-    const Mesh mesh = tree_phantom(tree);
+    const Mesh mesh = test::test_tree_phantom(10, 11);
     FlattenOptions options;
     options.overlaps = OverlapPolicy::Keep;
     const FlattenResult r = flatten(mesh, options);

@@ -30,9 +30,14 @@ void add_grid_faces(Mesh& mesh, const std::vector<VertexHandle>& v, int cols, in
 
 Mesh test_tree_phantom(int outlets)
 {
+    return test_tree_phantom(outlets, static_cast<std::uint32_t>(outlets));
+}
+
+Mesh test_tree_phantom(int outlets, std::uint32_t seed)
+{
     TreePhantomOptions tree;
     tree.outlets = outlets;
-    tree.seed = static_cast<std::uint32_t>(outlets);
+    tree.seed = seed;
     tree.edge_length = 0.75;
     return tree_phantom(tree);
 }

@@ -345,11 +345,9 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
         Pins held = pins;
         if (l < boundary_levels)
         {
-            std::vector<char> pinned(above.n_vertices(), 0);
-            for (const Pin& pin : pins)
-                pinned[pin.vertex.idx()] = 1;
+            const std::vector<int> pinned = pin_index(above, pins, "coarse-to-fine");
             for (VertexHandle v : above.vertices())
-                if (above.is_boundary(v) && !pinned[v.idx()])
+                if (above.is_boundary(v) && pinned[v.idx()] < 0)
                     held.push_back({v, uv.row(v.idx()).transpose()});
         }
         const UntangleSummary untangled = untangle(above, uv, held, options.untangle);
