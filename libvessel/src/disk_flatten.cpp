@@ -12,6 +12,7 @@
 #include "detail/disk_flatten.h"
 
 #include "detail/refine_map.h"
+#include "detail/solve_map.h"
 #include "detail/stage_clock.h"
 #include "vessel/cut/cut.h"
 #include "vessel/map/embedding.h"
@@ -65,7 +66,11 @@ FlattenResult flatten_disk(Mesh mesh, const FlattenOptions& options)
     result.uv = initial_map(mesh, options.initialization);
     const VertexHandle held = result.loops[0].vertices.front();
     const Pins pins = {{held, result.uv.row(held.idx()).transpose()}};
-    refine_map(mesh, pins, options, "the map overlaps itself (its boundary crosses)", "", result);
+    if (options.refiner)
+        refine_by_policy(mesh, nullptr, nullptr, *options.refiner, pins, false, result);
+    else
+        refine_map(mesh, pins, options, "the map overlaps itself (its boundary crosses)", "",
+                   result);
     auto uv = OpenMesh::VProp<OpenMesh::Vec2d>(mesh, prop::uv);
     for (const auto v : mesh.vertices())
         uv[v] = OpenMesh::Vec2d(result.uv(v.idx(), 0), result.uv(v.idx(), 1));

@@ -357,7 +357,7 @@ FlattenResult flatten(Mesh mesh, const FlattenOptions& caller_options)
     // Without refinement the map is the raw initialization, whose distortion says nothing
     // about where the surface needs a slit.
     const DirectionStage zstage = direction_stage(mesh, options);
-    if (relief.max_cuts == 0 || options.refinement == Refinement::None)
+    if (relief.max_cuts == 0 || (options.refinement == Refinement::None && !options.refiner))
         return flatten_once(std::move(mesh), options, zstage, nullptr);
     const Mesh uncut = mesh;  // each relief cut re-cuts the mesh as it came in (with stage Z)
     FlattenResult result = flatten_once(std::move(mesh), options, zstage, nullptr);

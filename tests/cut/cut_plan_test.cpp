@@ -1,5 +1,7 @@
 #include <doctest/doctest.h>
 
+#include "support/checks.h"
+
 #include "vessel/cut/boundary.h"
 #include "vessel/direction/curvature.h"
 #include "vessel/cut/cut_cost.h"
@@ -190,8 +192,8 @@ TEST_CASE("cut_plan: viewpoint endpoints start and end at the loop vertices near
     const Prepared p = prepare(open_cylinder(1.0, 6.0, 24, 24));
     const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
     CutPlanOptions options = paper_route();
-    options.endpoints = EndpointPolicy::NearestToPoint;
-    options.viewpoint = {0.0, 10.0, 3.0};  // looking at the +y side
+    // looking at the +y side
+    options.endpoints = std::make_shared<NearestPointEndpoints>(Eigen::Vector3d(0.0, 10.0, 3.0));
     const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, options);
     REQUIRE(plan.paths.size() == 1);
     const auto start = p.mesh.point(plan.paths[0].start);
@@ -201,6 +203,93 @@ TEST_CASE("cut_plan: viewpoint endpoints start and end at the loop vertices near
     // On a cylinder with axial edges the E_c cut is the straight generator line.
     for (auto h : plan.paths[0].halfedges)
         CHECK(p.mesh.point(p.mesh.to_vertex_handle(h))[1] == doctest::Approx(1.0));
+}
+
+namespace {
+
+// A researcher's boundary-point choice: on every loop, the vertex with the largest x (the
+// side of the vessel away from a viewer at -x), recording which loops it was asked about.
+class LargestXEndpoints : public EndpointPolicy
+{
+public:
+    mutable std::vector<std::size_t> asked;
+    std::string name() const override { return "largest-x"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t loop_index) const override
+    {
+        asked.push_back(loop_index);
+        VertexHandle best = loop.vertices.front();
+        for (auto v : loop.vertices)
+            if (mesh.point(v)[0] > mesh.point(best)[0])
+                best = v;
+        return {best};
+    }
+};
+
+// A policy that breaks the contract: it hands back another loop's vertex, or none.
+class WrongLoopEndpoints : public EndpointPolicy
+{
+public:
+    const std::vector<BoundaryLoop>* loops = nullptr;
+    bool none = false;
+    std::string name() const override { return none ? "nothing" : "wrong-loop"; }
+    std::vector<VertexHandle> allowed(const Mesh&, const BoundaryLoop&,
+                                      std::size_t loop_index) const override
+    {
+        if (none)
+            return {};
+        return {(*loops)[(loop_index + 1) % loops->size()].vertices.front()};
+    }
+};
+
+}  // namespace
+
+TEST_CASE("cut_plan: a researcher's endpoint policy places every cut end on the tree")
+{
+    const Prepared p = prepare(Mesh(tree_phantom({3, 3.0, 0.6, 7})));
+    REQUIRE(p.loops.size() == 4);
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlanOptions options = paper_route();
+    const auto policy = std::make_shared<LargestXEndpoints>();
+    options.endpoints = policy;
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, options);
+    REQUIRE(plan.paths.size() == 3);
+    // Asked once per loop a cut leaves or meets: the inlet, then each outlet.
+    CHECK(policy->asked == std::vector<std::size_t>{0, 1, 2, 3});
+    for (const CutPath& path : plan.paths)
+    {
+        const auto chosen = LargestXEndpoints().allowed(p.mesh, p.loops[path.outlet], 0);
+        CHECK(path.start == chosen.front());
+        if (path.parent < 0)
+            CHECK(path.end == LargestXEndpoints().allowed(p.mesh, p.loops[0], 0).front());
+    }
+    // The default (the whole loop) starts the first cut elsewhere on this tree: the policy
+    // changed the plan.
+    const CutPlan cheapest = plan_cuts(p.mesh, p.loops, w, p.rate, paper_route());
+    bool differs = false;
+    for (std::size_t i = 0; i < plan.paths.size(); ++i)
+        differs = differs || plan.paths[i].start != cheapest.paths[i].start;
+    CHECK(differs);
+}
+
+TEST_CASE("cut_plan: an endpoint policy that returns no vertex or another loop's is refused")
+{
+    const Prepared p = prepare(Mesh(tree_phantom({3, 3.0, 0.6, 7})));
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlanOptions options = paper_route();
+    auto policy = std::make_shared<WrongLoopEndpoints>();
+    policy->loops = &p.loops;
+    options.endpoints = policy;
+    const auto plan = [&] { plan_cuts(p.mesh, p.loops, w, p.rate, options); };
+    CHECK_THROWS_AS(plan(), InvalidInputError);
+    std::string message = test::error_of(plan);
+    CHECK_MESSAGE(message.find("endpoint policy 'wrong-loop' returned vertex") !=
+                      std::string::npos, message);
+    CHECK_MESSAGE(message.find("not on loop 0") != std::string::npos, message);
+    policy->none = true;
+    message = test::error_of(plan);
+    CHECK_MESSAGE(message.find("endpoint policy 'nothing' allows no vertex of loop 0") !=
+                      std::string::npos, message);
 }
 
 TEST_CASE("cut_plan: branches end on interior cut vertices, largest outlet first")

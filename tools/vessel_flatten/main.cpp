@@ -543,8 +543,8 @@ int main(int argc, char** argv)
         options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {
-            options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
-            options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
+            options.cuts.endpoints = std::make_shared<vessel::NearestPointEndpoints>(
+                Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]));
         }
         if (!batch.inputs.empty() && !split_at.empty())
             throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
@@ -693,9 +693,8 @@ int main(int argc, char** argv)
                 view.flatten_command =
                     vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
                 view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
-                view.viewpoint = options.cuts.endpoints == vessel::EndpointPolicy::NearestToPoint
-                                     ? std::optional<Eigen::Vector3d>(options.cuts.viewpoint)
-                                     : std::nullopt;
+                if (!viewpoint.empty())
+                    view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
                 std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
                 for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
                     shown.push_back(std::move(f));

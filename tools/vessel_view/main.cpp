@@ -65,9 +65,8 @@ int main(int argc, char** argv)
         vessel::ViewerOptions view;
         if (!viewpoint.empty())
         {
-            options.cuts.endpoints = vessel::EndpointPolicy::NearestToPoint;
-            options.cuts.viewpoint = {viewpoint[0], viewpoint[1], viewpoint[2]};
-            view.viewpoint = options.cuts.viewpoint;
+            view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+            options.cuts.endpoints = std::make_shared<vessel::NearestPointEndpoints>(*view.viewpoint);
         }
         if (!vessel::viewer_available())
             throw vessel::IoError(

@@ -3,6 +3,7 @@
 #include "vessel/map/arap.h"
 #include "vessel/map/area_polish.h"
 #include "vessel/map/multilevel.h"
+#include "vessel/map/refiner.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/direction/curvature.h"
 #include "vessel/cut/cut_cost.h"
@@ -125,6 +126,11 @@ struct FlattenOptions
     //! comes before ARAP and untangling, which are then skipped (FlattenResult::arap and
     //! ::untangle stay empty).
     Refinement refinement = Refinement::Injective;
+    //! A researcher's own refinement (refiner.h); when set it replaces `refinement` (and with it
+    //! `overlaps`, ARAP, untangling, SLIM, the area polish, the look retry and coarse-to-fine):
+    //! it gets the initial map and the inlet pins and returns the map. Like custom_cost for
+    //! the travel cost.
+    std::shared_ptr<const MapRefiner> refiner;
     OverlapPolicy overlaps = OverlapPolicy::Prevent;
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
     UntangleOptions untangle;    //!< flip removal of Refinement::Injective

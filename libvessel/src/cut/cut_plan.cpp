@@ -45,8 +45,6 @@ void CutPlanOptions::validate() const
     if (!(winding_streamline_limit_deg >= 0.0) || !std::isfinite(winding_streamline_limit_deg))
         throw InvalidInputError(
             "CutPlanOptions: winding_streamline_limit_deg must be finite and >= 0");
-    if (!viewpoint.allFinite())
-        throw InvalidInputError("CutPlanOptions: viewpoint must be finite");
 }
 
 std::vector<EdgeHandle> CutPlan::seam_edges(const Mesh& mesh) const
@@ -101,23 +99,6 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 }
 
 namespace {
-
-VertexHandle nearest(const Mesh& mesh, const std::vector<VertexHandle>& candidates,
-                     const Eigen::Vector3d& point)
-{
-    VertexHandle best;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (auto v : candidates)
-    {
-        const double d = (to_eigen(mesh.point(v)) - point).squaredNorm();
-        if (d < best_d)
-        {
-            best_d = d;
-            best = v;
-        }
-    }
-    return best;
-}
 
 // Breadth-first ring distance from \p seeds (0) out to \p max_rings edges into \p ring (-1 =
 // farther), keeping smaller values already there; vertices \p skip(index) names are not
@@ -719,13 +700,30 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         return &*meter;
     };
-    const bool nearest_point = options.endpoints == EndpointPolicy::NearestToPoint;
 
     // path_of[v]: first cut through v (-1 if none); loop_of[v]: boundary loop of v (-1 if none).
     std::vector<int> path_of(nv, -1), loop_of(nv, -1);
     for (std::size_t l = 0; l < loops.size(); ++l)
         for (auto v : loops[l].vertices)
             loop_of[v.idx()] = static_cast<int>(l);
+    // Where each loop's cut may start (outlets) or end (the inlet).
+    const ImaginaryNodeEndpoints whole_loop;
+    const EndpointPolicy& endpoints = options.endpoints ? *options.endpoints : whole_loop;
+    const auto ends_on = [&](std::size_t l) {
+        std::vector<VertexHandle> ends = endpoints.allowed(mesh, loops[l], l);
+        if (ends.empty())
+            throw InvalidInputError("plan_cuts: the endpoint policy '" + endpoints.name() +
+                                    "' allows no vertex of loop " + std::to_string(l) +
+                                    "; it must return at least one of the loop's vertices");
+        for (auto v : ends)
+            if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= nv ||
+                loop_of[v.idx()] != static_cast<int>(l))
+                throw InvalidInputError("plan_cuts: the endpoint policy '" + endpoints.name() +
+                                        "' returned vertex " + std::to_string(v.idx()) +
+                                        ", which is not on loop " + std::to_string(l) +
+                                        "; it must return vertices of the loop it is given");
+        return ends;
+    };
 
     // One graph and one query for all outlets; the flags change only on loops and new cuts.
     // Query l: targets are the inlet (l = 1) or the interior vertices of earlier cuts (l > 1);
@@ -741,10 +739,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     };
     for (std::size_t l = 0; l < loops.size(); ++l)
         set_blocked(l, 1);
-    const std::vector<VertexHandle> inlet_targets =
-        nearest_point ? std::vector<VertexHandle>{nearest(mesh, loops[0].vertices,
-                                                          options.viewpoint)}
-                      : loops[0].vertices;
+    const std::vector<VertexHandle> inlet_targets = ends_on(0);
     for (auto v : inlet_targets)
     {
         query.is_target[v.idx()] = 1;
@@ -810,10 +805,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         if (l >= 2)
             set_blocked(l - 1, 1);
         set_blocked(l, 0);
-        query.sources = nearest_point
-                            ? std::vector<VertexHandle>{nearest(mesh, loops[l].vertices,
-                                                                options.viewpoint)}
-                            : loops[l].vertices;
+        query.sources = ends_on(l);
 
         // A later cut's cheapest path is cut back where it runs beside the tree.
         const auto finish = [&](GraphPath p) {

@@ -14,4 +14,12 @@ namespace vessel::detail {
 bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
                const FlattenOptions& options, FlattenResult& result);
 
+//! \brief FlattenOptions::refiner on the initial map in result.uv (and its notes), checked: one
+//! finite row per vertex of \p mesh. \p input and \p placed are null for a disk input.
+//! \return \p at_layout and whether the refiner left every pin where it was.
+//! \throw InvalidInputError naming the refiner if its map is not of that shape.
+bool refine_by_policy(const Mesh& mesh, const LayoutInput* input, const LayoutResult* placed,
+                      const MapRefiner& refiner, const Pins& pins, bool at_layout,
+                      FlattenResult& result);
+
 }  // namespace vessel::detail

@@ -45,7 +45,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
     // uncut mesh over instead would skip this AMD but costs more in fill (carotid-300k: LSCM
     // 9.6 against 7.2 GFlop); the whole graph's gives less than LSCM's own AMD of its free
     // vertices (7.96 GFlop), and ARAP's own AMD is saved.
-    const bool arap_ahead = options.refinement != Refinement::None &&
+    const bool arap_ahead = !options.refiner && options.refinement != Refinement::None &&
                             options.arap.max_iterations > 0 &&
                             options.arap.solver == ArapSolver::LocalGlobal &&
                             !options.arap.prefactored && !may_restart;
@@ -81,6 +81,8 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
     if (!at_layout)  // keep the initial map's own placement of the inlet
         for (auto& pin : pins)
             pin.uv = result.uv.row(pin.vertex.idx()).transpose();
+    if (options.refiner)
+        return refine_by_policy(mesh, &input, &placed, *options.refiner, pins, at_layout, result);
     const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
     // A restart discards ARAP and untangling. When the LSCM map at the layout already crosses
     // itself, restart before them: on the 9 valid real trees and the 13k/44k carotid phantoms,
@@ -398,11 +400,30 @@ void take_map(FlattenResult& result, FlattenResult&& solved)
 
 }  // namespace
 
+bool refine_by_policy(const Mesh& mesh, const LayoutInput* input, const LayoutResult* placed,
+                      const MapRefiner& refiner, const Pins& pins, bool at_layout,
+                      FlattenResult& result)
+{
+    const RefineInput given{&mesh, input, placed, pins};
+    refiner.refine(given, result.uv, result.notes);
+    const std::string name = "the refiner '" + refiner.name() + "'";
+    if (result.uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
+        throw InvalidInputError(name + " returned " + std::to_string(result.uv.rows()) +
+                                " map rows for " + std::to_string(mesh.n_vertices()) +
+                                " vertices; it must keep one row per cut-mesh vertex");
+    if (!result.uv.allFinite())
+        throw InvalidInputError(name + " returned a map with a non-finite coordinate");
+    for (const Pin& pin : pins)
+        at_layout = at_layout && result.uv.row(pin.vertex.idx()) == pin.uv.transpose();
+    return at_layout;
+}
+
 bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
                const FlattenOptions& options, FlattenResult& result)
 {
     const MultilevelOptions& multilevel = options.multilevel;
-    if (options.refinement != Refinement::Injective || multilevel.coarse_vertices == 0 ||
+    if (options.refiner || options.refinement != Refinement::Injective ||
+        multilevel.coarse_vertices == 0 ||
         mesh.n_vertices() <= 2 * static_cast<std::size_t>(multilevel.coarse_vertices))
         return solve_single_level(mesh, input, placed, options, result);
     // First with the whole boundary kept on the finest level only: the boundary is decimated

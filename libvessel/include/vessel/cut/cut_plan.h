@@ -2,18 +2,13 @@
 
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_graph.h"
+#include "vessel/cut/endpoints.h"
 
+#include <memory>
 #include <optional>
 #include <vector>
 
 namespace vessel {
-
-//! Where a cut leaves or meets a boundary loop.
-enum class EndpointPolicy
-{
-    ImaginaryNode,   //!< a zero-cost imaginary node joined to the whole loop: the cheapest point
-    NearestToPoint,  //!< the loop vertex nearest a given 3D point (e.g. the viewpoint)
-};
 
 //! How a cut runs from its outlet to its end.
 enum class CutRoute
@@ -140,9 +135,9 @@ struct CutPlanOptions
     //! vessel, where later cuts then join it instead and the branch layout changes with them.
     //! 45 = the bound on a natural cut's winding (issue 32; docs/results.md).
     double winding_streamline_limit_deg = 45.0;
-    EndpointPolicy endpoints = EndpointPolicy::ImaginaryNode;
-    //! The point used by EndpointPolicy::NearestToPoint (e.g. the camera position), mesh units.
-    Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+    //! Where on its loop each cut starts and the first cut ends (endpoints.h); null =
+    //! ImaginaryNodeEndpoints, the paper's cheapest point of the loop.
+    std::shared_ptr<const EndpointPolicy> endpoints;
     //! Per-step slack, as a fraction of the mean halfedge weight, within which two routes count
     //! as equally cheap; among those the one that winds least around the vessel is taken.
     //! 0 = the plain shortest path, which drifts around the vessel where costs (nearly) tie:

@@ -1,0 +1,58 @@
+#pragma once
+// Boundary-point choice (step 4 of the method): where on its loop a cut may start or end.
+
+#include "vessel/cut/boundary.h"
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+//! \brief A boundary-point policy: the vertices of a boundary loop at which a cut may leave its
+//! outlet (or, for the inlet, end). plan_cuts() joins the returned vertices to an imaginary
+//! zero-cost node, as the paper joins the whole loop \cite eulzer_2021_automatic, so the cut
+//! starts at the cheapest of them; a policy that returns one vertex fixes the cut's end there.
+//! Later cuts end on earlier cuts, not on a loop, so only the inlet and the outlets are asked.
+//! Chosen like Layout: CutPlanOptions::endpoints holds any subclass.
+class EndpointPolicy
+{
+public:
+    virtual ~EndpointPolicy() = default;
+    virtual std::string name() const = 0;
+    //! \param loop_index index of \p loop in the loops passed to plan_cuts() (0 = the inlet,
+    //! 1 = the largest outlet, ...).
+    //! \return a non-empty subset of `loop.vertices` (plan_cuts() refuses anything else,
+    //! naming the policy).
+    virtual std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                              std::size_t loop_index) const = 0;
+};
+
+//! The paper's choice (the default): every loop vertex, i.e. the cheapest point of the loop.
+class ImaginaryNodeEndpoints : public EndpointPolicy
+{
+public:
+    std::string name() const override { return "imaginary-node"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t loop_index) const override;
+};
+
+//! The loop vertex nearest a point (e.g. the camera position, CLI `--viewpoint X Y Z`): the
+//! cuts start and end on the side of each loop that faces it, so that in a view from there the
+//! seams lie behind the vessels.
+class NearestPointEndpoints : public EndpointPolicy
+{
+public:
+    //! \throw InvalidInputError if \p point is not finite.
+    explicit NearestPointEndpoints(const Eigen::Vector3d& point);
+    std::string name() const override { return "nearest-point"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t loop_index) const override;
+    const Eigen::Vector3d& point() const { return point_; }
+
+private:
+    Eigen::Vector3d point_;
+};
+
+}  // namespace vessel
