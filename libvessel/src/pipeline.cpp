@@ -80,25 +80,6 @@ namespace {
 
 using detail::StageClock;
 
-HalfedgeWeights travel_weights(const Mesh& mesh, const Eigen::MatrixX3d& z,
-                               const FlattenOptions& options)
-{
-    if (options.custom_cost)
-        return evaluate_cost(mesh, options.custom_cost);
-    const CurvatureCost curvature{&z};
-    switch (options.cost)
-    {
-        case CostKind::Curvature:
-            return evaluate_cost(mesh, curvature);
-        case CostKind::Geodesic:
-            return evaluate_cost(mesh, LengthCost{mean_edge_length(mesh)});
-        case CostKind::Blend:
-            return evaluate_cost(mesh, BlendCost{curvature, LengthCost{mean_edge_length(mesh)},
-                                                 options.blend});
-    }
-    throw InvalidInputError("flatten: unknown cost kind");
-}
-
 template <class T>
 void store(Mesh& mesh, const char* name, const std::function<T(int)>& value)
 {
@@ -134,6 +115,7 @@ struct DirectionStage
     Eigen::VectorXd H;  // harmonic_longitudinal()
     Eigen::MatrixX3d z;
     Eigen::MatrixX3d winding;  // winding_rate() of z, for the cut planner
+    Eigen::VectorXd kmax;      // |k_max|
     // The field the streamline routes trace (CutPlanOptions::stream_field): the descent of H
     // (empty on the ShortestPath route, or when it is z itself).
     Eigen::MatrixX3d stream;
@@ -194,7 +176,8 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     else if (harmonic_stream)
         stage.stream = descent_direction(mesh, stage.H);
     stage.z = vessel_direction_guided(mesh, curvature, stage.G, stage.H, options.direction);
-    const Eigen::VectorXd kmax = curvature.k_max.cwiseAbs();
+    stage.kmax = curvature.k_max.cwiseAbs();
+    const Eigen::VectorXd& kmax = stage.kmax;
     stage.winding = winding_rate(mesh, stage.z, kmax);
     if (stream.valid())  // before the properties are added: the thread reads the mesh
         stage.stream = stream.get();
@@ -205,6 +188,27 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
                            [&](int i) { return to_openmesh(stage.z.row(i).transpose()); });
     stage.seconds = clock.lap("Z");
     return stage;
+}
+
+HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
+                               const FlattenOptions& options)
+{
+    const Eigen::MatrixX3d& z = zstage.z;
+    if (options.custom_cost)
+        return evaluate_cost(mesh, options.custom_cost,
+                             {&z, &zstage.G, &zstage.H, &zstage.kmax, mean_edge_length(mesh)});
+    const CurvatureCost curvature{&z};
+    switch (options.cost)
+    {
+        case CostKind::Curvature:
+            return evaluate_cost(mesh, curvature);
+        case CostKind::Geodesic:
+            return evaluate_cost(mesh, LengthCost{mean_edge_length(mesh)});
+        case CostKind::Blend:
+            return evaluate_cost(mesh, BlendCost{curvature, LengthCost{mean_edge_length(mesh)},
+                                                 options.blend});
+    }
+    throw InvalidInputError("flatten: unknown cost kind");
 }
 
 // One pass of steps 4-7 on \p mesh (uncut, with stage Z's properties); with \p forced_plan the
@@ -225,7 +229,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
 
     // GC: the directed cut graph (arc weights, arcs per vertex), released after VC.
     const HalfedgeWeights weights =
-        forced_plan ? HalfedgeWeights() : travel_weights(mesh, z, options);
+        forced_plan ? HalfedgeWeights() : travel_weights(mesh, zstage, options);
     auto graph = forced_plan ? nullptr : std::make_unique<CutGraph>(mesh, weights);
     result.timings.GC = clock.lap("GC");
 

@@ -2,8 +2,8 @@
 //
 // The cost below prefers edges that follow the vessel direction z (like E_c) and, in addition,
 // penalizes walking across high curvature (a cut that avoids sharp folds). Any callable
-// double(const Mesh&, SmartHalfedgeHandle) returning a value >= 0 works; flatten() fills the
-// vertex properties prop::direction, prop::geodesic and prop::kmax before it calls the cost.
+// double(const Mesh&, SmartHalfedgeHandle, const VesselFields&) returning a value >= 0 works
+// (or one without the fields); flatten() passes stage Z's fields, typed (cut_cost.h).
 //
 //   custom_cost_example [MESH] [OUT.obj]
 // Without arguments it flattens the built-in carotid phantom. It also makes the default's cuts
@@ -12,7 +12,6 @@
 #include "vessel/io/io.h"
 #include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
-#include "vessel/core/properties.h"
 #include "vessel/check/validation.h"
 #include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
 
@@ -28,16 +27,14 @@ struct AvoidFoldsCost
 {
     double fold_weight = 0.5;  //!< cost per unit of (k_max * edge length)
 
-    double operator()(const vessel::Mesh& mesh, vessel::SmartHalfedgeHandle h) const
+    double operator()(const vessel::Mesh& mesh, vessel::SmartHalfedgeHandle h,
+                      const vessel::VesselFields& fields) const
     {
-        OpenMesh::VPropHandleT<OpenMesh::Vec3d> direction;
-        OpenMesh::VPropHandleT<double> kmax;
-        mesh.get_property_handle(direction, vessel::prop::direction);
-        mesh.get_property_handle(kmax, vessel::prop::kmax);
-        const auto e = mesh.point(h.to()) - mesh.point(h.from());
+        const int i = h.from().idx();
+        const Eigen::Vector3d e = vessel::to_eigen(mesh.point(h.to()) - mesh.point(h.from()));
         const double length = e.norm();
-        const double along = length > 0 ? OpenMesh::dot(e, mesh.property(direction, h.from())) / length : 0.0;
-        return std::max(0.0, 1.0 - along) + fold_weight * mesh.property(kmax, h.from()) * length;
+        const double along = length > 0 ? e.dot(fields.direction->row(i).transpose()) / length : 0.0;
+        return std::max(0.0, 1.0 - along) + fold_weight * (*fields.kmax)[i] * length;
     }
 };
 

@@ -105,9 +105,11 @@ struct FlattenOptions
     DirectionOptions direction;
     CostKind cost = CostKind::Curvature;
     double blend = 0.5;  //!< `a` of E_cg, used with CostKind::Blend
-    //! A researcher's own travel cost; when set it replaces `cost`. Receives the mesh whose
-    //! `prop::direction` (z), `prop::geodesic` and `prop::kmax` vertex properties are filled.
-    AnyCost custom_cost;
+    //! A researcher's own travel cost (cut_cost.h); when set it replaces `cost`. Called with
+    //! the uncut mesh, each halfedge and stage Z's VesselFields (z, geodesic distance,
+    //! harmonic coordinate, |k_max|, mean edge); the same fields are also the mesh's
+    //! `prop::direction`, `prop::geodesic`, `prop::longitudinal` and `prop::kmax` properties.
+    CustomCost custom_cost;
     CutPlanOptions cuts;  //!< endpoint policy (imaginary node / viewpoint), winding control
     //! Relief cuts (relief_cut.h): when the map's mean |log area ratio| stays above the target,
     //! a slit from the most compressed point to the seam, and the map is made again. Default:

@@ -14,6 +14,15 @@ void check_weight(double w, int halfedge)
                                 "; a travel cost must be finite and >= 0");
 }
 
+HalfedgeWeights evaluate_cost(const Mesh& mesh, const CustomCost& cost, const VesselFields& fields)
+{
+    if (!cost)
+        throw InvalidInputError("evaluate_cost: the custom cost is empty");
+    return evaluate_cost(mesh, [&](const Mesh& m, SmartHalfedgeHandle h) {
+        return cost(m, h, fields);
+    });
+}
+
 double CurvatureCost::operator()(const Mesh& mesh, SmartHalfedgeHandle h) const
 {
     const Eigen::Vector3d e = to_eigen(mesh.point(h.to()) - mesh.point(h.from()));

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <type_traits>
+#include <utility>
 
 namespace vessel {
 
@@ -38,6 +39,59 @@ struct BlendCost
 
 //! Type-erased cost, for choosing a cost at run time (CLI, configuration).
 using AnyCost = std::function<double(const Mesh&, SmartHalfedgeHandle)>;
+
+//! Stage Z's per-vertex fields of the (uncut) mesh a cost is evaluated on, typed, each row
+//! `v.idx()`: what a researcher's cost reads instead of looking properties up by name.
+struct VesselFields
+{
+    const Eigen::MatrixX3d* direction = nullptr;  //!< unit vessel direction z, toward the inlet
+    const Eigen::VectorXd* geodesic = nullptr;    //!< heat-method distance from the inlet
+    //! harmonic longitudinal coordinate (harmonic_longitudinal() of cut_metrics.h): 0 on the
+    //! inlet, on each outlet the mean geodesic distance of that loop; smooth across junctions
+    const Eigen::VectorXd* longitudinal = nullptr;
+    const Eigen::VectorXd* kmax = nullptr;  //!< |largest principal curvature|, 1 / mesh unit
+    double mean_edge = 1.0;                 //!< mean edge length, mesh units
+};
+
+//! \brief A researcher's travel cost for FlattenOptions::custom_cost: any callable
+//! `double(const Mesh&, SmartHalfedgeHandle, const VesselFields&) const`, or one without the
+//! fields, `double(const Mesh&, SmartHalfedgeHandle) const` (as the built-in costs). It must
+//! return a finite value >= 0; it is evaluated once per halfedge before the cuts are planned.
+class CustomCost
+{
+public:
+    CustomCost() = default;
+    template <class F, std::enable_if_t<std::is_invocable_r_v<double, const F&, const Mesh&,
+                                                              SmartHalfedgeHandle,
+                                                              const VesselFields&>,
+                                        int> = 0>
+    CustomCost(F cost) : cost_(std::move(cost))
+    {
+    }
+    template <class F,
+              std::enable_if_t<std::is_invocable_r_v<double, const F&, const Mesh&,
+                                                     SmartHalfedgeHandle> &&
+                                   !std::is_invocable_r_v<double, const F&, const Mesh&,
+                                                          SmartHalfedgeHandle, const VesselFields&>,
+                               int> = 0>
+    CustomCost(F cost)
+        : cost_([cost = std::move(cost)](const Mesh& mesh, SmartHalfedgeHandle h,
+                                         const VesselFields&) { return cost(mesh, h); })
+    {
+    }
+    explicit operator bool() const { return static_cast<bool>(cost_); }
+    double operator()(const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& fields) const
+    {
+        return cost_(mesh, h, fields);
+    }
+
+private:
+    std::function<double(const Mesh&, SmartHalfedgeHandle, const VesselFields&)> cost_;
+};
+
+//! \brief Evaluate a researcher's \p cost with stage Z's \p fields on every halfedge.
+//! \throw InvalidInputError as evaluate_cost(), or if \p cost is empty.
+HalfedgeWeights evaluate_cost(const Mesh& mesh, const CustomCost& cost, const VesselFields& fields);
 
 //! \brief Evaluate \p cost on every halfedge (boundary halfedges included).
 //! \return one weight per halfedge, indexed by `h.idx()`.
