@@ -153,13 +153,12 @@ int pixels_of(const std::string& png, double t)
 
 }  // namespace
 
-TEST_CASE("cli: --image-step and --image-time choose the moment of a series that --image draws")
+namespace {
+
+// DIR/steps.csv: one row per vertex of DIR/pulse.csv's mesh, the values 10, 20, 30 at t = 0,
+// 0.5, 1 s (a series uniform in space). Returns the rows written.
+int write_uniform_steps(const std::string& dir)
 {
-    const std::string dir = temp_dir("cli_fields_image_time");
-    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
-                "/pulse -q") == 0);
-    // A series that is uniform in space: 10, 20, 30 at t = 0, 0.5, 1 s. At t = 0.25 s the
-    // interpolated value is 15 everywhere, i.e. a quarter of the series' range [10, 30].
     std::ifstream pulse(dir + "/pulse.csv");
     std::string line;
     std::getline(pulse, line);
@@ -168,8 +167,19 @@ TEST_CASE("cli: --image-step and --image-time choose the moment of a series that
     int vertices = 0;
     while (std::getline(pulse, line))
         csv << vertices++ << ",10,20,30\n";
-    csv.close();
-    REQUIRE(vertices > 1000);
+    return vertices;
+}
+
+}  // namespace
+
+TEST_CASE("cli: --image-step and --image-time choose the moment of a series that --image draws")
+{
+    const std::string dir = temp_dir("cli_fields_image_time");
+    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
+                "/pulse -q") == 0);
+    // A series that is uniform in space: 10, 20, 30 at t = 0, 0.5, 1 s. At t = 0.25 s the
+    // interpolated value is 15 everywhere, i.e. a quarter of the series' range [10, 30].
+    REQUIRE(write_uniform_steps(dir) > 1000);
     const std::string flatten = kFlatten + " " + dir + "/carotid.ply --fields " + dir +
                                 "/steps.csv --field P --refine none -q";
     REQUIRE(run(flatten + " -o " + dir + "/a.vtp --image " + dir + "/t025.png --image-time 0.25") ==
@@ -251,4 +261,64 @@ TEST_CASE("cli: vessel-pulse writes the synthetic pulse over a real .vtp's point
     CHECK(run(kFlatten + " " + artery + " -o " + dir + "/a.vtp --fields " + dir +
               "/pulse.pvd --image " + dir + "/a.png --image-time 0.31 -q") == 0);
     CHECK(read_bytes(dir + "/a.png").rfind("\x89PNG", 0) == 0);
+}
+
+TEST_CASE("cli: --image-range, --colormap, --image-size and --fps shape the figures")
+{
+    const std::string dir = temp_dir("cli_fields_figure");
+    REQUIRE(run(kPhantom + " carotid --edge-length 1.0 -o " + dir + "/carotid.ply --pulse " + dir +
+                "/pulse -q") == 0);
+    REQUIRE(write_uniform_steps(dir) > 1000);  // 10, 20, 30 at t = 0, 0.5, 1 s
+    const std::string flatten = kFlatten + " " + dir + "/carotid.ply --fields " + dir +
+                                "/steps.csv --field P --refine none -q --image-step 1";
+    // Step 1 is 20: a quarter of the way up the range 0..80, at the bottom of 20..40.
+    REQUIRE(run(flatten + " -o " + dir + "/a.vtp --image " + dir + "/quarter.png --image-range 0 80 "
+                "--image-size 640 480") == 0);
+    REQUIRE(run(flatten + " -o " + dir + "/b.vtp --image " + dir + "/bottom.png --image-range 20 40") ==
+            0);
+    REQUIRE(run(flatten + " -o " + dir + "/c.vtp --image " + dir + "/grey.png --image-range 0 40 "
+                "--colormap diverging") == 0);
+    const vessel::test::Png quarter(dir + "/quarter.png");
+    CHECK(quarter.width() == 640);
+    CHECK(quarter.height() == 480);
+    const auto count = [](const vessel::test::Png& image, vessel::Colormap map, double t) {
+        const Eigen::Vector3d color = vessel::colormap_rgb(map, t);
+        int n = 0;
+        for (int y = 0; y < image.height(); ++y)
+            for (int x = 0; x < image.width(); ++x)
+                n += vessel::test::color_error(image.pixel(x, y), color) <= 2.0 / 255;
+        return n;
+    };
+    const vessel::test::Png bottom(dir + "/bottom.png"), grey(dir + "/grey.png");
+    MESSAGE("map pixels: quarter ", count(quarter, vessel::Colormap::Viridis, 0.25), ", bottom ",
+            count(bottom, vessel::Colormap::Viridis, 0.0), ", diverging middle ",
+            count(grey, vessel::Colormap::Diverging, 0.5));
+    CHECK(count(quarter, vessel::Colormap::Viridis, 0.25) > 5000);
+    CHECK(count(quarter, vessel::Colormap::Viridis, 0.5) < 500);
+    CHECK(count(bottom, vessel::Colormap::Viridis, 0.0) > 20000);
+    CHECK(count(grey, vessel::Colormap::Diverging, 0.5) > 20000);
+    CHECK(count(grey, vessel::Colormap::Viridis, 0.5) < 500);
+
+    // --fps 5 over the series' 1 s: t = 0, 0.2, ..., 1.
+    REQUIRE(run(kFlatten + " " + dir + "/carotid.ply --fields " + dir + "/steps.csv --field P "
+                "--refine none -q -o " + dir + "/d.vtp --frames " + dir + "/frames --fps 5") == 0);
+    int frames = 0;
+    for (const auto& e : fs::directory_iterator(dir + "/frames"))
+        frames += e.path().extension() == ".png";
+    CHECK(frames == 6);
+
+    // Bad figure options fail before any work, with nothing written.
+    const auto fails_with = [&](const std::string& args, const std::string& message) {
+        INFO(args);
+        CHECK(run(flatten + " -o " + dir + "/e.vtp --image " + dir + "/e.png " + args + " 2> " +
+                  dir + "/err.txt") == 1);
+        const std::string err = read_bytes(dir + "/err.txt");
+        CHECK_MESSAGE(err.find(message) != std::string::npos, err);
+        CHECK_FALSE(fs::exists(dir + "/e.vtp"));
+        CHECK_FALSE(fs::exists(dir + "/e.png"));
+    };
+    fails_with("--image-range 5 1", "--image-range: LO must be below HI");
+    fails_with("--image-size 20 480", "--image-size: W and H must be in [64, 16384]");
+    fails_with("--fps 0", "--fps must be in (0, 240]");
+    fails_with("--colormap jet", "--colormap");
 }

@@ -253,6 +253,48 @@ TEST_CASE("map_image: a linear field on an unrolled cylinder, pixel by pixel")
     CHECK(outside_error <= 1.0 / 255);
 }
 
+TEST_CASE("map_image: a scale bar of a round length under the map, and a caption")
+{
+    const int n_around = 24, n_along = 8;
+    const Mesh mesh = vessel::test::cut_cylinder(1.0, 4.0, n_around, n_along);
+    Eigen::MatrixX2d uv(mesh.n_vertices(), 2);
+    for (int j = 0; j <= n_along; ++j)
+        for (int i = 0; i <= n_around; ++i)
+            uv.row(j * (n_around + 1) + i) << 2 * M_PI * i / n_around, 4.0 * j / n_along;
+    const Eigen::VectorXd values = uv.col(1);
+    MapImageOptions options;
+    options.caption = "t = 0.250 s";
+    const std::string dir = temp_dir("map_image_scale_bar");
+    const MapImageLayout layout = render_map_image(dir + "/bar.png", {&mesh, uv, {}}, values, options);
+    // The map is 2 pi wide: a fifth of it is 1.26, so the bar is 1 unit long.
+    CHECK(layout.scale_bar_length == 1.0);
+    CHECK(layout.scale_bar_box.sizes().x() == doctest::Approx(layout.scale));
+    // Under the map, inside its panel, starting at the map's left end.
+    CHECK(layout.scale_bar_box.min().y() > layout.to_pixel(Eigen::Vector2d(0, 0)).y());
+    CHECK(layout.scale_bar_box.max().y() < layout.map_box.max().y());
+    CHECK(layout.scale_bar_box.min().x() == doctest::Approx(layout.to_pixel(Eigen::Vector2d(0, 0)).x()));
+    // The caption's strip is above the map.
+    CHECK(layout.to_pixel(Eigen::Vector2d(0, 4)).y() > layout.map_box.min().y() + options.font_size_px);
+    const Png png(dir + "/bar.png");
+    const Eigen::Vector2d c = layout.scale_bar_box.center();
+    CHECK(color_error(png.pixel(int(c.x()), int(c.y())), Eigen::Vector3d::Zero()) < 0.05);
+    // Dark caption pixels in the top left corner, none without a caption.
+    const auto dark_top_left = [&](const Png& image) {
+        int n = 0;
+        for (int y = int(layout.map_box.min().y()); y < int(layout.map_box.min().y() + options.font_size_px); ++y)
+            for (int x = int(layout.map_box.min().x()); x < int(layout.map_box.min().x() + 80); ++x)
+                n += image.pixel(x, y).maxCoeff() < 0.5;
+        return n;
+    };
+    CHECK(dark_top_left(png) > 20);
+    options.scale_bar = false;
+    options.caption.clear();
+    const MapImageLayout plain = render_map_image(dir + "/plain.png", {&mesh, uv, {}}, values, options);
+    CHECK(plain.scale_bar_box.isEmpty());
+    CHECK(plain.scale_bar_length == 0.0);
+    CHECK(dark_top_left(Png(dir + "/plain.png")) == 0);
+}
+
 TEST_CASE("map_image: per-face values are drawn flat")
 {
     const MapImageInput input = carotid_input();
@@ -313,6 +355,7 @@ TEST_CASE("map_image: PNG of the flattened phantom shows the field, background a
     options.height_px = 900;
     options.background = Eigen::Vector3d(0.9, 0.95, 1.0);
     options.loop_labels = false;  // text would sit in the background checked below
+    options.scale_bar = false;    // as would the scale bar
     options.outline = false;      // the outline covers the pixels of faces along the boundary
     options.field_name = "z";
     options.units = "mm";
@@ -535,8 +578,10 @@ TEST_CASE("map_frames: frames of a travelling pulse show the interpolated values
         lo = std::min(lo, v.minCoeff());
         hi = std::max(hi, v.maxCoeff());
     }
-    // The same picture with the series' range given explicitly: its layout is the frames' one.
+    // The same picture with the series' range given explicitly and the frame's time caption:
+    // its layout is the frame's.
     MapImageOptions same = image;
+    same.caption = "t = 0.150 s";
     same.auto_range = false;
     same.range_min = lo;
     same.range_max = hi;

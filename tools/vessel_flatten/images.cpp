@@ -6,6 +6,7 @@
 #include "vessel/render/map_image.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace vessel::cli {
@@ -26,6 +27,26 @@ Eigen::VectorXd scalar_values(const Field& field, int component)
         return field.values.col(component);
     return field.components() == 1 ? Eigen::VectorXd(field.values.col(0))
                                    : Eigen::VectorXd(field.values.rowwise().norm());
+}
+
+// The figure controls of the request (range, colormap, size); validate() says what is wrong.
+MapImageOptions figure_options(const ImageRequest& request)
+{
+    MapImageOptions options;
+    options.colormap = request.colormap;
+    if (!request.range.empty())
+    {
+        options.auto_range = false;
+        options.range_min = request.range.at(0);
+        options.range_max = request.range.at(1);
+    }
+    if (!request.size.empty())
+    {
+        options.width_px = request.size.at(0);
+        options.height_px = request.size.at(1);
+    }
+    options.units = request.units;
+    return options;
 }
 
 // The field to draw: --field NAME, else the series' first point field, else the input's.
@@ -99,8 +120,23 @@ std::pair<Field, bool> requested_field(const ImageRequest& request,
 void check_images(const ImageRequest& request, const std::vector<Field>& fields,
                   const TimeSeries& series)
 {
-    if (!request.images.empty() || !request.frames.empty())
-        requested_field(request, fields, series);
+    if (request.images.empty() && request.frames.empty())
+        return;
+    requested_field(request, fields, series);
+    if (!request.range.empty() && !(std::isfinite(request.range[0]) &&
+                                    std::isfinite(request.range[1]) &&
+                                    request.range[0] < request.range[1]))
+        throw InvalidInputError("--image-range: LO must be below HI, both finite (got " +
+                                std::to_string(request.range[0]) + " " +
+                                std::to_string(request.range[1]) + ")");
+    for (int side : request.size)
+        if (side < 64 || side > 16384)
+            throw InvalidInputError("--image-size: W and H must be in [64, 16384] pixels (got " +
+                                    std::to_string(side) + ")");
+    if (!(request.fps > 0 && request.fps <= 240))
+        throw InvalidInputError("--fps must be in (0, 240] (got " + std::to_string(request.fps) +
+                                ")");
+    figure_options(request).validate();  // what the above does not cover (e.g. the margins)
 }
 
 void render_images(const ImageRequest& request, const FlattenResult& result,
@@ -111,9 +147,8 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     const auto [field, over_time] = requested_field(request, fields, series);
     const FieldChoice choice = parse_field_choice(request.field);
     const MapImageInput input = map_image_input(result);
-    MapImageOptions options;
+    MapImageOptions options = figure_options(request);
     options.field_name = FieldChoice{field.name, choice.component}.title(field.components());
-    options.units = request.units;
     FieldSeries values;
     if (over_time)
     {
@@ -146,7 +181,9 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     }
     if (request.frames.empty())
         return;
-    const FramesSummary s = render_frames(request.frames, input, values, options);
+    FrameOptions frames;
+    frames.fps = request.fps;
+    const FramesSummary s = render_frames(request.frames, input, values, options, frames);
     if (!request.quiet)
         std::fprintf(stderr, "[  ] %d frames of %s -> %s\n", s.frames, field.name.c_str(),
                      request.frames.c_str());

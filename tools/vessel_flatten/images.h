@@ -4,6 +4,7 @@
 
 #include "vessel/fields/fields.h"
 #include "vessel/pipeline.h"
+#include "vessel/render/map_image.h"
 
 #include <optional>
 #include <string>
@@ -19,6 +20,11 @@ struct ImageRequest
     //! --field NAME[:magnitude|x|y|z] (empty: the first point field; parse_field_choice())
     std::string field;
     std::string units;   //!< --image-units: after the colorbar title, e.g. "Pa"
+    //! --image-range LO HI: the colour range of --image and --frames (empty: the field's)
+    std::vector<double> range;
+    Colormap colormap = Colormap::Auto;  //!< --colormap
+    std::vector<int> size;               //!< --image-size W H (empty: 1200 x 800)
+    double fps = 25.0;                   //!< --fps: frames per second of series time (--frames)
     bool view3d = false;  //!< --image-3d: the 3D cut mesh beside the map
     //! --image-step N: the series step --image draws (0-based); none = step 0 unless `time`.
     std::optional<int> step;
@@ -39,7 +45,8 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
 
 //! \brief The checks of render_images() that need only the fields, made before the flattening
 //! so that a request that cannot be drawn fails before any work: the field exists and is a
-//! point field, and --image-step/--image-time/--frames have a series.
+//! point field, --image-step/--image-time/--frames have a series, and the figure options
+//! (--image-range, --image-size, --fps) are valid.
 //! \throw InvalidInputError as render_images().
 void check_images(const ImageRequest& request, const std::vector<Field>& fields,
                   const TimeSeries& series);

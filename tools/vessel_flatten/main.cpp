@@ -21,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <set>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -44,6 +45,17 @@ double seconds_since(Clock::time_point start)
 class HelpFormatter : public CLI::Formatter
 {
 public:
+    //! The groups listed only by --help-all (the tuning options).
+    std::set<std::string> hidden;
+
+    std::string make_group(std::string group, bool is_positional,
+                           std::vector<const CLI::Option*> opts) const override
+    {
+        if (hidden.count(group) > 0)
+            return "";
+        return CLI::Formatter::make_group(std::move(group), is_positional, std::move(opts));
+    }
+
     std::string make_help(const CLI::App* app, std::string name,
                           CLI::AppFormatMode mode) const override
     {
@@ -102,14 +114,20 @@ int main(int argc, char** argv)
         "Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
         "2D map (README.md; every option: --help-all).",
         "vessel-flatten"};
-    app.formatter(std::make_shared<HelpFormatter>());
+    const auto formatter = std::make_shared<HelpFormatter>();
+    app.formatter(formatter);
     app.get_formatter()->column_width(35);
     app.set_help_all_flag("--help-all", "Also list the tuning options");
     app.set_version_flag("--version", std::string("vessel-flatten ") + VESSEL_VERSION);
-    // The tuning options are listed by --help-all only: an option in group "" is hidden.
+    // The tuning options are listed by --help-all only. (Not by putting them in CLI11's hidden
+    // group "": its errors then name no option, ": jet not in {...}".)
     const bool help_all = std::any_of(
         argv + 1, argv + argc, [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
-    const auto tuning = [&](const std::string& group) { return help_all ? group : std::string(); };
+    const auto tuning = [&](const std::string& group) {
+        if (!help_all)
+            formatter->hidden.insert(group);
+        return group;
+    };
     const std::string io_group = "Input and output", fields_group = "Fields and images",
                       cut_group = "Cut", map_group = "Map";
     const std::string input_tuning = tuning("Input checks"),
@@ -219,6 +237,28 @@ int main(int argc, char** argv)
     app.add_option("--image-units", images.units, "With --image: units after the colorbar title")
         ->group(image_tuning);
     app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map")
+        ->group(image_tuning);
+    app.add_option("--image-range", images.range,
+                   "With --image/--frames: the colour range LO HI (default: the field's, over "
+                   "the whole series), so that figures of several runs compare")
+        ->expected(2)
+        ->option_text("LO HI")
+        ->group(image_tuning);
+    add_choice(app, "--colormap", images.colormap,
+               {{"auto", vessel::Colormap::Auto},
+                {"viridis", vessel::Colormap::Viridis},
+                {"diverging", vessel::Colormap::Diverging}},
+               "With --image/--frames: colour table (auto: diverging when the range straddles "
+               "0, else viridis)")
+        ->group(image_tuning);
+    app.add_option("--image-size", images.size,
+                   "With --image/--frames: width and height in pixels (points for SVG/PDF)")
+        ->expected(2)
+        ->option_text("W H")
+        ->group(image_tuning);
+    app.add_option("--fps", images.fps,
+                   "With --frames: frames per second of series time (each frame shows its time)")
+        ->capture_default_str()
         ->group(image_tuning);
     auto* image_step = app.add_option("--image-step", images.step,
                                       "With --image and a series: draw this step (0-based)")

@@ -163,9 +163,16 @@ FramesSummary render_frames(const std::string& dir, const MapImageInput& input,
     for (std::size_t k = 0; k < summary.frame_times.size(); ++k)
     {
         const Eigen::VectorXd values = interpolate_series(series, summary.frame_times[k]);
+        MapImageOptions timed = frame_options;
+        if (options.time_caption)
+        {
+            char caption[64];
+            std::snprintf(caption, sizeof caption, "t = %.3f s", summary.frame_times[k]);
+            timed.caption = caption;
+        }
         const MapImageLayout layout = render_map_image(
             (std::filesystem::path(dir) / frame_name(static_cast<int>(k))).string(), input, values,
-            frame_options);
+            timed);
         if (k == 0)
         {
             summary.range_min = layout.range_min;

@@ -172,6 +172,54 @@ std::vector<double> nice_ticks(double lo, double hi)
     return ticks;
 }
 
+//! The largest 1, 2 or 5 x 10^k not above \p most (> 0).
+double round_length_below(double most)
+{
+    const double mag = std::pow(10.0, std::floor(std::log10(most)));
+    for (double m : {5.0, 2.0, 1.0})
+        if (m * mag <= most * (1 + 1e-12))
+            return m * mag;
+    return mag;
+}
+
+//! Pixel height of the strip under the map that the scale bar takes.
+double scale_bar_strip(const MapImageOptions& o) { return 1.6 * o.font_size_px + 6; }
+
+//! The bar under the map's left end (below the labels' room \p label_room), its length a round
+//! number of map units, the length and units right of it.
+void plan_scale_bar(MapImageLayout& layout, const Eigen::MatrixX2d& uv, double label_room,
+                    const MapImageOptions& o)
+{
+    const double width = uv.col(0).maxCoeff() - uv.col(0).minCoeff();
+    if (!(width > 0))
+        return;
+    layout.scale_bar_length = round_length_below(0.2 * width);
+    const double x0 = layout.map_origin.x();
+    const double strip = scale_bar_strip(o);
+    const double y = std::min(layout.map_origin.y() + label_room + 0.5 * strip,
+                              layout.map_box.max().y() - 0.5 * strip);
+    layout.scale_bar_box = box(x0, y - 2, x0 + layout.scale * layout.scale_bar_length, y + 2);
+}
+
+void draw_scale_bar(cairo_t* cr, const MapImageLayout& layout, const MapImageOptions& o)
+{
+    const auto& b = layout.scale_bar_box;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
+    cairo_fill(cr);
+    for (double x : {b.min().x(), b.max().x()})
+    {
+        cairo_move_to(cr, x, b.min().y() - 4);
+        cairo_line_to(cr, x, b.max().y() + 4);
+    }
+    cairo_set_line_width(cr, 1.5);
+    cairo_stroke(cr);
+    std::string text = format_tick(layout.scale_bar_length);
+    if (!o.length_units.empty())
+        text += " " + o.length_units;
+    draw_text(cr, text, Vec2(b.max().x() + 0.5 * o.font_size_px, b.center().y()), 0.0, 0.5);
+}
+
 std::string colorbar_title(const MapImageOptions& o)
 {
     return o.field_name + (o.units.empty() ? "" : " [" + o.units + "]");
@@ -503,7 +551,15 @@ void plan_panels(cairo_t* cr, const MapImageInput& input, const MapImageOptions&
         map_right = right - w - fs;
     }
     layout.map_box = box(image.min().x(), image.min().y(), map_right, image.max().y());
-    fit_map(layout, input.uv, shrink(layout.map_box, label_padding(cr, input, o)));
+    const Vec2 pad = label_padding(cr, input, o);
+    Eigen::AlignedBox2d fit = shrink(layout.map_box, pad);
+    if (o.caption.size() > 0)
+        fit.min().y() = std::max(fit.min().y(), layout.map_box.min().y() + 1.6 * fs);
+    if (o.scale_bar)
+        fit.max().y() = std::min(fit.max().y(), layout.map_box.max().y() - scale_bar_strip(o));
+    fit_map(layout, input.uv, fit);
+    if (o.scale_bar)
+        plan_scale_bar(layout, input.uv, pad.y(), o);
 }
 
 //! Writes (PNG) or finishes (SVG, PDF) \p tmp's file, then commits it to its target; a failed
@@ -584,6 +640,13 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
         draw_view3d(cr, input, values, o, shader, layout.view3d_box);
     if (o.colorbar)
         draw_colorbar(cr, layout, o);
+    if (!layout.scale_bar_box.isEmpty())
+        draw_scale_bar(cr, layout, o);
+    if (!o.caption.empty())
+    {
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        draw_text(cr, o.caption, layout.map_box.min(), 0.0, 0.0);
+    }
 
     context.reset();
     finish_file(std::move(surface), format, tmp);

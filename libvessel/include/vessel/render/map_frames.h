@@ -33,6 +33,9 @@ struct FrameOptions
     //! One colour range for all frames (min/max over every step); otherwise each frame's own.
     //! Ignored when MapImageOptions fixes the range.
     bool fixed_range = true;
+    //! Write each frame's series time as the image's caption ("t = 0.250 s"), so that a
+    //! frame taken out of the series still says when it is.
+    bool time_caption = true;
     //! Also write an animation here (`.gif` or `.mp4`) with ffmpeg when it is on PATH; empty =
     //! frames only.
     std::string animation;

@@ -47,6 +47,14 @@ struct MapImageOptions
     //! Text per loop (same order as the loops passed in); empty = "inlet", "outlet 1", ...
     std::vector<std::string> labels;
     double font_size_px = 16.0;                            //!< labels, ticks and title
+    //! Draw a scale bar under the map: a bar of a round length (1, 2 or 5 x 10^k map units,
+    //! the largest such at most a fifth of the map's width) labelled with that length and
+    //! `length_units`. The map's units are the mesh's: a map that keeps area keeps lengths on
+    //! average, so the bar reads as lengths on the wall.
+    bool scale_bar = true;
+    std::string length_units = "mm";  //!< after the scale bar's length (the mesh's units)
+    //! A line of text at the top left of the map panel (e.g. the time of a frame); empty = none.
+    std::string caption;
     Eigen::Vector3d background = Eigen::Vector3d::Ones();  //!< RGB in [0, 1]; white
     Eigen::Vector3d nan_color{0.6, 0.6, 0.6};              //!< colour of non-finite values
     //! The values are one per face (row `f.idx()`), each face drawn in one flat colour; otherwise
@@ -82,6 +90,8 @@ struct MapImageLayout
     Eigen::AlignedBox2d map_box;            //!< pixel box of the map panel
     Eigen::AlignedBox2d view3d_box;         //!< pixel box of the 3D view (empty if not drawn)
     Eigen::AlignedBox2d colorbar_box;       //!< pixel box of the colour bar (empty if not drawn)
+    Eigen::AlignedBox2d scale_bar_box;      //!< pixel box of the scale bar's bar (empty if not drawn)
+    double scale_bar_length = 0.0;          //!< the bar's length in map units (0 if not drawn)
     double range_min = 0.0;                 //!< range used (bottom of the colorbar)
     double range_max = 1.0;                 //!< range used (top of the colorbar)
     Colormap colormap = Colormap::Viridis;  //!< table used (never Auto)
