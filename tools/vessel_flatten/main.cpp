@@ -106,6 +106,27 @@ CLI::Option* add_choice(CLI::App& app, const std::string& name, T& target,
         ->default_str(current);
 }
 
+// Runs \p run; a library refusal it throws is thrown again as "INPUT: CONTEXT message", its
+// leading \p api ("function: ") dropped, unless the message names \p input already.
+template <class Run>
+auto naming_input(const std::string& input, const std::string& context, const std::string& api,
+                  const Run& run) -> decltype(run())
+{
+    try
+    {
+        return run();
+    }
+    catch (const vessel::InvalidInputError& e)
+    {
+        std::string message = e.what();
+        if (message.find(input) != std::string::npos)
+            throw;
+        if (!api.empty() && message.rfind(api, 0) == 0)
+            message = message.substr(api.size());
+        throw vessel::InvalidInputError(input + ": " + context + message);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -638,19 +659,10 @@ int main(int argc, char** argv)
         images.field = field_args.name;
         vessel::cli::check_images(images, field_input.fields, field_input.series);
         // The validation's messages name the defect, not the file: say which file it is.
-        const vessel::cli::PreparedInput in = [&] {
-            try
-            {
-                return vessel::cli::prepare_input(field_input.data.mesh, surface_options,
-                                                  batch.repair_options());
-            }
-            catch (const vessel::InvalidInputError& e)
-            {
-                if (std::string(e.what()).find(input) != std::string::npos)
-                    throw;
-                throw vessel::InvalidInputError(input + ": " + e.what());
-            }
-        }();
+        const vessel::cli::PreparedInput in = naming_input(input, "", "", [&] {
+            return vessel::cli::prepare_input(field_input.data.mesh, surface_options,
+                                              batch.repair_options());
+        });
         const vessel::TreeSurface& surface = in.surface;
         const std::vector<vessel::Field>& fields = field_input.fields;
         const vessel::TimeSeries& series = field_input.series;
@@ -766,20 +778,8 @@ int main(int argc, char** argv)
         if (!html.empty())
             throw vessel::InvalidInputError("--html shows one map; it cannot be used with --split-at");
         // split_tree()'s refusals name the library function; say which file and option instead.
-        const auto pieces = [&] {
-            try
-            {
-                return vessel::split_tree(surface.mesh, split_at);
-            }
-            catch (const vessel::InvalidInputError& e)
-            {
-                std::string message = e.what();
-                const std::string api = "split_tree: ";
-                if (message.rfind(api, 0) == 0)
-                    message = message.substr(api.size());
-                throw vessel::InvalidInputError(input + ": --split-at: " + message);
-            }
-        }();
+        const auto pieces = naming_input(input, "--split-at: ", "split_tree: ",
+                                         [&] { return vessel::split_tree(surface.mesh, split_at); });
         for (std::size_t i = 0; i < pieces.size(); ++i)
         {
             const auto named = [&](const std::string& path) {
