@@ -725,11 +725,7 @@ TEST_CASE("cli: a map that distorts areas too much is written with a warning, ev
     // (mean |log area| ~2.1, above the warning's 1.0); the paper's map of the same tree is
     // ~0.05 and gets no warning. Both are written (exit 0): the warning is no refusal.
     const auto dir = temp_dir("cli_distortion_warning");
-    TreePhantomOptions tree;
-    tree.outlets = 10;
-    tree.seed = 10;
-    tree.edge_length = 1.0;
-    write_mesh(tree_phantom(tree), dir + "/tree.ply");
+    write_mesh(test::test_tree_phantom(10, 10, 1.0), dir + "/tree.ply");
     const Outcome crushed = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/crushed.obj --report " +
                                                  dir + "/crushed.json -q --refine none --init tutte");
     REQUIRE_MESSAGE(crushed.status == 0, crushed.err);
@@ -888,11 +884,7 @@ TEST_CASE("cli: an output that is not .obj, .vtp or .ply is refused")
 TEST_CASE("cli: --split-at writes one flat map per piece, --layout sector runs")
 {
     const auto dir = temp_dir("cli_split");
-    TreePhantomOptions tree;
-    tree.outlets = 4;
-    tree.seed = 3;
-    tree.edge_length = 1.0;
-    write_mesh(tree_phantom(tree), dir + "/tree.ply");
+    write_mesh(test::test_tree_phantom(4, 3, 1.0), dir + "/tree.ply");
     const Outcome o = flatten_cli(dir, dir + "/tree.ply -o " + dir + "/flat.obj --report " + dir +
                                            "/flat.json --split-at 1 --split-at 3 -q");
     REQUIRE_MESSAGE(o.status == 0, o.err);

@@ -7,8 +7,6 @@
 #include "vessel/cut/cut_cost.h"
 #include "vessel/pipeline.h"
 
-#include <atomic>
-
 using namespace vessel;
 using vessel::test::test_tree_phantom;
 
@@ -32,7 +30,7 @@ TEST_CASE("custom cost: the fields are stage Z's, row per vertex of the uncut me
 {
     const Mesh tree = test_tree_phantom(3);
     const std::vector<BoundaryLoop> loops = boundary_loops(tree);
-    std::atomic<int> calls{0};
+    int calls = 0;
     bool checked = false;
     FlattenOptions options;
     options.relief.max_cuts = 0;
@@ -81,7 +79,7 @@ TEST_CASE("custom cost: the fields are stage Z's, row per vertex of the uncut me
 TEST_CASE("custom cost: a cost without the fields is taken as before")
 {
     const Mesh tree = test_tree_phantom(3);
-    std::atomic<int> calls{0};
+    int calls = 0;
     FlattenOptions options;
     options.relief.max_cuts = 0;
     options.custom_cost = [&](const Mesh& mesh, SmartHalfedgeHandle h) {

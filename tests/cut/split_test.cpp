@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/meshes.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/core/errors.h"
 #include "vessel/phantom/phantom.h"
@@ -25,11 +26,7 @@ double area(const RawMesh& raw)
 
 Mesh small_tree(int outlets)
 {
-    TreePhantomOptions options;
-    options.outlets = outlets;
-    options.seed = 3;
-    options.edge_length = 1.0;
-    return tree_phantom(options);
+    return test::test_tree_phantom(outlets, 3, 1.0);
 }
 
 }  // namespace

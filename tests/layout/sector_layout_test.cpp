@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/meshes.h"
 #include "vessel/core/errors.h"
 #include "vessel/layout/layout.h"
 #include "vessel/quality/overlap.h"
@@ -86,11 +87,9 @@ TEST_CASE("sector layout: strips never cross on seeded tree phantoms with 3 to 3
     for (int outlets : {3, 5, 8, 12, 20, 30})
         for (std::uint32_t seed : {1u, 2u})
         {
-            TreePhantomOptions options;
-            options.outlets = outlets;
-            options.seed = seed;
-            options.edge_length = outlets < 30 ? 1.0 : 0.75;  // 30 outlets need finer vessels
-            check_sector_layout(tree_phantom(options), "tree phantom, " +
+            // 30 outlets need finer vessels
+            const double edge = outlets < 30 ? 1.0 : 0.75;
+            check_sector_layout(test::test_tree_phantom(outlets, seed, edge), "tree phantom, " +
                                                            std::to_string(outlets) +
                                                            " outlets, seed " + std::to_string(seed));
         }

@@ -85,11 +85,7 @@ TEST_SUITE("slow")
         // Measured (docs/overlaps.md, "The adaptive look"): seed 32 (edge 0.75) has 2 outlets
         // below the inlet by default, so the retry runs; the pulled map is 2x `keep`'s mean
         // |log area|, above max_area_over_keep, and the default map stays, bit for bit.
-        TreePhantomOptions tree;
-        tree.outlets = 30;
-        tree.seed = 32;
-        tree.edge_length = 0.75;
-        const Mesh mesh = tree_phantom(tree);
+        const Mesh mesh = test::test_tree_phantom(30, 32);
         // At full resolution, where the measurement above was made (coarse-to-fine runs the
         // retry on its coarse mesh).
         FlattenOptions full;

@@ -14,13 +14,9 @@ namespace {
 // `overlaps` = Keep, the unconstrained map (the layout's map, overlaps and all) for comparison.
 FlattenResult flatten_tree(int outlets, std::uint32_t seed, OverlapPolicy overlaps)
 {
-    TreePhantomOptions tree;
-    tree.outlets = outlets;
-    tree.seed = seed;
-    tree.edge_length = 0.75;
     FlattenOptions options;
     options.overlaps = overlaps;
-    return flatten(tree_phantom(tree), options);
+    return flatten(test::test_tree_phantom(outlets, seed), options);
 }
 
 // With default options the map of one phantom is one-to-one, and its area distortion is

@@ -33,12 +33,12 @@ Mesh test_tree_phantom(int outlets)
     return test_tree_phantom(outlets, static_cast<std::uint32_t>(outlets));
 }
 
-Mesh test_tree_phantom(int outlets, std::uint32_t seed)
+Mesh test_tree_phantom(int outlets, std::uint32_t seed, double edge_length)
 {
     TreePhantomOptions tree;
     tree.outlets = outlets;
     tree.seed = seed;
-    tree.edge_length = 0.75;
+    tree.edge_length = edge_length;
     return tree_phantom(tree);
 }
 

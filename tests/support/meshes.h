@@ -20,8 +20,8 @@ Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
 //! The seeded tree phantom the overlap tests share: \p outlets outlets, seed = outlets, edge
 //! length 0.75 (coarser than the default 0.5, to keep the tests short).
 Mesh test_tree_phantom(int outlets);
-//! As test_tree_phantom(outlets), with another seed.
-Mesh test_tree_phantom(int outlets, std::uint32_t seed);
+//! As test_tree_phantom(outlets), with another seed (and edge length).
+Mesh test_tree_phantom(int outlets, std::uint32_t seed, double edge_length = 0.75);
 
 //! \brief Flat n x n quad grid of side \p size split into triangles, mapped into 3D by \p pose
 //! (a rigid motion). Vertex (i, j) has index j * (n + 1) + i and planar position

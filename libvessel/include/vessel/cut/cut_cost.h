@@ -59,25 +59,25 @@ struct VesselFields
 //! return a finite value >= 0; it is evaluated once per halfedge before the cuts are planned.
 class CustomCost
 {
+    //! F takes the fields (else it must take the mesh and halfedge only).
+    template <class F>
+    static constexpr bool reads_fields =
+        std::is_invocable_r_v<double, const F&, const Mesh&, SmartHalfedgeHandle,
+                              const VesselFields&>;
+
 public:
     CustomCost() = default;
-    template <class F, std::enable_if_t<std::is_invocable_r_v<double, const F&, const Mesh&,
-                                                              SmartHalfedgeHandle,
-                                                              const VesselFields&>,
+    template <class F, std::enable_if_t<reads_fields<F> || std::is_invocable_r_v<
+                                                               double, const F&, const Mesh&,
+                                                               SmartHalfedgeHandle>,
                                         int> = 0>
-    CustomCost(F cost) : cost_(std::move(cost))
-    {
-    }
-    template <class F,
-              std::enable_if_t<std::is_invocable_r_v<double, const F&, const Mesh&,
-                                                     SmartHalfedgeHandle> &&
-                                   !std::is_invocable_r_v<double, const F&, const Mesh&,
-                                                          SmartHalfedgeHandle, const VesselFields&>,
-                               int> = 0>
     CustomCost(F cost)
-        : cost_([cost = std::move(cost)](const Mesh& mesh, SmartHalfedgeHandle h,
-                                         const VesselFields&) { return cost(mesh, h); })
     {
+        if constexpr (reads_fields<F>)
+            cost_ = std::move(cost);
+        else
+            cost_ = [cost = std::move(cost)](const Mesh& mesh, SmartHalfedgeHandle h,
+                                             const VesselFields&) { return cost(mesh, h); };
     }
     explicit operator bool() const { return static_cast<bool>(cost_); }
     double operator()(const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& fields) const
