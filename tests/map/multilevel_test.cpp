@@ -135,6 +135,49 @@ TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips no
     CHECK(flat_quality(mesh, uv).mean_abs_log_area < before);
 }
 
+TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the sweeps alone")
+{
+    // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel
+    // alone, and alternating with corrections from the level it was carried from.
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
+    const CoarseMesh coarse = coarsen(mesh, 300, {});
+    const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
+    const Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_uv, 0.99);
+    REQUIRE(test::count_flips(mesh, carried) == 0);
+    const VertexHandle held = test::boundary_vertices(mesh).front();
+    const Pins pins = {{held, carried.row(held.idx()).transpose()}};
+    MultilevelOptions options;
+    options.relax_sweeps = 6;
+    options.tolerance = 0.0;  // every sweep made
+    Eigen::MatrixX2d alone = carried;
+    options.coarse_corrections = 0;
+    const RelaxSummary swept = relax_area(mesh, alone, pins, 0.99, options, &coarse, &coarse_uv);
+    Eigen::MatrixX2d corrected = carried;
+    options.coarse_corrections = 3;
+    const RelaxSummary both = relax_area(mesh, corrected, pins, 0.99, options, &coarse, &coarse_uv);
+    CHECK(swept.corrections == 0);
+    CHECK(both.sweeps == 6);
+    CHECK(both.corrections == 3);
+    const double minimum = 2.0 * face_areas(mesh).sum();
+    MESSAGE("energy / minimum: carried " << swept.energy_before / minimum << ", 6 sweeps "
+                                         << swept.energy_after / minimum << ", with corrections "
+                                         << both.energy_after / minimum);
+    CHECK(both.energy_after - minimum < 0.9 * (swept.energy_after - minimum));
+    CHECK(test::count_flips(mesh, corrected) == 0);
+    CHECK(boundary_self_intersection(mesh, corrected).first < 0);
+    CHECK((corrected.row(held.idx()) - carried.row(held.idx())).norm() == 0.0);
+    CHECK(flat_quality(mesh, corrected).mean_abs_log_area <
+          flat_quality(mesh, alone).mean_abs_log_area);
+
+    // A coarser level that is not the one the map came from is refused.
+    const CoarseMesh other = coarsen(test::cut_cylinder(1.0, 6.0, 16, 10), 50, {});
+    Eigen::MatrixX2d uv = carried;
+    const Eigen::MatrixX2d other_uv = coarse_map(other.mesh);
+    CHECK_THROWS_AS(relax_area(mesh, uv, pins, 0.99, options, &other, &other_uv), InvalidInputError);
+    options.coarse_corrections = -1;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+}
+
 TEST_CASE("multilevel: the boundary guard keeps boundary parts a clearance apart")
 {
     // Tutte's map of a cut cylinder: its boundary a convex polygon, two parts across it far
@@ -235,9 +278,10 @@ TEST_CASE("multilevel: coarsen_levels shrinks by levels, keeps corners, carries 
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& up = l == 0 ? fine : levels[l - 1].mesh;
+        const Eigen::MatrixX2d coarser_uv = uv;
         uv = prolongate(up, levels[l], uv, 0.99);
         REQUIRE(test::count_flips(up, uv) == 0);
-        relax_area(up, uv, {}, 0.99);
+        relax_area(up, uv, {}, 0.99, {}, &levels[l], &coarser_uv);
         CHECK(test::count_flips(up, uv) == 0);
         CHECK(boundary_self_intersection(up, uv).first < 0);
     }

@@ -92,24 +92,30 @@ public:
 
     //! The clearance of the last rebuild(): a hundredth of the map's mean boundary edge.
     double clearance() const { return clearance_; }
+    //! The mean boundary edge of the map of the last rebuild().
+    double mean_edge() const { return 0.5 * cell_; }
 
     //! The boundary vertices at the ends of every two edges nearer each other than the clearance
     //! (sharing no vertex) in the map x of the last rebuild(), each vertex once.
-    std::vector<int> near_contacts(const double* x) const
+    std::vector<int> near_contacts(const double* x) const { return near_pairs(x, clearance_); }
+
+    //! As near_contacts(), for edges nearer each other than \p distance (at most the mean
+    //! boundary edge: farther ones may be missed).
+    std::vector<int> near_pairs(const double* x, double distance) const
     {
         std::vector<int> ends;
         for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
         {
             const Eigen::Vector2d a(x[2 * edges_[e][0]], x[2 * edges_[e][0] + 1]),
                 b(x[2 * edges_[e][1]], x[2 * edges_[e][1] + 1]);
-            for_entries(segment_box(x, edges_[e][0], edges_[e][1]), [&](int other) {
+            for_entries(segment_box(x, edges_[e][0], edges_[e][1]), distance, [&](int other) {
                 const auto& f = edges_[other];
                 if (other <= e || f[0] == edges_[e][0] || f[0] == edges_[e][1] ||
                     f[1] == edges_[e][0] || f[1] == edges_[e][1])
                     return;
                 const Eigen::Vector2d c(x[2 * f[0]], x[2 * f[0] + 1]),
                     d(x[2 * f[1]], x[2 * f[1] + 1]);
-                if (segment_distance(a, b, c, d) < clearance_)
+                if (segment_distance(a, b, c, d) < distance)
                     ends.insert(ends.end(), {edges_[e][0], edges_[e][1], f[0], f[1]});
             });
         }
@@ -157,12 +163,12 @@ private:
                 visit(static_cast<long>(i) * ny_ + j);
     }
 
-    // Calls visit(e) for each edge e entered in a cell that \p box grown by the clearance meets
-    // (an edge may be visited more than once).
+    // Calls visit(e) for each edge e entered in a cell that \p box grown by \p grow meets (an
+    // edge may be visited more than once).
     template <class Visit>
-    void for_entries(const Box& box, const Visit& visit) const
+    void for_entries(const Box& box, double grow, const Visit& visit) const
     {
-        for_cells(box, clearance_, [&](long cell) {
+        for_cells(box, grow, [&](long cell) {
             auto it =
                 std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(cell, -1));
             for (; it != entries_.end() && it->first == cell; ++it)
@@ -179,7 +185,7 @@ private:
         for (const int w : {prev_[v], next_[v]})
         {
             const Eigen::Vector2d q(x[2 * w], x[2 * w + 1]);
-            for_entries({p.cwiseMin(q), p.cwiseMax(q)}, [&](int other) {
+            for_entries({p.cwiseMin(q), p.cwiseMax(q)}, clearance_, [&](int other) {
                 const auto& e = edges_[other];
                 if (e[0] == v || e[1] == v || e[0] == w || e[1] == w)
                     return;

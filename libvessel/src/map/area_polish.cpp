@@ -2,6 +2,7 @@
 
 #include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
+#include "detail/polish_hessian.h"
 #include "solve/paired_cholmod.h"
 #include "detail/scaffold.h"
 #include "solve/serial_openmp.h"
@@ -125,60 +126,6 @@ private:
     const std::vector<CentrePull>& pulls_;
 };
 
-// The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
-// its negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005). With D = det J,
-// g = dD/dJ = (d, -c, -b, a) and H_D = d2D/dJ2 (1 at (a, d), -1 at (b, c)):
-// ||J||^2 / D has Hessian 2 I / D - 2 (j g^T + g j^T) / D^2 + 2 ||J||^2 g g^T / D^3 - ||J||^2 H_D / D^2,
-// D + 1 / D has Hessian 2 g g^T / D^3 + (1 - 1 / D^2) H_D.
-Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
-{
-    const Eigen::Vector4d j(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
-    const Eigen::Vector4d g(J(1, 1), -J(1, 0), -J(0, 1), J(0, 0));
-    Eigen::Matrix4d HD = Eigen::Matrix4d::Zero();
-    HD(0, 3) = HD(3, 0) = 1.0;
-    HD(1, 2) = HD(2, 1) = -1.0;
-    const double D = J.determinant(), F = j.squaredNorm();
-    const Eigen::Matrix4d shape = 2.0 / D * Eigen::Matrix4d::Identity() -
-                                  2.0 / (D * D) * (j * g.transpose() + g * j.transpose()) +
-                                  2.0 * F / (D * D * D) * g * g.transpose() - F / (D * D) * HD;
-    const Eigen::Matrix4d area = 2.0 / (D * D * D) * g * g.transpose() + (1.0 - 1.0 / (D * D)) * HD;
-    const Eigen::Matrix4d H = (1.0 - lambda) * shape + lambda * area;
-    // Most faces' Hessians are already positive definite: a 4 x 4 Cholesky says so for a
-    // fraction of the eigensolver's cost, and the projection leaves such a matrix as it is.
-    if (Eigen::LLT<Eigen::Matrix4d>(H).info() == Eigen::Success)
-        return H;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
-    return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-           eig.eigenvectors().transpose();
-}
-
-// Adds one face's projected Hessian with respect to its corners' (u, v) (6 x 6, the lower
-// triangle row by row: (a, b), b <= a) to `values` at `entry` (-1: a fixed vertex's, skipped).
-void add_face_hessian(const FaceOperator& op, const Eigen::Matrix2d& J, double lambda,
-                      const std::array<int, 21>& entry, double* values)
-{
-    const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
-    // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k): with D the 2 x 3 matrix
-    // of the rows d0, d1, the (u, u), (v, u) and (v, v) blocks over the corners are
-    // D^T HJ_ij D, HJ_ij the 2 x 2 blocks of HJ (about a third of the flops of the dense
-    // 6 x 4 by 4 x 4 by 4 x 6 product).
-    Eigen::Matrix<double, 2, 3> D;
-    D << op.d0[0], op.d0[1], op.d0[2], op.d1[0], op.d1[1], op.d1[2];
-    const Eigen::Matrix3d Huu = D.transpose() * HJ.topLeftCorner<2, 2>() * D;
-    const Eigen::Matrix3d Hvu = D.transpose() * HJ.bottomLeftCorner<2, 2>() * D;
-    const Eigen::Matrix3d Hvv = D.transpose() * HJ.bottomRightCorner<2, 2>() * D;
-    int e = 0;
-    for (int a = 0; a < 6; ++a)
-        for (int b = 0; b <= a; ++b, ++e)
-            if (entry[e] >= 0)
-            {
-                // Row a = 2k (u_k) or 2k + 1 (v_k), column b = 2l or 2l + 1.
-                const int k = a / 2, l = b / 2;
-                values[entry[e]] += a % 2 == 0 ? (b % 2 == 0 ? Huu(k, l) : Hvu(l, k))
-                                               : (b % 2 == 0 ? Hvu(k, l) : Hvv(k, l));
-            }
-}
-
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
 // line searched from the full step back to one that flips no face and lowers the energy
 // (Armijo). Returns the steps taken; `cost` is the energy at the end.
@@ -196,80 +143,17 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
     // analyses: the factor's flops 1.17e10 -> 6.1e9, a factorization ~1.08 -> ~0.7 s
     // (docs/benchmarks.md, branch fspeed7).
     detail::PairedCholmod solver;
-    // The Hessian's pattern is the same at every step: built once (from triplets), then each
-    // face's 6 x 6 block is added straight into the values at `entry` (-1: a fixed vertex's).
-    Eigen::SparseMatrix<double> H(m, m);
-    std::vector<std::array<int, 21>> entry(energy.faces().size());
-    std::vector<int> diagonal(m);
-    {
-        std::vector<Eigen::Triplet<double>> triplets;
-        for (int i = 0; i < m; ++i)
-            triplets.emplace_back(i, i, 0.0);
-        for (const FaceOperator& op : energy.faces())
-            for (int a = 0; a < 6; ++a)
-                for (int b = 0; b <= a; ++b)
-                {
-                    const int sa = slot[op.corner[a / 2]], sb = slot[op.corner[b / 2]];
-                    if (sa >= 0 && sb >= 0)
-                    {
-                        const int ra = 2 * sa + a % 2, rb = 2 * sb + b % 2;
-                        triplets.emplace_back(std::min(ra, rb), std::max(ra, rb), 0.0);
-                    }
-                }
-        H.setFromTriplets(triplets.begin(), triplets.end());
-        H.makeCompressed();
-        const auto index = [&](int row, int col) {
-            const int* begin = H.innerIndexPtr() + H.outerIndexPtr()[col];
-            const int* end = H.innerIndexPtr() + H.outerIndexPtr()[col + 1];
-            return static_cast<int>(std::lower_bound(begin, end, row) - H.innerIndexPtr());
-        };
-        for (int i = 0; i < m; ++i)
-            diagonal[i] = index(i, i);
-        for (std::size_t f = 0; f < energy.faces().size(); ++f)
-        {
-            const FaceOperator& op = energy.faces()[f];
-            int e = 0;
-            for (int a = 0; a < 6; ++a)
-                for (int b = 0; b <= a; ++b, ++e)
-                {
-                    const int sa = slot[op.corner[a / 2]], sb = slot[op.corner[b / 2]];
-                    entry[f][e] = -1;
-                    if (sa >= 0 && sb >= 0)
-                    {
-                        const int ra = 2 * sa + a % 2, rb = 2 * sb + b % 2;
-                        entry[f][e] = index(std::min(ra, rb), std::max(ra, rb));
-                    }
-                }
-        }
-    }
-    double* values = H.valuePtr();
-    const Eigen::Index nnz = H.nonZeros();
-    // The faces' blocks are summed on up to two threads (as SLIM's), each into its own values.
-    const int threads = detail::face_threads(energy.faces().size());
-    std::vector<std::vector<double>> partial_values(threads - 1, std::vector<double>(nnz));
+    // The Hessian's pattern is the same at every step: built once, then each face's block is
+    // added straight into its values.
+    detail::PolishHessian hessian(energy.faces(), slot, m);
+    Eigen::SparseMatrix<double>& H = hessian.matrix();
     int done = 0;
     for (; done < iterations; ++done)
     {
-        const std::vector<FaceOperator>& faces = energy.faces();
-        const auto add_faces = [&](std::size_t begin, std::size_t end, int t) {
-            double* v = t == 0 ? values : partial_values[t - 1].data();
-            std::fill(v, v + nnz, 0.0);
-            for (std::size_t f = begin; f < end; ++f)
-                add_face_hessian(faces[f], energy.jacobian(faces[f]), lambda, entry[f], v);
-        };
-        detail::parallel_chunks(faces.size(), threads, add_faces);
-        for (const auto& other : partial_values)
-            for (Eigen::Index i = 0; i < nnz; ++i)
-                values[i] += other[i];
-        detail::add_centre_pull_curvature(energy.pulls(), energy.x(), slot, diagonal, values);
-        // Translations (and, without pins, rotations) leave the energy unchanged: a small
-        // multiple of the identity keeps the system definite.
-        double trace = 0.0;
-        for (int i = 0; i < m; ++i)
-            trace += values[diagonal[i]];
-        const double shift = 1e-8 * trace / m;
-        for (int i = 0; i < m; ++i)
-            values[diagonal[i]] += shift;
+        hessian.assemble(energy.faces(), energy.x().data(), lambda);
+        detail::add_centre_pull_curvature(energy.pulls(), energy.x(), slot, hessian.diagonal(),
+                                          H.valuePtr());
+        hessian.shift_diagonal();
         {
             const detail::SerialOpenMp serial;
             if (done == 0)

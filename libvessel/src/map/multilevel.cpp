@@ -21,6 +21,9 @@ void MultilevelOptions::validate() const
     if (relax_sweeps < 0)
         throw InvalidInputError("MultilevelOptions: relax_sweeps must be >= 0, got " +
                                 std::to_string(relax_sweeps));
+    if (coarse_corrections < 0)
+        throw InvalidInputError("MultilevelOptions: coarse_corrections must be >= 0, got " +
+                                std::to_string(coarse_corrections));
     if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
         throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
                                 std::to_string(tolerance));

@@ -1,8 +1,10 @@
 // relax_area(): nonlinear Gauss-Seidel, one projected Newton step per vertex and sweep
-// (detail/vertex_newton.h), with a guard that keeps the boundary simple.
+// (detail/vertex_newton.h), with a guard that keeps the boundary simple, and coarse-grid
+// corrections from the level the map was carried from (detail/coarse_correction.h).
 #include "vessel/map/multilevel.h"
 
 #include "detail/boundary_guard.h"
+#include "detail/coarse_correction.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
 
@@ -12,11 +14,13 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace vessel {
 
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
-                        double area_weight, const MultilevelOptions& options)
+                        double area_weight, const MultilevelOptions& options,
+                        const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv)
 {
     options.validate();
     if (uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
@@ -63,6 +67,21 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
 
     std::vector<Eigen::Vector3d> ds;
     detail::BoundaryGuard guard(mesh);
+    std::unique_ptr<detail::CoarseCorrection> correction;
+    if (coarser && coarser_uv && options.coarse_corrections > 0)
+    {
+        if (coarser->coarse_of.size() != static_cast<std::size_t>(n) ||
+            coarser_uv->rows() != static_cast<Eigen::Index>(coarser->mesh.n_vertices()))
+            throw InvalidInputError("relax_area: the coarser level (" +
+                                    std::to_string(coarser->coarse_of.size()) + " fine vertices, " +
+                                    std::to_string(coarser_uv->rows()) + " map rows for " +
+                                    std::to_string(coarser->mesh.n_vertices()) +
+                                    " coarse vertices) does not match the mesh of " +
+                                    std::to_string(n) + " vertices and its map");
+        correction = std::make_unique<detail::CoarseCorrection>(
+            ops, detail::coarse_interpolation(coarser->mesh, coarser->coarse_of, *coarser_uv, uv),
+            pinned, area_weight);
+    }
     // Only vertices that may still lower the energy are visited: those that lowered it in the
     // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a
     // sweep, and their neighbours (whose stars changed).
@@ -95,6 +114,22 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         std::fill(next.begin(), next.end(), 0);
         current -= lowered;
         summary.sweeps = sweep + 1;
+        // A coarse-grid correction after every second sweep (the sweeps first smooth what the
+        // carry left), and where the sweeps would stop: they converge no further, the coarse
+        // step may.
+        const bool converged = lowered <= options.tolerance * std::max(current - minimum, 0.0);
+        if (correction && summary.corrections < options.coarse_corrections &&
+            (summary.sweeps % 2 == 0 || converged))
+        {
+            const double by = correction->step(energy, xv, guard, current);
+            x = xv.data();
+            ++summary.corrections;
+            if (by > 0.0)
+            {
+                std::fill(active.begin(), active.end(), 1);  // every star changed
+                lowered += by;
+            }
+        }
         if (options.on_sweep)
             options.on_sweep(summary.sweeps);
         if (lowered <= options.tolerance * std::max(current - minimum, 0.0))

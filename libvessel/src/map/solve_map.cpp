@@ -337,6 +337,7 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
+        const Eigen::MatrixX2d coarser_uv = uv;
         uv = prolongate(above, levels[l], uv, lambda);
         const Pins pins =
             at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
@@ -364,15 +365,17 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                 result.notes.push_back("coarse-to-fine: " + std::to_string(touching) +
                                        " boundary vertices nearer another part than the "
                                        "clearance after the carry");
-        const RelaxSummary relaxed = relax_area(above, uv, pins, lambda, multilevel);
+        const RelaxSummary relaxed =
+            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
         {
             const double minimum = 2.0 * face_areas(mesh).sum();
             std::snprintf(line, sizeof line,
-                          "coarse-to-fine: %d relaxation sweeps, energy / minimum %.5f -> %.5f",
-                          relaxed.sweeps, relaxed.energy_before / minimum,
+                          "coarse-to-fine: %d relaxation sweeps, %d coarse-grid corrections, "
+                          "energy / minimum %.5f -> %.5f",
+                          relaxed.sweeps, relaxed.corrections, relaxed.energy_before / minimum,
                           relaxed.energy_after / minimum);
             result.notes.push_back(line);
             if (!(relaxed.energy_after <= multilevel.max_energy_ratio * minimum))

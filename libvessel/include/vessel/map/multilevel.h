@@ -33,12 +33,15 @@ struct MultilevelOptions
     //! "Coarse-to-fine"). CLI `--coarse-vertices N`.
     int coarse_vertices = 4000;
     //! Gauss-Seidel sweeps of relax_area() on each level, at most; they stop earlier once a
-    //! sweep lowers the energy by less than `tolerance` of its excess over the isometric
-    //! minimum.
-    //! The sweeps converge slowly (Gauss-Seidel), and the vertices that have stopped moving are
-    //! skipped, so a tight rule costs little (docs/benchmarks.md "Coarse-to-fine").
-    int relax_sweeps = 80;
+    //! sweep (with the coarse-grid correction after it, if any) lowers the energy by less than
+    //! `tolerance` of its excess over the isometric minimum. The sweeps remove the carry's
+    //! short-wavelength error; the corrections the long-wavelength error that sweeps alone remove
+    //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine").
+    int relax_sweeps = 16;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
+    //! Coarse-grid corrections of relax_area() on each level, at most: one after every second
+    //! sweep. 0 = none (Gauss-Seidel alone: about 80 sweeps for the same area distortion).
+    int coarse_corrections = 8;
     //! A carried map whose relaxed energy (relax_area()'s, at the finest level) ends above
     //! this multiple of its isometric minimum (twice the surface area) is refused, and the
     //! map solved again as after a carry that crosses: the coarse solve stopped far from its
@@ -119,6 +122,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
 struct RelaxSummary
 {
     int sweeps = 0;
+    int corrections = 0;  //!< coarse-grid corrections made
     double energy_before = 0.0, energy_after = 0.0;  //!< the energy of area_polish.h
 };
 
@@ -129,11 +133,20 @@ struct RelaxSummary
 //! or two of its edges come nearer each other than a hundredth of the mean boundary edge (or,
 //! where they were that near already, any nearer): a contact would make the written map, its
 //! coordinates rounded, overlap itself. Each sweep costs O(|F|): it removes the
-//! short-wavelength error a prolongation leaves, not the long-wavelength one a global solve
-//! removes.
+//! short-wavelength error a prolongation leaves, not the long-wavelength one. Given the level
+//! the map was carried from (\p coarser, its map \p coarser_uv), the sweeps alternate with
+//! coarse-grid corrections (two-grid multigrid; Briggs, Henson and McCormick 2000, "A multigrid
+//! tutorial"): the projected Newton system restricted to the coarse level's interpolation
+//! (Galerkin), its step line searched under the same guarantees (no flip; near boundary
+//! contacts held). One factorization of twice the coarse level's vertex count per level.
 //! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.
-//! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2.
+//! \param coarser the level \p mesh was decimated to (its `coarse_of` indexes \p mesh), or null
+//! \param coarser_uv the map of `coarser->mesh` that \p uv was carried from
+//! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2, or the
+//! coarser level does not match.
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
-                        double area_weight, const MultilevelOptions& options = {});
+                        double area_weight, const MultilevelOptions& options = {},
+                        const CoarseMesh* coarser = nullptr,
+                        const Eigen::MatrixX2d* coarser_uv = nullptr);
 
 }  // namespace vessel

@@ -1,0 +1,68 @@
+#pragma once
+// Coarse-grid corrections of relax_area() (multilevel.h): the two-grid step of a multigrid
+// solver, with the projected Newton system of the fine map restricted to the coarser level's
+// map (Galerkin: P^T H P, P the interpolation of the coarse level's vertices by their map; the
+// coarse mesh's own Hessian is no substitute: its needles along the kept boundary make it
+// nearly singular).
+// Gauss-Seidel sweeps remove the error of short wavelength quickly and that of long wavelength
+// slowly; a coarse step removes the latter (Briggs, Henson and McCormick 2000, "A multigrid
+// tutorial", ch. 3 and 6). The step is line searched on the energy with no face flipping, and
+// where it would bring two boundary parts nearer than the guard's clearance, the coarse
+// vertices around that place are held and the step solved again (an active set), so the
+// relaxation's guarantees stay: no flip, the boundary simple and its parts apart.
+
+#include "detail/boundary_guard.h"
+#include "detail/face_jacobian.h"
+#include "detail/polish_hessian.h"
+#include "detail/vertex_newton.h"
+#include "solve/paired_cholmod.h"
+#include "vessel/core/mesh.h"
+
+#include <Eigen/Sparse>
+
+#include <vector>
+
+namespace vessel::detail {
+
+//! The interpolation of a coarse level's map onto the fine level: row v holds the barycentric
+//! weights of the fine vertex v's place in \p fine_uv within the coarse triangle of
+//! \p coarse_uv that holds it (the nearest one, weights clamped, where none does; a vertex the
+//! coarse level kept takes its own coarse vertex). Interleaved: (2|V_fine|) x (2|V_coarse|), the
+//! same weights for u and v.
+Eigen::SparseMatrix<double> coarse_interpolation(const Mesh& coarse, const std::vector<int>& coarse_of,
+                                                 const Eigen::MatrixX2d& coarse_uv,
+                                                 const Eigen::MatrixX2d& fine_uv);
+
+class CoarseCorrection
+{
+public:
+    //! \p faces: the fine mesh's; \p interpolation from coarse_interpolation(); \p pinned per
+    //! fine vertex (>= 0: held).
+    CoarseCorrection(const std::vector<FaceOperator>& faces, Eigen::SparseMatrix<double> interpolation,
+                     const std::vector<int>& pinned, double lambda);
+
+    //! One correction of the map x (interleaved), whose energy is \p current (updated).
+    //! Returns the energy lowered (0: no admissible step; x unchanged).
+    double step(const VertexEnergy& energy, Eigen::VectorXd& x, BoundaryGuard& guard, double& current);
+
+private:
+    const std::vector<FaceOperator>& faces_;
+    Eigen::SparseMatrix<double> P_;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  // P by rows: a fine vertex's coarse vertices
+    std::vector<int> pinned_, slot_;
+    double lambda_;
+    PolishHessian hessian_;  // the fine map's
+    PairedCholmod solver_;
+    // Holds the coarse unknowns that interpolate fine vertex v; returns how many were not yet.
+    int hold_around(int v, std::vector<char>& held) const;
+    // Factorizes the coarse operator with the held unknowns fixed.
+    void factorize();
+
+    Eigen::SparseMatrix<double> coarse_;  // the coarse operator (upper triangle), once computed
+    Eigen::SparseMatrix<double> system_;  // coarse_ with the held unknowns' rows made identity
+    double mean_diagonal_ = 1.0;
+    std::vector<char> held_;  // per coarse unknown
+    bool analysed_ = false;
+};
+
+}  // namespace vessel::detail

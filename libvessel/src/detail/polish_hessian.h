@@ -1,0 +1,160 @@
+#pragma once
+// The projected Hessian of the area polish's energy (area_polish.h),
+//   E = sum_t A_t ((1 - lambda) ||J_t||^2 / det J_t + lambda (det J_t + 1 / det J_t)),
+// per face, and its scatter into a sparse matrix of fixed pattern. Shared by the polish's
+// Newton steps and the relaxation's coarse-grid corrections (coarse_correction.h).
+
+#include "detail/face_jacobian.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include <Eigen/Sparse>
+
+#include <algorithm>
+#include <array>
+#include <vector>
+
+namespace vessel::detail {
+
+// The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
+// its negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005). With D = det J,
+// g = dD/dJ = (d, -c, -b, a) and H_D = d2D/dJ2 (1 at (a, d), -1 at (b, c)):
+// ||J||^2 / D has Hessian 2 I / D - 2 (j g^T + g j^T) / D^2 + 2 ||J||^2 g g^T / D^3 - ||J||^2 H_D / D^2,
+// D + 1 / D has Hessian 2 g g^T / D^3 + (1 - 1 / D^2) H_D.
+inline Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
+{
+    const Eigen::Vector4d j(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
+    const Eigen::Vector4d g(J(1, 1), -J(1, 0), -J(0, 1), J(0, 0));
+    Eigen::Matrix4d HD = Eigen::Matrix4d::Zero();
+    HD(0, 3) = HD(3, 0) = 1.0;
+    HD(1, 2) = HD(2, 1) = -1.0;
+    const double D = J.determinant(), F = j.squaredNorm();
+    const Eigen::Matrix4d shape = 2.0 / D * Eigen::Matrix4d::Identity() -
+                                  2.0 / (D * D) * (j * g.transpose() + g * j.transpose()) +
+                                  2.0 * F / (D * D * D) * g * g.transpose() - F / (D * D) * HD;
+    const Eigen::Matrix4d area = 2.0 / (D * D * D) * g * g.transpose() + (1.0 - 1.0 / (D * D)) * HD;
+    const Eigen::Matrix4d H = (1.0 - lambda) * shape + lambda * area;
+    // Most faces' Hessians are already positive definite: a 4 x 4 Cholesky says so for a
+    // fraction of the eigensolver's cost, and the projection leaves such a matrix as it is.
+    if (Eigen::LLT<Eigen::Matrix4d>(H).info() == Eigen::Success)
+        return H;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
+    return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+           eig.eigenvectors().transpose();
+}
+
+// Adds one face's projected Hessian with respect to its corners' (u, v) (6 x 6, the lower
+// triangle row by row: (a, b), b <= a) to `values` at `entry` (-1: a fixed vertex's, skipped).
+inline void add_face_hessian(const FaceOperator& op, const Eigen::Matrix2d& J, double lambda,
+                      const std::array<int, 21>& entry, double* values)
+{
+    const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);
+    // dJ/d(u_k) = (d0_k, d1_k, 0, 0), dJ/d(v_k) = (0, 0, d0_k, d1_k): with D the 2 x 3 matrix
+    // of the rows d0, d1, the (u, u), (v, u) and (v, v) blocks over the corners are
+    // D^T HJ_ij D, HJ_ij the 2 x 2 blocks of HJ (about a third of the flops of the dense
+    // 6 x 4 by 4 x 4 by 4 x 6 product).
+    Eigen::Matrix<double, 2, 3> D;
+    D << op.d0[0], op.d0[1], op.d0[2], op.d1[0], op.d1[1], op.d1[2];
+    const Eigen::Matrix3d Huu = D.transpose() * HJ.topLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvu = D.transpose() * HJ.bottomLeftCorner<2, 2>() * D;
+    const Eigen::Matrix3d Hvv = D.transpose() * HJ.bottomRightCorner<2, 2>() * D;
+    int e = 0;
+    for (int a = 0; a < 6; ++a)
+        for (int b = 0; b <= a; ++b, ++e)
+            if (entry[e] >= 0)
+            {
+                // Row a = 2k (u_k) or 2k + 1 (v_k), column b = 2l or 2l + 1.
+                const int k = a / 2, l = b / 2;
+                values[entry[e]] += a % 2 == 0 ? (b % 2 == 0 ? Huu(k, l) : Hvu(l, k))
+                                               : (b % 2 == 0 ? Hvu(k, l) : Hvv(k, l));
+            }
+}
+
+// The projected Hessian of E over a set of faces with respect to the free vertices' (u, v)
+// (vertex v's at rows 2 slot[v], 2 slot[v] + 1; slot -1: held), upper triangle. Its pattern is
+// built once; assemble() then adds each face's 6 x 6 block straight into the values.
+class PolishHessian
+{
+public:
+    PolishHessian(const std::vector<FaceOperator>& faces, const std::vector<int>& slot, int m)
+        : H_(m, m), entry_(faces.size()), diagonal_(m)
+    {
+        std::vector<Eigen::Triplet<double>> triplets;
+        for (int i = 0; i < m; ++i)
+            triplets.emplace_back(i, i, 0.0);
+        const auto row = [&](const FaceOperator& op, int a) {
+            const int s = slot[op.corner[a / 2]];
+            return s < 0 ? -1 : 2 * s + a % 2;
+        };
+        for (const FaceOperator& op : faces)
+            for (int a = 0; a < 6; ++a)
+                for (int b = 0; b <= a; ++b)
+                    if (const int ra = row(op, a), rb = row(op, b); ra >= 0 && rb >= 0)
+                        triplets.emplace_back(std::min(ra, rb), std::max(ra, rb), 0.0);
+        H_.setFromTriplets(triplets.begin(), triplets.end());
+        H_.makeCompressed();
+        const auto index = [&](int r, int c) {
+            const int* begin = H_.innerIndexPtr() + H_.outerIndexPtr()[c];
+            const int* end = H_.innerIndexPtr() + H_.outerIndexPtr()[c + 1];
+            return static_cast<int>(std::lower_bound(begin, end, r) - H_.innerIndexPtr());
+        };
+        for (int i = 0; i < m; ++i)
+            diagonal_[i] = index(i, i);
+        for (std::size_t f = 0; f < faces.size(); ++f)
+        {
+            int e = 0;
+            for (int a = 0; a < 6; ++a)
+                for (int b = 0; b <= a; ++b, ++e)
+                {
+                    const int ra = row(faces[f], a), rb = row(faces[f], b);
+                    entry_[f][e] = ra >= 0 && rb >= 0 ? index(std::min(ra, rb), std::max(ra, rb)) : -1;
+                }
+        }
+    }
+
+    //! The Hessian at the map x (interleaved, every vertex): the faces' blocks summed on up to
+    //! two threads, each into its own values.
+    void assemble(const std::vector<FaceOperator>& faces, const double* x, double lambda)
+    {
+        double* values = H_.valuePtr();
+        const Eigen::Index nnz = H_.nonZeros();
+        const int threads = face_threads(faces.size());
+        partial_.resize(threads - 1);
+        for (auto& other : partial_)
+            other.resize(nnz);
+        parallel_chunks(faces.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+            double* v = t == 0 ? values : partial_[t - 1].data();
+            std::fill(v, v + nnz, 0.0);
+            for (std::size_t f = begin; f < end; ++f)
+                add_face_hessian(faces[f], jacobian(faces[f], x), lambda, entry_[f], v);
+        });
+        for (const auto& other : partial_)
+            for (Eigen::Index i = 0; i < nnz; ++i)
+                values[i] += other[i];
+    }
+
+    //! Adds a multiple of the identity: translations (and, without pins, rotations) leave the
+    //! energy unchanged; 1e-8 of the mean diagonal keeps the system definite.
+    void shift_diagonal()
+    {
+        double* values = H_.valuePtr();
+        double trace = 0.0;
+        for (int i : diagonal_)
+            trace += values[i];
+        const double shift = 1e-8 * trace / std::max<std::size_t>(diagonal_.size(), 1);
+        for (int i : diagonal_)
+            values[i] += shift;
+    }
+
+    Eigen::SparseMatrix<double>& matrix() { return H_; }
+    const std::vector<int>& diagonal() const { return diagonal_; }
+
+private:
+    Eigen::SparseMatrix<double> H_;
+    std::vector<std::array<int, 21>> entry_;
+    std::vector<int> diagonal_;
+    std::vector<std::vector<double>> partial_;
+};
+
+}  // namespace vessel::detail
