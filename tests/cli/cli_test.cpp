@@ -1,6 +1,8 @@
 // vessel-flatten on bad input (docs/bad-input.md, one case per row) and in batch mode.
 #include <doctest/doctest.h>
 
+#include "common/error_text.h"
+
 #include "support/files.h"
 #include "support/checks.h"
 #include "support/meshes.h"
@@ -19,6 +21,7 @@
 #include <iterator>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -123,6 +126,28 @@ void check_bad(const std::string& dir, const std::string& input, const std::stri
 }
 
 }  // namespace
+
+TEST_CASE("cli: out of memory and file-system errors are said with the input and a remedy")
+{
+    // The standard library's own messages ("std::bad_alloc", "filesystem error: ...") name
+    // neither; the tools print error_text() of every exception.
+    const std::string oom = vessel::cli::error_text(std::bad_alloc(), "big.ply");
+    CHECK(oom.rfind("big.ply: out of memory (std::bad_alloc): ", 0) == 0);
+    CHECK(oom.find("ulimit -v") != std::string::npos);
+    std::string listing;
+    try
+    {
+        std::filesystem::directory_iterator("/nonexistent-vessel-folder/sub");
+    }
+    catch (const std::exception& e)  // provoked: a real std::filesystem::filesystem_error
+    {
+        listing = vessel::cli::error_text(e, "m.ply");
+    }
+    CHECK(listing == "cannot access /nonexistent-vessel-folder/sub: No such file or directory; "
+                     "check that it exists and that its folders and it have the permissions needed");
+    const std::runtime_error ours("m.ply: 3 boundary loops; a vessel tree has at least 2");
+    CHECK(vessel::cli::error_text(ours, "m.ply") == ours.what());
+}
 
 TEST_CASE("cli: an empty file is refused")
 {

@@ -11,6 +11,7 @@
 #include "vessel/phantom/phantom.h"
 
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -234,4 +235,53 @@ TEST_CASE("outputs: in a batch every directory entry gets a row, dangling and lo
                   summary);
     CHECK(fs::exists(root + "/out/tube.obj"));
     CHECK(fs::exists(root + "/out/linked.obj"));
+}
+
+TEST_CASE("outputs: a batch refuses a folder it cannot list, and gives an unlistable subfolder a row")
+{
+    // Permissions do not bind root: as root the runs drop to user nobody (setpriv), as anyone
+    // else the folder's mode is enough.
+    const std::string as_user =
+        ::geteuid() == 0 ? "setpriv --reuid=65534 --regid=65534 --clear-groups " : "";
+    if (!as_user.empty())
+        REQUIRE_MESSAGE(run("command -v setpriv > /dev/null") == 0,
+                        "setpriv (util-linux) runs the batch as another user than root");
+    const std::string root = temp_dir("outputs_batch_unlistable");
+    const std::string in = root + "/in";
+    fs::create_directories(in + "/sub");
+    write_tube(in);
+    write_tube(in + "/sub");
+    fs::create_directories(root + "/out");
+    const auto open_to_all = fs::perms::all;
+    fs::permissions(root, open_to_all);
+    fs::permissions(root + "/out", open_to_all);
+    const auto batch = [&](const std::string& out) {
+        Outcome o;
+        const std::string err = root + "/stderr.txt";
+        o.status = run(as_user + kFlatten + " --batch " + in + " -o " + out + " -q 2> " + err);
+        o.err = read_bytes(err);
+        return o;
+    };
+
+    fs::permissions(in + "/sub", fs::perms::none);
+    const Outcome partial = batch(root + "/out");
+    CHECK(partial.status == 1);
+    const std::string summary = read_bytes(root + "/out/summary.json");
+    CHECK_MESSAGE(summary.find("\"inputs\": 2") != std::string::npos, summary);
+    CHECK_MESSAGE(summary.find("\"ok\": 1") != std::string::npos, summary);
+    CHECK_MESSAGE(summary.find("\"refused\": 1") != std::string::npos, summary);
+    CHECK_MESSAGE(summary.find(in + "/sub is a folder that cannot be listed (Permission denied); "
+                               "check its permissions") != std::string::npos,
+                  summary);
+    CHECK(fs::exists(root + "/out/tube.obj"));
+
+    fs::permissions(in, fs::perms::none);
+    const Outcome refused = batch(root + "/out2");
+    CHECK(refused.status == 1);
+    CHECK_MESSAGE(refused.err == "vessel-flatten: --batch: cannot list " + in +
+                                     ": Permission denied; check the folder's permissions\n",
+                  refused.err);
+    CHECK_FALSE(fs::exists(root + "/out2"));
+    fs::permissions(in, fs::perms::owner_all);
+    fs::permissions(in + "/sub", fs::perms::owner_all);
 }

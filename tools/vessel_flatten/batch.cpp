@@ -103,24 +103,40 @@ struct Input
 };
 
 // Every mesh entry of the directory \p spec (recursively) with, for those that cannot be read,
-// the reason; links are followed to files, never to folders (no cycles).
+// the reason, and every subfolder that cannot be listed (its meshes unknown) with the reason;
+// links are followed to files, never to folders (no cycles).
 std::vector<std::pair<std::string, std::string>> directory_entries(const std::string& spec)
 {
     std::vector<std::pair<std::string, std::string>> found;
     std::error_code ec;
-    fs::recursive_directory_iterator it(spec, fs::directory_options::skip_permission_denied, ec),
-        end;
+    fs::recursive_directory_iterator it(spec, ec), end;
     if (ec)
-        throw InvalidInputError("--batch: cannot list " + spec + ": " + ec.message());
+        throw InvalidInputError("--batch: cannot list " + spec + ": " + ec.message() +
+                                "; check the folder's permissions");
     for (; it != end; it.increment(ec))
     {
         if (ec)
         {
-            found.emplace_back(it->path().string(), "cannot list the folder: " + ec.message());
-            ec.clear();
-            continue;
+            // Not an unreadable subfolder (those are probed before the iterator enters them):
+            // the listing itself failed, so what is left of it is unknown.
+            found.emplace_back(spec, "cannot be listed to the end: " + ec.message());
+            break;
         }
         const fs::path path = it->path();
+        std::error_code type_ec;
+        if (it->is_directory(type_ec) && !it->is_symlink(type_ec))
+        {
+            std::error_code list_ec;
+            const fs::directory_iterator probe(path, list_ec);
+            if (list_ec)
+            {
+                found.emplace_back(path.string(), "is a folder that cannot be listed (" +
+                                                      list_ec.message() +
+                                                      "); check its permissions");
+                it.disable_recursion_pending();
+            }
+            continue;
+        }
         if (!is_mesh_file(path))
             continue;
         std::error_code link_ec;

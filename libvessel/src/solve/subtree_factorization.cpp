@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <new>
 #include <string>
 #include <thread>
 
@@ -253,8 +254,12 @@ bool SubtreeFactorization::factorize(const cholmod_sparse& A, cholmod_factor& L,
         L.is_ll = true;
         if (!cholmod_change_factor(CHOLMOD_REAL, true, true, true, true, &L, &common) ||
             L.x == nullptr)
+        {
+            if (common.status == CHOLMOD_OUT_OF_MEMORY)
+                throw std::bad_alloc();  // said as such to the user (the tools' error_text())
             throw SolverError("SubtreeFactorization: CHOLMOD could not allocate the factor's "
-                              "values (out of memory?)");
+                              "values (status " + std::to_string(common.status) + ")");
+        }
     }
     if (!L.is_super || static_cast<long>(L.xsize) != xsize_)
         throw SolverError("SubtreeFactorization: the factor is not the analysed one");
