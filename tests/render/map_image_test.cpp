@@ -6,6 +6,7 @@
 #include "support/png.h"
 #include "vessel/core/errors.h"
 #include "vessel/io/io.h"
+#include "vessel/io/vtk_io.h"
 #include "vessel/render/map_frames.h"
 #include "vessel/render/map_image.h"
 #include "vessel/phantom/phantom.h"
@@ -645,5 +646,72 @@ TEST_CASE("vessel-render: draws a map written by vessel-flatten with values from
     CHECK(run(render + " " + dir + "/flat.obj --field geodesic " + dir + "/x.png 2> /dev/null") ==
           1);
     CHECK(run(render + common + " " + dir + "/x.bmp 2> /dev/null") == 1);
+    CHECK_FALSE(std::filesystem::exists(dir + "/x.png"));
+}
+
+TEST_CASE("vessel-render: draws a point array of a .vtp input or of --fields, as vessel-flatten")
+{
+    const std::string dir = temp_dir("vessel_render_arrays");
+    const std::string render = VESSEL_RENDER_EXE;
+    CarotidPhantomOptions coarse;
+    coarse.edge_length = 0.8;
+    const Mesh mesh = carotid_phantom(coarse);
+    // Pressure: the height; WSS: a vector whose x component is the height too.
+    PolyData data;
+    data.mesh = to_raw_mesh(mesh);
+    Field pressure{"Pressure", FieldLocation::Point, FieldType::Float64,
+                   Eigen::MatrixXd(mesh.n_vertices(), 1)};
+    Field wss{"WSS", FieldLocation::Point, FieldType::Float32, Eigen::MatrixXd(mesh.n_vertices(), 3)};
+    for (auto v : mesh.vertices())
+    {
+        const double z = mesh.point(v)[2];
+        pressure.values(v.idx(), 0) = z;
+        wss.values.row(v.idx()) << z, 0.0, -2.0;
+    }
+    data.point_data = {pressure, wss};
+    write_polydata(dir + "/carotid.vtp", data);
+    double z_min = 1e300, z_max = -1e300;
+    for (auto v : mesh.vertices())
+    {
+        z_min = std::min(z_min, mesh.point(v)[2]);
+        z_max = std::max(z_max, mesh.point(v)[2]);
+    }
+
+    // The input's own array, a vector's component, and the same array given by --fields: the
+    // same picture, coloured over the height's range.
+    REQUIRE(run(render + " " + dir + "/carotid.vtp " + dir + "/p.png --field Pressure 2> " + dir +
+                "/p.err") == 0);
+    CHECK(read_bytes(dir + "/p.err").find("image of Pressure") != std::string::npos);
+    REQUIRE(run(render + " " + dir + "/carotid.vtp " + dir + "/wx.png --field WSS:x 2> /dev/null") ==
+            0);
+    write_mesh(mesh, dir + "/carotid.ply");
+    REQUIRE(run(render + " " + dir + "/carotid.ply " + dir + "/f.png --fields " + dir +
+                "/carotid.vtp --field Pressure 2> /dev/null") == 0);
+    const Png p(dir + "/p.png"), wx(dir + "/wx.png"), f(dir + "/f.png");
+    REQUIRE(p.width() == 1200);
+    long differ_wx = 0, differ_f = 0, coloured = 0;
+    for (int y = 0; y < p.height(); ++y)
+        for (int x = 0; x < p.width(); ++x)
+        {
+            const Eigen::Vector3d a = p.pixel(x, y), b = wx.pixel(x, y), c = f.pixel(x, y);
+            coloured += std::abs(a[0] - a[1]) + std::abs(a[1] - a[2]) > 0.05;  // not grey
+            differ_wx += color_error(a, b) > 0.05;
+            differ_f += color_error(a, c) > 0.05;
+        }
+    CHECK(coloured > 20000);
+    CHECK(differ_wx < 0.002 * p.width() * p.height());  // WSS_x: only the title differs
+    // The PLY stores coordinates as float, the .vtp as double: a map differing in rounding.
+    CHECK(differ_f < 0.001 * p.width() * p.height());
+
+    // A vector's magnitude differs from its x component; an unknown array, a component the
+    // array lacks and an array with a flattened map are refused, writing nothing.
+    REQUIRE(run(render + " " + dir + "/carotid.vtp " + dir + "/wm.png --field WSS 2> /dev/null") == 0);
+    CHECK(read_bytes(dir + "/wm.png") != read_bytes(dir + "/wx.png"));
+    CHECK(run(render + " " + dir + "/carotid.vtp " + dir + "/x.png --field nope 2> " + dir +
+              "/nope.err") == 1);
+    CHECK(read_bytes(dir + "/nope.err") ==
+          "vessel-render: no field named 'nope'; available: Pressure, WSS\n");
+    CHECK(run(render + " " + dir + "/carotid.vtp " + dir + "/x.png --field Pressure:y 2> /dev/null") ==
+          1);
     CHECK_FALSE(std::filesystem::exists(dir + "/x.png"));
 }

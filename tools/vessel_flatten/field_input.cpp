@@ -5,16 +5,19 @@
 
 namespace vessel::cli {
 
-CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose)
+CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose,
+                               bool with_field)
 {
     auto* fields = app.add_option(
         "--fields", args.spec,
         "Fields over the input mesh " + purpose + ": a .vtp/.vtk, a .pvd series, numbered "
         "files (wss_%03d.vtp or 'wss_*.vtp') or a CSV table (wide: vertex,t0,t1,...; long: "
         "vertex,time,NAME); see docs/fields.md");
-    app.add_option("--field", args.name,
-                   "Keep only this array of --fields (and check that it exists); also the CSV "
-                   "field's name in wide form. NAME:magnitude|x|y|z: the value images draw");
+    if (with_field)
+        app.add_option("--field", args.name,
+                       "Keep only this array of --fields (and check that it exists); also the "
+                       "CSV field's name in wide form. NAME:magnitude|x|y|z: the value images "
+                       "draw");
     app.add_option("--time-step", args.series.time_step,
                    "Seconds between numbered files (and CSV columns without times)")
         ->check(CLI::PositiveNumber)

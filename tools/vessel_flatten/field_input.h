@@ -42,10 +42,12 @@ struct FieldChoice
 //! \throw InvalidInputError if the part after ':' is not magnitude, x, y or z.
 FieldChoice parse_field_choice(const std::string& spec);
 
-//! Adds --fields (\p purpose says what they are for), --field, --time-step, --match-by and
+//! Adds --fields (\p purpose says what they are for), --field (unless \p with_field is false: a
+//! tool with its own --field binds it to `args.name`), --time-step, --match-by and
 //! --match-tolerance to \p app.
 //! \return the --fields option.
-CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose);
+CLI::Option* add_field_options(CLI::App& app, FieldArgs& args, const std::string& purpose,
+                               bool with_field = true);
 
 //! \brief Read \p input (any mesh format; .vtp/.vtk with their arrays) and the series
 //! `args.spec` (empty: none) with read_field_series(). With `args.name`, the series keeps only

@@ -46,6 +46,9 @@ MapImageOptions figure_options(const ImageRequest& request)
         options.height_px = request.size.at(1);
     }
     options.units = request.units;
+    options.labels = request.labels;
+    if (request.max_color_step)
+        options.max_color_step = *request.max_color_step;
     return options;
 }
 
@@ -148,7 +151,9 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     const FieldChoice choice = parse_field_choice(request.field);
     const MapImageInput input = map_image_input(result);
     MapImageOptions options = figure_options(request);
-    options.field_name = FieldChoice{field.name, choice.component}.title(field.components());
+    options.field_name = request.title.empty()
+                             ? FieldChoice{field.name, choice.component}.title(field.components())
+                             : request.title;
     FieldSeries values;
     if (over_time)
     {

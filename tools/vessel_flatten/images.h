@@ -26,6 +26,9 @@ struct ImageRequest
     std::vector<int> size;               //!< --image-size W H (empty: 1200 x 800)
     double fps = 25.0;                   //!< --fps: frames per second of series time (--frames)
     bool view3d = false;  //!< --image-3d: the 3D cut mesh beside the map
+    std::string title;    //!< the colorbar title (empty: the field's, e.g. |WSS|)
+    std::vector<std::string> labels;  //!< of the inlet and outlets (empty: inlet, outlet 1...)
+    std::optional<double> max_color_step;  //!< MapImageOptions::max_color_step (none: default)
     //! --image-step N: the series step --image draws (0-based); none = step 0 unless `time`.
     std::optional<int> step;
     //! --image-time T: the series time (s) --image draws, linearly interpolated between the

@@ -1,6 +1,10 @@
-// vessel-render: flatten a vessel surface and draw a field on the map (PNG, SVG or PDF), or a
-// time series of a synthetic pulse as frames (+ GIF/MP4 with ffmpeg).
+// vessel-render: flatten a vessel surface and draw a field on the map (PNG, SVG or PDF): a
+// built-in one, a CSV column, an array of the input (.vtp/.vtk) or of --fields as vessel-flatten
+// reads them; or frames of a series (synthetic pulse or --fields) (+ GIF/MP4 with ffmpeg).
 #include "flat_obj.h"
+#include "vessel_flatten/field_input.h"
+#include "vessel_flatten/images.h"
+#include "vessel/fields/field_series.h"
 #include "vessel/core/errors.h"
 #include "vessel/render/map_frames.h"
 #include "vessel/render/map_image.h"
@@ -160,8 +164,9 @@ int main(int argc, char** argv)
 {
     CLI::App app{
         "vessel-render: flatten a vessel surface and draw a field on the map.\n"
-        "Fields: geodesic (distance from the inlet), wss (synthetic 1/r^3), x, y, z, or "
-        "--values FILE.csv (one row per input vertex).",
+        "Fields: geodesic (distance from the inlet), wss (synthetic 1/r^3), x, y, z, "
+        "--values FILE.csv (one row per input vertex), or a point array of a .vtp/.vtk input "
+        "or of --fields (NAME[:magnitude|x|y|z], as vessel-flatten --field).",
         "vessel-render"};
     std::string input, output, field = "geodesic", csv, title, units, frames, animation;
     std::vector<std::string> labels;
@@ -171,14 +176,17 @@ int main(int argc, char** argv)
     int steps = 90;
     double period = 1.8;
     app.add_option("input", input,
-                   "Vessel surface (.obj, .off, .ply, .stl), or a map written "
+                   "Vessel surface (.obj, .off, .ply, .stl, .vtp, .vtk), or a map written "
                    "by vessel-flatten (.obj with vt lines)")
         ->required()
         ->check(CLI::ExistingFile);
     app.add_option("output", output, "Image (.png, .svg or .pdf)")->required();
-    app.add_option("--field", field, "Field to draw")
-        ->check(CLI::IsMember({"geodesic", "wss", "x", "y", "z"}))
+    app.add_option("--field", field,
+                   "Field to draw: geodesic, wss, x, y, z, or an array of the input or of "
+                   "--fields, NAME[:magnitude|x|y|z]")
         ->capture_default_str();
+    vessel::cli::FieldArgs field_args;
+    vessel::cli::add_field_options(app, field_args, "to draw (their --field array)", false);
     app.add_option("--values", csv, "CSV whose first column gives one value per input vertex");
     app.add_option("--title", title, "Colorbar title (default: the field's name)");
     app.add_option("--units", units, "Units shown after the title");
@@ -193,8 +201,8 @@ int main(int argc, char** argv)
                    "Split triangles whose values span more than this fraction of the range")
         ->capture_default_str();
     app.add_option("--frames", frames,
-                   "Instead of one image: frames of a synthetic pulse "
-                   "travelling from the inlet, written to DIR");
+                   "Instead of one image: frames of a series written to DIR: the --fields "
+                   "series' --field, else a synthetic pulse travelling from the inlet");
     app.add_option("--steps", steps, "Time steps of the pulse series")->capture_default_str();
     app.add_option("--period", period, "Seconds the series spans")->capture_default_str();
     app.add_option("--fps", frame_options.fps, "Frames per second")->capture_default_str();
@@ -211,6 +219,41 @@ int main(int argc, char** argv)
     }
     try
     {
+        const bool builtin = field == "geodesic" || field == "wss" || field == "x" ||
+                             field == "y" || field == "z";
+        if (!field_args.spec.empty() || (!builtin && csv.empty()))
+        {
+            // An array of the input or of --fields, read, checked, carried and drawn as
+            // vessel-flatten --image/--frames does.
+            if (is_flat_obj(input))
+                throw InvalidInputError(input + " is a flattened map: arrays (--field " + field +
+                                        ", --fields) need the surface they belong to");
+            if (!csv.empty())
+                throw InvalidInputError("--values and --fields: give one source of values");
+            field_args.name = builtin ? std::string() : field;
+            vessel::cli::ImageRequest request;
+            if (frames.empty())
+                request.images = {output};
+            request.frames = frames;
+            request.field = field_args.name;
+            request.units = units;
+            request.title = title;
+            request.labels = labels;
+            request.max_color_step = image.max_color_step;
+            request.range = range;
+            request.size = {image.width_px, image.height_px};
+            request.fps = frame_options.fps;
+            request.view3d = image.view3d;
+            const vessel::cli::FieldInput in = vessel::cli::read_field_input(input, field_args);
+            vessel::cli::check_images(request, in.fields, in.series);
+            const vessel::FlattenResult flat =
+                vessel::flatten(vessel::load_tree_surface(input).mesh);
+            for (const auto& note : flat.notes)
+                std::fprintf(stderr, "note: %s\n", note.c_str());
+            vessel::cli::render_images(request, flat, vessel::transfer_fields(in.fields, flat.mesh),
+                                       vessel::transfer_series(in.series, flat.mesh));
+            return 0;
+        }
         // Either a map written by vessel-flatten, or a surface flattened here.
         vessel::FlattenResult flat;
         if (is_flat_obj(input))
