@@ -49,9 +49,8 @@ private:
     const std::vector<FaceOperator>& faces_;
     Eigen::SparseMatrix<double> P_;
     Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  // P by rows: a fine vertex's coarse vertices
-    std::vector<int> pinned_, slot_;
+    std::vector<int> slot_;  // per fine vertex: its index, -1 if pinned
     double lambda_;
-    PolishHessian hessian_;  // the fine map's
     PairedCholmod solver_;
     // Holds the coarse unknowns that interpolate fine vertex v; returns how many were not yet.
     int hold_around(int v, std::vector<char>& held) const;

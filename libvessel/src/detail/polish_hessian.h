@@ -1,8 +1,9 @@
 #pragma once
-// The projected Hessian of the area polish's energy (area_polish.h),
-//   E = sum_t A_t ((1 - lambda) ||J_t||^2 / det J_t + lambda (det J_t + 1 / det J_t)),
-// per face, and its scatter into a sparse matrix of fixed pattern. Shared by the polish's
-// Newton steps and the relaxation's coarse-grid corrections (coarse_correction.h).
+// The derivatives of the area polish's energy (area_polish.h),
+//   E = sum_t A_t ((1 - lambda) ||J_t||^2 / det J_t + lambda (det J_t + 1 / det J_t)):
+// per face its gradient and projected Hessian with respect to J, and the Hessian's scatter into
+// a sparse matrix of fixed pattern. Shared by the polish's Newton steps and the relaxation's
+// coarse-grid corrections (coarse_correction.h).
 
 #include "detail/face_jacobian.h"
 
@@ -16,6 +17,16 @@
 #include <vector>
 
 namespace vessel::detail {
+
+// dE_t/dJ of one face per unit of its area (det J > 0).
+inline Eigen::Matrix2d polish_face_gradient(const Eigen::Matrix2d& J, double lambda)
+{
+    const double D = J.determinant(), frob = J.squaredNorm();
+    Eigen::Matrix2d cof;  // d det / d J
+    cof << J(1, 1), -J(1, 0), -J(0, 1), J(0, 0);
+    return (1.0 - lambda) * (2.0 / D * J - frob / (D * D) * cof) +
+           lambda * (1.0 - 1.0 / (D * D)) * cof;
+}
 
 // The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
 // its negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005). With D = det J,

@@ -100,12 +100,8 @@ public:
             e += op.area * ((1.0 - lambda_) * frob / D + lambda_ * (D + 1.0 / D));
             if (!gradient)
                 continue;
-            Eigen::Matrix2d cof;  // d det / d J
-            cof << J(1, 1), -J(1, 0), -J(0, 1), J(0, 0);
-            const Eigen::Matrix2d G =
-                op.area * ((1.0 - lambda_) * (2.0 / D * J - frob / (D * D) * cof) +
-                           lambda_ * (1.0 - 1.0 / (D * D)) * cof);
-            detail::add_face_gradient(op, G, slot_, gradient);
+            detail::add_face_gradient(op, op.area * detail::polish_face_gradient(J, lambda_), slot_,
+                                      gradient);
         }
         if (!pulls_.empty())
         {

@@ -25,35 +25,6 @@ bool barycentric(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen
     return true;
 }
 
-// The largest step t <= cap along u before a face's det J(x + t u) reaches 0, times 0.9: det J
-// is quadratic in t.
-double flip_free_step(const std::vector<FaceOperator>& faces, const double* x, const double* u,
-                      double cap)
-{
-    double step = cap;
-    for (const FaceOperator& op : faces)
-    {
-        const Eigen::Matrix2d J = jacobian(op, x), D = jacobian(op, u);
-        const double c0 = J.determinant(), c2 = D.determinant();
-        const double c1 = J(0, 0) * D(1, 1) + D(0, 0) * J(1, 1) - J(0, 1) * D(1, 0) - D(0, 1) * J(1, 0);
-        double root = std::numeric_limits<double>::infinity();
-        if (std::abs(c2) <= 1e-14 * std::abs(c1))
-        {
-            if (c1 < 0.0)
-                root = -c0 / c1;
-        }
-        else if (const double disc = c1 * c1 - 4.0 * c2 * c0; disc >= 0.0)
-        {
-            const double q = -0.5 * (c1 + std::copysign(std::sqrt(disc), c1));
-            for (const double r : {q / c2, c0 / q})
-                if (r > 0.0)
-                    root = std::min(root, r);
-        }
-        step = std::min(step, 0.9 * root);
-    }
-    return step;
-}
-
 double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& energy, const double* x)
 {
     double e = 0.0;
@@ -168,11 +139,10 @@ std::vector<int> free_slots(const std::vector<int>& pinned)
 CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
                                    Eigen::SparseMatrix<double> interpolation,
                                    const std::vector<int>& pinned, double lambda)
-    : faces_(faces), P_(std::move(interpolation)), pinned_(pinned), slot_(free_slots(pinned)),
-      lambda_(lambda), hessian_(faces, slot_, 2 * static_cast<int>(pinned.size()))
+    : faces_(faces), P_(std::move(interpolation)), slot_(free_slots(pinned)), lambda_(lambda)
 {
     // A pinned vertex does not move: its rows of P are emptied.
-    P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned_[r / 2] < 0; });
+    P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned[r / 2] < 0; });
     rows_ = P_;
 }
 
@@ -218,22 +188,16 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
     const Eigen::Index n2 = xv.size();
     Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n2);
     for (const FaceOperator& op : faces_)
-    {
-        const Eigen::Matrix2d J = jacobian(op, x);
-        const double s = J.determinant(), frob = J.squaredNorm();
-        Eigen::Matrix2d cof;
-        cof << J(1, 1), -J(1, 0), -J(0, 1), J(0, 0);
-        const Eigen::Matrix2d G = op.area * ((1.0 - lambda_) * (2.0 / s * J - frob / (s * s) * cof) +
-                                             lambda_ * (1.0 - 1.0 / (s * s)) * cof);
-        add_face_gradient(op, G, slot_, gradient.data());
-    }
+        add_face_gradient(op, op.area * polish_face_gradient(jacobian(op, x), lambda_), slot_,
+                          gradient.data());
     if (coarse_.size() == 0)
     {
         // The coarse operator at the first step, kept for the next ones: the relaxation changes
         // the map little, and the line search makes up for the difference (a frozen Newton
         // matrix), while the Galerkin product costs several sweeps.
-        hessian_.assemble(faces_, x, lambda_);
-        const Eigen::SparseMatrix<double> full = hessian_.matrix().selfadjointView<Eigen::Upper>();
+        PolishHessian hessian(faces_, slot_, static_cast<int>(n2));
+        hessian.assemble(faces_, x, lambda_);
+        const Eigen::SparseMatrix<double> full = hessian.matrix().selfadjointView<Eigen::Upper>();
         coarse_ = (P_.transpose() * full * P_).triangularView<Eigen::Upper>();
         double trace = 0.0;
         for (Eigen::Index c = 0; c < coarse_.rows(); ++c)
@@ -262,7 +226,7 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         const double slope = gradient.dot(direction);
         if (!direction.allFinite() || !(slope < 0.0))
             return 0.0;
-        double t = flip_free_step(faces_, x, direction.data(), 1.0);
+        double t = max_injective_step(faces_, xv, direction, face_threads(faces_.size()), 0, 0.9);
         double e = std::numeric_limits<double>::infinity();
         for (; t > 1e-3; t *= 0.5)
         {

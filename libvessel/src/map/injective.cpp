@@ -173,55 +173,6 @@ double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x, in
     return partial[0] + partial[1];
 }
 
-// Largest step t in (0, 1] along d that keeps every triangle positively oriented (Smith and
-// Schaefer 2015): det of the corner-difference matrix is quadratic in t; stop short of its first
-// positive root.
-// Only ops[first ..] count (the scaffold's triangles: first = the surface's face count).
-double max_injective_step(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x,
-                          const Eigen::VectorXd& d, int threads, std::size_t first = 0)
-{
-    std::array<double, 2> partial{1.0, 1.0};
-    const int used = std::min(threads, 2);
-    const std::size_t count = ops.size() - std::min(first, ops.size());
-    parallel_chunks(count, used, [&](std::size_t begin, std::size_t end, int t) {
-        double t_max = 1.0;
-        for (std::size_t f = first + begin; f < first + end; ++f)
-        {
-            const FaceOperator& op = ops[f];
-            const int i = op.corner[0], j = op.corner[1], k = op.corner[2];
-            const double a1 = x[2 * j] - x[2 * i], a2 = x[2 * j + 1] - x[2 * i + 1];
-            const double b1 = x[2 * k] - x[2 * i], b2 = x[2 * k + 1] - x[2 * i + 1];
-            const double da1 = d[2 * j] - d[2 * i], da2 = d[2 * j + 1] - d[2 * i + 1];
-            const double db1 = d[2 * k] - d[2 * i], db2 = d[2 * k + 1] - d[2 * i + 1];
-            const double qa = da1 * db2 - da2 * db1;
-            const double qb = a1 * db2 + da1 * b2 - a2 * db1 - da2 * b1;
-            const double qc = a1 * b2 - a2 * b1;
-            double root = INFINITY;
-            if (std::abs(qa) < 1e-300)
-            {
-                if (qb < 0.0)
-                    root = -qc / qb;
-            }
-            else
-            {
-                const double disc = qb * qb - 4.0 * qa * qc;
-                if (disc >= 0.0)
-                {
-                    const double sq = std::sqrt(disc);
-                    // Numerically stable pair of roots.
-                    const double q = -0.5 * (qb + (qb >= 0 ? sq : -sq));
-                    for (double r : {q / qa, qc / q})
-                        if (r > 0.0)
-                            root = std::min(root, r);
-                }
-            }
-            t_max = std::min(t_max, 0.8 * root);
-        }
-        partial[t] = t_max;
-    });
-    return std::min(partial[0], partial[1]);
-}
-
 // The global step's normal matrix has a fixed pattern: the u and v of a face's three corners
 // couple in a 6 x 6 block. Only one triangle is stored (CHOLMOD reads no more). With the
 // corners in increasing vertex order, local unknown l = 2 * (sorted corner) + (0 for u, 1 for
