@@ -247,7 +247,7 @@ int main(int argc, char** argv)
             const vessel::cli::FieldInput in = vessel::cli::read_field_input(input, field_args);
             vessel::cli::check_images(request, in.fields, in.series);
             const vessel::FlattenResult flat =
-                vessel::flatten(vessel::load_tree_surface(input).mesh);
+                vessel::flatten(vessel::make_tree_surface(in.data.mesh).mesh);  // read once
             for (const auto& note : flat.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
             vessel::cli::render_images(request, flat, vessel::transfer_fields(in.fields, flat.mesh),
