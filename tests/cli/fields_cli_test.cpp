@@ -9,6 +9,9 @@
 #include "vessel/core/properties.h"
 #include "vessel/fields/pulse_series.h"
 #include "vessel/check/validation.h"
+#include "vessel/core/operators.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/direction/geodesic.h"
 #include "vessel/render/viewer.h"
 
 #include <cmath>
@@ -321,4 +324,75 @@ TEST_CASE("cli: --image-range, --colormap, --image-size and --fps shape the figu
     fails_with("--image-size 20 480", "--image-size: W and H must be in [64, 16384]");
     fails_with("--fps 0", "--fps must be in (0, 240]");
     fails_with("--colormap jet", "--colormap");
+}
+
+TEST_CASE("cli: vessel-pulse --vector and --image-arrows draw the direction of a vector series")
+{
+    const std::string dir = temp_dir("cli_pulse_arrows");
+    const std::string artery = std::string(VESSEL_SHARED_DATA) + "/vampy/artery.vtp";
+    REQUIRE(run(std::string(VESSEL_PULSE_EXE) + " " + artery + " " + dir + "/pulse --vector -q") ==
+            0);
+    CHECK_FALSE(fs::exists(dir + "/pulse.csv"));  // a CSV holds scalars
+    const vessel::PolyData input = vessel::read_polydata(artery);
+    const vessel::TimeSeries pvd = vessel::read_field_series(dir + "/pulse.pvd", input);
+    REQUIRE(pvd.size() == 90);
+    // Each vector is the scalar pulse's value along the distance's unit gradient: its length is
+    // the scalar pulse's, its direction along the wall, away from the inlet.
+    const vessel::TreeSurface surface = vessel::make_tree_surface(input.mesh);
+    vessel::PulseSeriesOptions vector_options;
+    vector_options.vector = true;
+    const vessel::TimeSeries scalar = vessel::travelling_pulse(surface.mesh);
+    const vessel::TimeSeries vector = vessel::travelling_pulse(surface.mesh, vector_options);
+    const Eigen::VectorXd s = vessel::heat_geodesic_distance(
+        surface.mesh, vessel::boundary_loops(surface.mesh)[0].vertices);
+    const Eigen::MatrixX3d gradient = vessel::vertex_gradient(surface.mesh, s);
+    double worst_length = 0, worst_direction = 1;
+    for (int k : {0, 17, 60})
+    {
+        const auto& v = vector.steps[k][0].values;
+        REQUIRE(v.cols() == 3);
+        for (auto h : surface.mesh.vertices())
+        {
+            const int i = h.idx();
+            worst_length = std::max(worst_length,
+                                    std::abs(v.row(i).norm() - scalar.steps[k][0].values(i, 0)));
+            worst_direction = std::min(worst_direction,
+                                       v.row(i).normalized().dot(gradient.row(i).normalized()));
+        }
+    }
+    MESSAGE("length error ", worst_length, ", least cosine to the gradient ", worst_direction);
+    CHECK(worst_length < 1e-12);
+    CHECK(worst_direction > 1 - 1e-12);
+
+    // Drawn as arrows over |WSS| by vessel-flatten and vessel-render.
+    const std::string flatten = kFlatten + " " + artery + " -o " + dir + "/a.vtp --fields " + dir +
+                                "/pulse.pvd --field WSS -q";
+    REQUIRE(run(flatten + " --image " + dir + "/plain.png --image-time 0.31") == 0);
+    REQUIRE(run(flatten + " --image " + dir + "/arrows.png --image-time 0.31 --image-arrows WSS") ==
+            0);
+    REQUIRE(run(flatten + " --frames " + dir + "/frames --image-arrows WSS") == 0);
+    CHECK(fs::exists(dir + "/frames/frame_0000.png"));
+    const auto dark = [](const std::string& png_path) {
+        const vessel::test::Png png(png_path);
+        int n = 0;
+        for (int y = 0; y < png.height(); ++y)
+            for (int x = 0; x < png.width(); ++x)
+                n += png.pixel(x, y).maxCoeff() < 0.1;
+        return n;
+    };
+    const int plain = dark(dir + "/plain.png"), arrows = dark(dir + "/arrows.png");
+    MESSAGE("near-black pixels: ", plain, " without arrows, ", arrows, " with");
+    CHECK(arrows > plain + 1000);
+    REQUIRE(run(std::string(VESSEL_RENDER_EXE) + " " + artery + " " + dir + "/r.png --fields " +
+                dir + "/pulse.pvd --field WSS --arrows WSS > /dev/null 2>&1") == 0);
+
+    // A scalar array cannot give arrows; the refusal comes before any work or output.
+    const std::string err = " 2> " + dir + "/err.txt";
+    REQUIRE(run(std::string(VESSEL_PULSE_EXE) + " " + artery + " " + dir + "/scalar -q") == 0);
+    CHECK(run(kFlatten + " " + artery + " -o " + dir + "/b.vtp --fields " + dir +
+              "/scalar.pvd --field WSS --image " + dir + "/b.png --image-arrows WSS -q" + err) == 1);
+    CHECK(read_bytes(dir + "/err.txt").find("--image-arrows WSS: arrows need a 3-component point "
+                                            "array") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir + "/b.png"));
+    CHECK_FALSE(fs::exists(dir + "/b.vtp"));
 }

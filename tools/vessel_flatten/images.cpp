@@ -2,6 +2,7 @@
 
 #include "field_input.h"
 #include "vessel/core/errors.h"
+#include "vessel/fields/map_vectors.h"
 #include "vessel/render/map_frames.h"
 #include "vessel/render/map_image.h"
 
@@ -118,6 +119,64 @@ std::pair<Field, bool> requested_field(const ImageRequest& request,
     return {field, over_time};
 }
 
+// The --image-arrows array among the candidates; throws unless it is a 3-component point array.
+const Field& arrows_field(const std::string& name, const std::vector<Field>& candidates)
+{
+    const Field& field = find_field(candidates, name);
+    if (field.location != FieldLocation::Point || field.components() != 3)
+        throw InvalidInputError("--image-arrows " + name + ": arrows need a 3-component point "
+                                "array (a vector per vertex, e.g. WSS); '" + name + "' is a " +
+                                std::to_string(field.components()) + "-component " +
+                                (field.location == FieldLocation::Point ? "point" : "cell") +
+                                " array");
+    return field;
+}
+
+std::vector<Field> candidates_of(const std::vector<Field>& fields, const TimeSeries& series)
+{
+    std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
+    candidates.insert(candidates.end(), fields.begin(), fields.end());
+    return candidates;
+}
+
+// The 3D vectors of --image-arrows: a static array as it is; a series' at the moment --image
+// draws (step or time), or with `average` its time average (trapezoid rule over the steps).
+Eigen::MatrixXd arrow_vectors(const ImageRequest& request, const std::vector<Field>& fields,
+                              const TimeSeries& series, bool average)
+{
+    const std::vector<Field> candidates = candidates_of(fields, series);
+    const Field& field = arrows_field(request.arrows, candidates);
+    if (!in_series(series, field.name))
+        return field.values;
+    const auto at = [&](int k) -> const Eigen::MatrixXd& {
+        return find_field(series.steps[k], field.name).values;
+    };
+    const auto& t = series.times;
+    if (average)
+    {
+        Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(field.rows(), 3);
+        for (int k = 0; k + 1 < series.size(); ++k)
+            sum += 0.5 * (t[k + 1] - t[k]) * (at(k) + at(k + 1));
+        return sum / (t.back() - t.front());
+    }
+    if (request.time)  // within the series: series_moment() checked it for the colours
+    {
+        const auto upper = std::upper_bound(t.begin(), t.end(), *request.time);
+        const int k = std::clamp(static_cast<int>(upper - t.begin()) - 1, 0, series.size() - 2);
+        const double w = (*request.time - t[k]) / (t[k + 1] - t[k]);
+        return (1.0 - w) * at(k) + w * at(k + 1);
+    }
+    return at(request.step.value_or(0));
+}
+
+// 3D vectors per cut vertex as map vectors (map_fields(): the part along the wall, pushed
+// through the map).
+Eigen::MatrixX2d map_arrows(const FlattenResult& result, Eigen::MatrixXd vectors)
+{
+    const Field field{"arrows", FieldLocation::Point, FieldType::Float64, std::move(vectors)};
+    return map_fields({field}, result.mesh, result.uv).front().values.leftCols(2);
+}
+
 }  // namespace
 
 void check_images(const ImageRequest& request, const std::vector<Field>& fields,
@@ -126,6 +185,8 @@ void check_images(const ImageRequest& request, const std::vector<Field>& fields,
     if (request.images.empty() && request.frames.empty())
         return;
     requested_field(request, fields, series);
+    if (!request.arrows.empty())
+        arrows_field(request.arrows, candidates_of(fields, series));
     if (!request.range.empty() && !(std::isfinite(request.range[0]) &&
                                     std::isfinite(request.range[1]) &&
                                     request.range[0] < request.range[1]))
@@ -149,7 +210,7 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
         return;
     const auto [field, over_time] = requested_field(request, fields, series);
     const FieldChoice choice = parse_field_choice(request.field);
-    const MapImageInput input = map_image_input(result);
+    MapImageInput input = map_image_input(result);
     MapImageOptions options = figure_options(request);
     options.field_name = request.title.empty()
                              ? FieldChoice{field.name, choice.component}.title(field.components())
@@ -176,9 +237,12 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
         else
             shown = scalar_values(field, choice.component);
         image_options.view3d = request.view3d;
+        MapImageInput with_arrows = input;
+        if (!request.arrows.empty())
+            with_arrows.vectors = map_arrows(result, arrow_vectors(request, fields, series, false));
         for (const auto& path : request.images)
         {
-            render_map_image(path, input, shown, image_options);
+            render_map_image(path, with_arrows, shown, image_options);
             if (!request.quiet)
                 std::fprintf(stderr, "[  ] image of %s -> %s\n",
                              image_options.field_name.c_str(), path.c_str());
@@ -186,6 +250,8 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
     }
     if (request.frames.empty())
         return;
+    if (!request.arrows.empty())
+        input.vectors = map_arrows(result, arrow_vectors(request, fields, series, true));
     FrameOptions frames;
     frames.fps = request.fps;
     const FramesSummary s = render_frames(request.frames, input, values, options, frames);

@@ -26,6 +26,10 @@ struct ImageRequest
     std::vector<int> size;               //!< --image-size W H (empty: 1200 x 800)
     double fps = 25.0;                   //!< --fps: frames per second of series time (--frames)
     bool view3d = false;  //!< --image-3d: the 3D cut mesh beside the map
+    //! --image-arrows NAME: a 3-component point array drawn as arrows on the map (its part along
+    //! the wall pushed through the map); --image shows it at the moment it draws, --frames its
+    //! time average over the series (empty: no arrows)
+    std::string arrows;
     std::string title;    //!< the colorbar title (empty: the field's, e.g. |WSS|)
     std::vector<std::string> labels;  //!< of the inlet and outlets (empty: inlet, outlet 1...)
     std::optional<double> max_color_step;  //!< MapImageOptions::max_color_step (none: default)
@@ -48,7 +52,8 @@ void render_images(const ImageRequest& request, const FlattenResult& result,
 
 //! \brief The checks of render_images() that need only the fields, made before the flattening
 //! so that a request that cannot be drawn fails before any work: the field exists and is a
-//! point field, --image-step/--image-time/--frames have a series, and the figure options
+//! point field, the --image-arrows array is a 3-component point array, --image-step/--image-time/
+//! --frames have a series, and the figure options
 //! (--image-range, --image-size, --fps) are valid.
 //! \throw InvalidInputError as render_images().
 void check_images(const ImageRequest& request, const std::vector<Field>& fields,

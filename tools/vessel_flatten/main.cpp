@@ -259,6 +259,11 @@ int main(int argc, char** argv)
         ->group(image_tuning);
     app.add_flag("--image-3d", images.view3d, "With --image: the 3D cut mesh beside the map")
         ->group(image_tuning);
+    app.add_option("--image-arrows", images.arrows,
+                   "With --image/--frames: arrows of this 3-component point array's direction "
+                   "along the wall over the colours (e.g. WSS); --frames draws its time average")
+        ->option_text("NAME")
+        ->group(image_tuning);
     app.add_option("--image-range", images.range,
                    "With --image/--frames: the colour range LO HI (default: the field's, over "
                    "the whole series), so that figures of several runs compare")

@@ -10,10 +10,11 @@
 
 namespace vessel::cli {
 
-//! \brief Write \p series (scalar point field \p name, rows = points of \p geometry) as
-//! PREFIX.pvd (+ PREFIX/PREFIX_NNN.vtp over \p geometry), PREFIX.csv (wide) and PREFIX-long.csv.
+//! \brief Write \p series (point field \p name, rows = points of \p geometry) as PREFIX.pvd (+
+//! PREFIX/PREFIX_NNN.vtp over \p geometry) and, with \p csv (a scalar field), PREFIX.csv (wide)
+//! and PREFIX-long.csv.
 //! \throw InvalidInputError / IoError as write_pvd_series() and write_csv_series().
 void write_pulse_files(const std::string& prefix, const RawMesh& geometry,
-                       const TimeSeries& series, const std::string& name);
+                       const TimeSeries& series, const std::string& name, bool csv = true);
 
 }  // namespace vessel::cli

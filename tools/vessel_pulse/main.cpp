@@ -16,7 +16,7 @@
 namespace {
 
 // The pulse of the surface (rows = its vertices) moved to the rows of the input file's points;
-// points that no face uses keep the base value.
+// points that no face uses keep the base value (a vector: zero).
 vessel::TimeSeries on_input_points(const vessel::TimeSeries& pulse, const vessel::Mesh& mesh,
                                    int points, double base)
 {
@@ -27,9 +27,10 @@ vessel::TimeSeries on_input_points(const vessel::TimeSeries& pulse, const vessel
     for (auto& step : out.steps)
         for (auto& field : step)
         {
-            Eigen::MatrixXd values = Eigen::MatrixXd::Constant(points, 1, base);
+            const Eigen::Index cols = field.values.cols();
+            Eigen::MatrixXd values = Eigen::MatrixXd::Constant(points, cols, cols == 1 ? base : 0.0);
             for (auto v : mesh.vertices())
-                values(mesh.property(input_index, v), 0) = field.values(v.idx(), 0);
+                values.row(mesh.property(input_index, v)) = field.values.row(v.idx());
             field.values = std::move(values);
         }
     return out;
@@ -63,6 +64,10 @@ int main(int argc, char** argv)
     app.add_option("--period", pulse.period_s, "One beat (s)")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    app.add_flag("--vector", pulse.vector,
+                 "A 3-component array: the value times the direction away from the inlet along "
+                 "the wall, as a wall shear stress vector points (drawn as arrows by "
+                 "vessel-flatten --image-arrows); .pvd only, the CSV files hold scalars");
     app.add_flag("-q,--quiet", quiet, "No summary line");
     try
     {
@@ -79,11 +84,11 @@ int main(int argc, char** argv)
         const vessel::TimeSeries series =
             on_input_points(vessel::travelling_pulse(surface.mesh, pulse), surface.mesh,
                             static_cast<int>(raw.points.size()), pulse.base_pa);
-        vessel::cli::write_pulse_files(prefix, raw, series, pulse.name);
+        vessel::cli::write_pulse_files(prefix, raw, series, pulse.name, !pulse.vector);
         if (!quiet)
-            std::printf("pulse %s: %d steps over %g s on %zu points -> %s.pvd, .csv, -long.csv\n",
+            std::printf("pulse %s: %d steps over %g s on %zu points -> %s.pvd%s\n",
                         pulse.name.c_str(), series.size(), pulse.duration_s, raw.points.size(),
-                        prefix.c_str());
+                        prefix.c_str(), pulse.vector ? "" : ", .csv, -long.csv");
         return 0;
     }
     catch (const std::exception& e)

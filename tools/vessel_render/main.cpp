@@ -195,6 +195,11 @@ int main(int argc, char** argv)
                    "Labels of the inlet and outlets, in loop order "
                    "(longest loop first)");
     app.add_flag("--view3d", image.view3d, "Draw the 3D mesh beside the map");
+    std::string arrows;
+    app.add_option("--arrows", arrows,
+                   "Arrows of this 3-component point array of the input or of --fields (its "
+                   "direction along the wall) over the colours; --frames: its time average")
+        ->option_text("NAME");
     app.add_option("--size", image.width_px, "Image width in pixels")->capture_default_str();
     app.add_option("--height", image.height_px, "Image height in pixels")->capture_default_str();
     app.add_option("--color-step", image.max_color_step,
@@ -221,7 +226,12 @@ int main(int argc, char** argv)
     {
         const bool builtin = field == "geodesic" || field == "wss" || field == "x" ||
                              field == "y" || field == "z";
-        if (!field_args.spec.empty() || (!builtin && csv.empty()))
+        const bool arrays = !field_args.spec.empty() || (!builtin && csv.empty());
+        if (!arrows.empty() && !arrays)
+            throw InvalidInputError("--arrows " + arrows + " draws over an array of the input or "
+                                    "of --fields; give --field NAME of an array, not " +
+                                    (csv.empty() ? "the built-in '" + field + "'" : "--values"));
+        if (arrays)
         {
             // An array of the input or of --fields, read, checked, carried and drawn as
             // vessel-flatten --image/--frames does.
@@ -244,6 +254,7 @@ int main(int argc, char** argv)
             request.size = {image.width_px, image.height_px};
             request.fps = frame_options.fps;
             request.view3d = image.view3d;
+            request.arrows = arrows;
             const vessel::cli::FieldInput in = vessel::cli::read_field_input(input, field_args);
             vessel::cli::check_images(request, in.fields, in.series);
             const vessel::FlattenResult flat =

@@ -30,6 +30,8 @@ void MapImageOptions::validate() const
     if (!(max_color_step > 0 && max_color_step <= 1) ||
         !(vector_max_color_step > 0 && vector_max_color_step <= 1))
         fail("max_color_step and vector_max_color_step must be in (0, 1]");
+    if (!(arrow_spacing_px >= 4 && arrow_spacing_px <= 1000))
+        fail("arrow_spacing_px must be in [4, 1000] (got " + std::to_string(arrow_spacing_px) + ")");
     for (const Eigen::Vector3d* c : {&background, &nan_color})
         if (!(c->minCoeff() >= 0 && c->maxCoeff() <= 1))
             fail("background and nan_color are RGB in [0, 1]");

@@ -1,5 +1,7 @@
 #include "vessel/render/map_image.h"
 
+#include "vessel/render/map_arrows.h"
+
 #include "detail/atomic_file.h"
 #include "vessel/core/errors.h"
 #include "vessel/pipeline.h"
@@ -304,6 +306,59 @@ void draw_map(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px,
     paint_pattern(cr, pattern, panel);
 }
 
+// The arrows of input.vectors (MapImageOptions::arrow_spacing_px): each a shaft and a filled
+// head, stroked white and wide first and then black and thin, so that they read on any colour.
+void draw_arrows(cairo_t* cr, const MapImageInput& input, const MapImageLayout& layout,
+                 const MapImageOptions& o)
+{
+    const double spacing = o.arrow_spacing_px;
+    const std::vector<MapArrow> arrows =
+        sample_map_arrows(*input.mesh, input.uv, input.vectors, spacing / layout.scale);
+    double longest = 0.0;
+    for (const MapArrow& a : arrows)
+        longest = std::max(longest, a.vector.norm());
+    if (!(longest > 0.0))
+        return;
+    // From 0.3 x 0.9 x spacing (a vector near zero) to 0.9 x spacing (the longest).
+    const auto length_of = [&](const Eigen::Vector2d& v) {
+        return 0.9 * spacing * (0.3 + 0.7 * v.norm() / longest);
+    };
+    const auto path = [&](const MapArrow& a) {
+        const Vec2 centre = layout.to_pixel(a.at);
+        if (!(a.vector.norm() > 1e-9 * longest))
+            return false;  // no direction to show
+        const double length = length_of(a.vector);
+        const Vec2 dir = Vec2(a.vector.x(), -a.vector.y()).normalized();  // image y is down
+        const Vec2 side(-dir.y(), dir.x());
+        const Vec2 tail = centre - 0.5 * length * dir, tip = centre + 0.5 * length * dir;
+        const double head = std::min(0.4 * length, 0.25 * spacing);
+        const Vec2 base = tip - head * dir;
+        cairo_move_to(cr, tail.x(), tail.y());
+        cairo_line_to(cr, base.x(), base.y());
+        const Vec2 left = base + 0.45 * head * side, right = base - 0.45 * head * side;
+        cairo_move_to(cr, tip.x(), tip.y());
+        cairo_line_to(cr, left.x(), left.y());
+        cairo_line_to(cr, right.x(), right.y());
+        cairo_close_path(cr);
+        return true;
+    };
+    cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+    cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+    const double width = std::max(1.5, spacing / 15.0);
+    for (const auto& [rgb, line] : {std::pair<double, double>{1.0, width + 2.0}, {0.0, width}})
+    {
+        for (const MapArrow& a : arrows)
+            path(a);
+        cairo_set_source_rgb(cr, rgb, rgb, rgb);
+        cairo_set_line_width(cr, line);
+        cairo_stroke(cr);
+    }
+    for (const MapArrow& a : arrows)  // the heads filled black
+        path(a);
+    cairo_set_source_rgb(cr, 0.0, 0.0, 0.0);
+    cairo_fill(cr);
+}
+
 void draw_outline(cairo_t* cr, const Mesh& mesh, const std::vector<Vec2>& px, double width)
 {
     for (auto h : mesh.halfedges())
@@ -497,6 +552,13 @@ void check_input(const MapImageInput& input, const Eigen::VectorXd& values, bool
             (per_face ? "per face (per_face is set)" : "per cut-mesh vertex (or set per_face)"));
     if (input.mesh->n_faces() == 0)
         throw InvalidInputError("render_map_image: the mesh has no faces");
+    if (input.vectors.rows() != 0 && input.vectors.rows() != n)
+        throw InvalidInputError("render_map_image: vectors has " +
+                                std::to_string(input.vectors.rows()) + " rows for " +
+                                std::to_string(n) + " vertices; give one map vector per "
+                                "cut-mesh vertex, or none");
+    if (!input.vectors.allFinite())
+        throw InvalidInputError("render_map_image: vectors has non-finite entries");
     if (!input.uv.allFinite())
         throw InvalidInputError("render_map_image: uv has non-finite entries");
     for (const auto& loop : input.loops)
@@ -583,7 +645,7 @@ void finish_file(CairoPtr<cairo_surface_t> surface, Format format, detail::TempF
 
 MapImageInput map_image_input(const FlattenResult& result)
 {
-    return {&result.mesh, result.uv, result.loops};
+    return {&result.mesh, result.uv, result.loops, {}};
 }
 
 MapImageInput map_image_input(const Mesh& mesh)
@@ -632,6 +694,8 @@ MapImageLayout render_map_image(const std::string& path, const MapImageInput& in
                  TrianglePainter(shader, o.max_color_step, pattern.get()), pattern.get(),
                  layout.map_box);
     }
+    if (input.vectors.rows() > 0)
+        draw_arrows(cr, input, layout, o);
     if (o.outline)
         draw_outline(cr, mesh, px, o.outline_width_px);
     if (o.loop_labels)

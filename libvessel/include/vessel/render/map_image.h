@@ -75,6 +75,13 @@ struct MapImageOptions
     //! max_color_step for SVG and PDF, whose size grows by about 160 bytes per drawn piece
     //! (PDF viewers blend colours in RGB as Gouraud shading does).
     double vector_max_color_step = 1.0 / 8.0;
+    //! With MapImageInput::vectors: distance between the arrows (pixels), on a square grid
+    //! (sample_map_arrows()), each centred on its sample point. Lengths grow linearly with the
+    //! vectors' from 0.27 x spacing (near zero) to 0.9 x spacing (the longest): no two arrows
+    //! meet, the relative size reads, and every arrow stays long enough to show its direction
+    //! (the colours usually show the magnitude itself); a zero vector gets no arrow. Black with
+    //! a white edge, which reads on every colour of both tables. In [4, 1000].
+    double arrow_spacing_px = 28.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -114,6 +121,10 @@ struct MapImageInput
     Eigen::MatrixX2d uv;  //!< |V| x 2, row `v.idx()` of *mesh
     //! Boundary loops to label (e.g. FlattenResult::loops; first = inlet); may be empty.
     std::vector<BoundaryLoop> loops;
+    //! A vector field drawn as arrows over the colours: one map vector per cut-mesh vertex (row
+    //! `v.idx()`), e.g. the wall shear stress pushed through vertex_map_jacobians() (map_fields()
+    //! gives it for every 3-component field). Empty = no arrows.
+    Eigen::MatrixX2d vectors;
 };
 
 //! The map of flatten()'s result: its mesh, uv and (pre-cut) loops, so openings are labelled.
