@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "common/error_text.h"
+#include "vessel_flatten/memory_budget.h"
 
 #include "support/files.h"
 #include "support/checks.h"
@@ -23,8 +24,11 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <atomic>
+#include <thread>
 #include <vector>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 using namespace vessel;
@@ -1136,4 +1140,66 @@ TEST_CASE("cli: a batch list names meshes relative to the list file")
     CHECK(rows[1][2].find("read_raw_mesh: file not found") != std::string::npos);
     CHECK(rows[2][1] == "ok");
     CHECK(fs::exists(dir + "/out/tube.obj"));
+}
+
+TEST_CASE("cli: a batch's memory budget refuses a mesh above it and runs large ones one at a time")
+{
+    using vessel::cli::MemoryBudget;
+    // The budget never lets the running meshes' estimates exceed the cap: 6 workers of 60 MB
+    // each against 100 MB run one at a time, against 130 MB at most two at a time.
+    for (const auto& [cap, most] : {std::pair<double, int>{100.0, 1}, {130.0, 2}})
+    {
+        MemoryBudget budget(cap);
+        std::atomic<int> running{0}, highest{0};
+        std::vector<std::thread> workers;
+        for (int w = 0; w < 6; ++w)
+            workers.emplace_back([&] {
+                REQUIRE(budget.acquire(60.0));
+                const int now = ++running;
+                for (int seen = highest; now > seen && !highest.compare_exchange_weak(seen, now);)
+                {
+                }
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+                --running;
+                budget.release(60.0);
+            });
+        for (auto& t : workers)
+            t.join();
+        CHECK(highest <= most);
+        CHECK(highest >= 1);
+    }
+    MemoryBudget small(100.0);
+    CHECK_FALSE(small.acquire(150.0));  // never fits: refused at once, no wait
+    CHECK(small.acquire(100.0));        // alone it fits
+    small.release(100.0);
+
+    // The estimate is near a measured run's peak resident memory (the real artery).
+    const auto dir = temp_dir("cli_batch_memory");
+    const std::string artery = std::string(VESSEL_SHARED_DATA) + "/vampy/artery.ply";
+    REQUIRE(run(std::string(VESSEL_FLATTEN_EXE) + " " + artery + " -o " + dir + "/a.obj -q") == 0);
+    rusage usage{};
+    REQUIRE(getrusage(RUSAGE_CHILDREN, &usage) == 0);
+    const double peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // the largest child
+    const double estimate = vessel::cli::estimated_peak_mb(7485);
+    MESSAGE("artery: peak ", peak_mb, " MB, estimate ", estimate, " MB");
+    CHECK(peak_mb <= 1.2 * estimate);
+    CHECK(peak_mb >= 0.5 * estimate);
+
+    // A batch with a cap below one mesh's estimate refuses that mesh, flattens the others.
+    fs::create_directories(dir + "/in");
+    fs::copy_file(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply", dir + "/in/a.ply");
+    const Mesh carotid = carotid_phantom();
+    write_mesh(carotid, dir + "/in/b.ply");
+    const long carotid_faces = static_cast<long>(carotid.n_faces());
+    const double cap = 0.5 * (vessel::cli::estimated_peak_mb(1402) +
+                              vessel::cli::estimated_peak_mb(static_cast<std::size_t>(carotid_faces)));
+    CHECK(run(std::string(VESSEL_FLATTEN_EXE) + " --batch " + dir + "/in -o " + dir +
+              "/out -q --batch-memory " + std::to_string(cap) + " 2> " + dir + "/err.txt") == 1);
+    const std::string summary = read_bytes(dir + "/out/summary.csv");
+    CHECK(summary.find("a.ply,ok,") != std::string::npos);
+    CHECK(summary.find("b.ply,refused,\"" + std::to_string(carotid_faces) +
+                       " triangles would need about") != std::string::npos);
+    CHECK(summary.find("above the batch's memory cap") != std::string::npos);
+    CHECK(fs::exists(dir + "/out/a.obj"));
+    CHECK_FALSE(fs::exists(dir + "/out/b.obj"));
 }

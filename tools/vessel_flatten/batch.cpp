@@ -1,4 +1,5 @@
 #include "batch.h"
+#include "memory_budget.h"
 
 #include "common/error_text.h"
 
@@ -17,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <set>
@@ -341,6 +343,15 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
     write_text_file((dir / "summary.json").string(), summary.dump(2) + "\n");
 }
 
+// 80% of the machine's physical memory, in MB (0 if unknown: then no cap).
+double default_memory_mb()
+{
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page <= 0)
+        return 0.0;
+    return 0.8 * static_cast<double>(pages) * static_cast<double>(page) / (1024.0 * 1024.0);
+}
+
 }  // namespace
 
 std::optional<RepairOptions> BatchOptions::repair_options() const
@@ -396,6 +407,8 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     // element counts), so reads are serialized; flattening runs in parallel.
     std::mutex read_mutex;
     std::mutex print_mutex;
+    const double memory_mb = batch.memory_mb > 0.0 ? batch.memory_mb : default_memory_mb();
+    MemoryBudget budget(memory_mb > 0.0 ? memory_mb : std::numeric_limits<double>::infinity());
     std::atomic<std::size_t> next{0};
     std::size_t finished = files.size() - todo.size();
     // OpenMesh warnings would interleave between threads; our messages say what matters.
@@ -416,8 +429,24 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             }
             const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair_options());
             const TreeSurface& surface = in.surface;
-            validated = true;
             const double read_s = seconds_since(start);
+            const double need = estimated_peak_mb(surface.mesh.n_faces());
+            if (!budget.acquire(need))
+            {
+                char text[300];
+                std::snprintf(text, sizeof text,
+                              "%zu triangles would need about %.0f MB, above the batch's memory "
+                              "cap of %.0f MB; give a larger --batch-memory, or flatten it alone",
+                              surface.mesh.n_faces(), need, budget.cap());
+                throw InvalidInputError(text);
+            }
+            struct Release
+            {
+                MemoryBudget& budget;
+                double need;
+                ~Release() { budget.release(need); }
+            } release{budget, need};
+            validated = true;
             const FlattenResult result = flatten(surface.mesh, mesh_options);
             start = Clock::now();
             write_flat_obj(obj.string(), in.raw.points, result.mesh, result.uv);

@@ -20,6 +20,11 @@ struct BatchOptions
     //! e.g. x.ply.obj and x.stl.obj), summary.csv and summary.json.
     std::string output_dir;
     int jobs = 2;            //!< worker threads, each flattening one mesh at a time
+    //! Memory (MB) the meshes running at the same time may need together, by
+    //! estimated_peak_mb() (memory_budget.h) of each; 0 = 80% of the machine's memory. A mesh whose estimate is
+    //! above it is refused before it is flattened; one that fits waits until the running meshes
+    //! leave it room, so that large meshes run one after the other instead of together.
+    double memory_mb = 0.0;
     bool resume = false;     //!< keep inputs whose <stem>.obj and <stem>.json already exist
     bool quiet = false;      //!< no progress lines on stderr
     TreeSurfaceOptions surface;  //!< how every input is validated

@@ -201,6 +201,13 @@ int main(int argc, char** argv)
                  "With --batch: keep the inputs whose <stem>.obj and "
                  "<stem>.json already exist in OUTDIR")
         ->group(input_tuning);
+    app.add_option("--batch-memory", batch.memory_mb,
+                   "With --batch: memory the meshes running together may need, by an estimate "
+                   "from each one's triangles (32 MB + 2 KB each); a mesh above it is refused, "
+                   "large ones wait for room (default: 80% of the machine's memory)")
+        ->check(CLI::PositiveNumber)
+        ->option_text("MB")
+        ->group(input_tuning);
     vessel::TreeSurfaceOptions& surface_options = batch.surface;
     app.add_flag("--largest-component", surface_options.keep_largest_component,
                  "Keep only the largest connected component of the input (noted) instead of "
