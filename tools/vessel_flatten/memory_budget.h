@@ -8,8 +8,9 @@
 namespace vessel::cli {
 
 //! \brief The peak memory (MB) flattening a mesh of \p faces triangles with the default options
-//! is expected to need: 32 MB + 2 KB per triangle, a line just above the peak resident sets of
-//! the real trees and carotid phantoms from 7.5k to 301k triangles (docs/scale.md, "Memory").
+//! is expected to need: 32 MB + 2 KB per triangle, a line at or just above the peak resident
+//! sets of the real trees and carotid phantoms from 7.5k to 301k triangles (docs/scale.md,
+//! "Memory").
 inline double estimated_peak_mb(std::size_t faces)
 {
     return 32.0 + 2.0 * static_cast<double>(faces) / 1024.0;
