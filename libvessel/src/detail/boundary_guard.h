@@ -2,6 +2,7 @@
 // BoundaryGuard: keeps a map's boundary simple, and its parts apart, while vertices move one at a
 // time (relax_area(), and the opening of near contacts after a coarse-to-fine carry).
 
+#include "detail/cell_grid.h"
 #include "detail/segments.h"
 #include "vessel/core/mesh.h"
 
@@ -60,17 +61,22 @@ public:
             length += (b - a).norm();
         }
         const double mean = length / static_cast<double>(edges_.size());
-        cell_ = 2.0 * std::max(mean, 1e-12);
-        margin_ = 0.5 * cell_;
+        const double cell = 2.0 * std::max(mean, 1e-12);
+        margin_ = 0.5 * cell;
         clearance_ = 0.01 * mean;
-        origin_ = lo - Eigen::Vector2d::Constant(cell_);
-        const Eigen::Vector2d span = hi - lo + Eigen::Vector2d::Constant(2.0 * cell_);
-        nx_ = std::max(1, static_cast<int>(std::ceil(span.x() / cell_)) + 1);
-        ny_ = std::max(1, static_cast<int>(std::ceil(span.y() / cell_)) + 1);
+        grid_.cell = cell;
+        grid_.origin = lo - Eigen::Vector2d::Constant(cell);
+        const Eigen::Vector2d span = hi - lo + Eigen::Vector2d::Constant(2.0 * cell);
+        grid_.nx = std::max(1, static_cast<int>(std::ceil(span.x() / cell)) + 1);
+        grid_.ny = std::max(1, static_cast<int>(std::ceil(span.y() / cell)) + 1);
         entries_.clear();
         for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
-            for_cells(segment_box(x, edges_[e][0], edges_[e][1]), margin_,
-                      [&](long cell) { entries_.emplace_back(cell, e); });
+        {
+            const Box box = segment_box(x, edges_[e][0], edges_[e][1]);
+            grid_.for_cells(box.lo, box.hi, margin_, [&](std::size_t c) {
+                entries_.emplace_back(static_cast<long>(c), e);
+            });
+        }
         std::sort(entries_.begin(), entries_.end());
     }
 
@@ -93,7 +99,7 @@ public:
     //! The clearance of the last rebuild(): a hundredth of the map's mean boundary edge.
     double clearance() const { return clearance_; }
     //! The mean boundary edge of the map of the last rebuild().
-    double mean_edge() const { return 0.5 * cell_; }
+    double mean_edge() const { return 0.5 * grid_.cell; }
 
     //! The boundary vertices at the ends of every two edges nearer each other than the clearance
     //! (sharing no vertex) in the map x of the last rebuild(), each vertex once.
@@ -148,27 +154,13 @@ private:
         return {p.cwiseMin(q), p.cwiseMax(q)};
     }
 
-    template <class Visit>
-    void for_cells(const Box& box, double grow, const Visit& visit) const
-    {
-        const auto index = [&](double value, double origin, int n) {
-            return std::clamp(static_cast<int>(std::floor((value - origin) / cell_)), 0, n - 1);
-        };
-        const int x0 = index(box.lo.x() - grow, origin_.x(), nx_);
-        const int x1 = index(box.hi.x() + grow, origin_.x(), nx_);
-        const int y0 = index(box.lo.y() - grow, origin_.y(), ny_);
-        const int y1 = index(box.hi.y() + grow, origin_.y(), ny_);
-        for (int i = x0; i <= x1; ++i)
-            for (int j = y0; j <= y1; ++j)
-                visit(static_cast<long>(i) * ny_ + j);
-    }
-
     // Calls visit(e) for each edge e entered in a cell that \p box grown by \p grow meets (an
     // edge may be visited more than once).
     template <class Visit>
     void for_entries(const Box& box, double grow, const Visit& visit) const
     {
-        for_cells(box, grow, [&](long cell) {
+        grid_.for_cells(box.lo, box.hi, grow, [&](std::size_t c) {
+            const long cell = static_cast<long>(c);
             auto it =
                 std::lower_bound(entries_.begin(), entries_.end(), std::make_pair(cell, -1));
             for (; it != entries_.end() && it->first == cell; ++it)
@@ -198,9 +190,8 @@ private:
     std::vector<std::array<int, 2>> edges_;
     std::vector<int> next_, prev_;
     std::vector<std::pair<long, int>> entries_;
-    double cell_ = 1.0, margin_ = 0.5, clearance_ = 0.0;
-    Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
-    int nx_ = 1, ny_ = 1;
+    CellGrid grid_;
+    double margin_ = 0.5, clearance_ = 0.0;
 };
 
 }  // namespace vessel::detail

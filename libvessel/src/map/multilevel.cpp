@@ -1,5 +1,6 @@
 #include "vessel/map/multilevel.h"
 
+#include "detail/cell_grid.h"
 #include "detail/segments.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
@@ -332,12 +333,12 @@ public:
         }
         // Cells about twice the mean boundary edge, at most ~4 per edge in all.
         const Eigen::Vector2d span = (hi - lo).cwiseMax(1e-12);
-        cell_ = std::max(2.0 * length / static_cast<double>(edges_.size()),
-                         std::sqrt(span.x() * span.y() / (4.0 * static_cast<double>(edges_.size()))));
-        origin_ = lo;
-        nx_ = static_cast<int>(span.x() / cell_) + 1;
-        ny_ = static_cast<int>(span.y() / cell_) + 1;
-        cells_.assign(static_cast<std::size_t>(nx_) * ny_, {});
+        grid_.cell = std::max(2.0 * length / static_cast<double>(edges_.size()),
+                              std::sqrt(span.x() * span.y() / (4.0 * static_cast<double>(edges_.size()))));
+        grid_.origin = lo;
+        grid_.nx = static_cast<int>(span.x() / grid_.cell) + 1;
+        grid_.ny = static_cast<int>(span.y() / grid_.cell) + 1;
+        cells_.assign(grid_.size(), {});
         for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
             enter(e, uv);
     }
@@ -385,20 +386,12 @@ private:
         edges_.push_back({a, b, true});
     }
 
-    // The cells of the box of segment pq, clamped to the grid (consistently for entries and
-    // queries, so two segments that meet share a cell).
+    // The cells of the box of segment pq (CellGrid: clamped to the grid, consistently for
+    // entries and queries, so two segments that meet share a cell).
     template <class F>
     void for_cells(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const F& f) const
     {
-        const auto ix = [&](double u) {
-            return std::clamp(static_cast<int>(std::floor((u - origin_.x()) / cell_)), 0, nx_ - 1);
-        };
-        const auto iy = [&](double u) {
-            return std::clamp(static_cast<int>(std::floor((u - origin_.y()) / cell_)), 0, ny_ - 1);
-        };
-        for (int i = ix(std::min(p.x(), q.x())); i <= ix(std::max(p.x(), q.x())); ++i)
-            for (int j = iy(std::min(p.y(), q.y())); j <= iy(std::max(p.y(), q.y())); ++j)
-                f(static_cast<std::size_t>(i) * ny_ + j);
+        grid_.for_cells(p.cwiseMin(q), p.cwiseMax(q), 0.0, f);
     }
 
     void enter(int e, const Eigen::MatrixX2d& uv)
@@ -433,9 +426,7 @@ private:
     std::vector<Edge> edges_;
     std::unordered_map<long long, int> edge_of_;
     std::vector<std::vector<int>> cells_;
-    Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
-    double cell_ = 1.0;
-    int nx_ = 1, ny_ = 1;
+    detail::CellGrid grid_;
 };
 
 }  // namespace
