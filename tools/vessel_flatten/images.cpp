@@ -100,13 +100,21 @@ std::pair<Eigen::VectorXd, std::string> series_moment(const ImageRequest& reques
     return {values.values[k], " at t = " + seconds(times[k])};
 }
 
+// The fields --field and --image-arrows choose from: the series' (step 0) first, then the
+// static ones.
+std::vector<Field> candidates_of(const std::vector<Field>& fields, const TimeSeries& series)
+{
+    std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
+    candidates.insert(candidates.end(), fields.begin(), fields.end());
+    return candidates;
+}
+
 // The field to draw (a copy: the candidates are a local list) and whether it changes over time;
 // throws if the request cannot be drawn.
 std::pair<Field, bool> requested_field(const ImageRequest& request,
                                        const std::vector<Field>& fields, const TimeSeries& series)
 {
-    std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
-    candidates.insert(candidates.end(), fields.begin(), fields.end());
+    const std::vector<Field> candidates = candidates_of(fields, series);
     const Field& field = chosen(parse_field_choice(request.field).name, candidates);
     const bool over_time = in_series(series, field.name);
     if ((request.step || request.time) && !over_time)
@@ -130,13 +138,6 @@ const Field& arrows_field(const std::string& name, const std::vector<Field>& can
                                 (field.location == FieldLocation::Point ? "point" : "cell") +
                                 " array");
     return field;
-}
-
-std::vector<Field> candidates_of(const std::vector<Field>& fields, const TimeSeries& series)
-{
-    std::vector<Field> candidates = series.size() > 0 ? series.steps[0] : std::vector<Field>{};
-    candidates.insert(candidates.end(), fields.begin(), fields.end());
-    return candidates;
 }
 
 // The 3D vectors of --image-arrows: a static array as it is; a series' at the moment --image

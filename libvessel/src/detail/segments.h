@@ -1,9 +1,11 @@
 #pragma once
-// Predicates on plane segments shared by the map's overlap tests.
+// Plane predicates shared by the map's overlap tests, the coarse-grid interpolation and the
+// map's arrow sampling: orientation, segment intersection, barycentric coordinates.
 
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <cmath>
 
 namespace vessel::detail {
 
@@ -11,6 +13,23 @@ namespace vessel::detail {
 inline double orient(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r)
 {
     return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());
+}
+
+//! The barycentric coordinates \p w of p in the triangle (a, b, c) (w sums to 1; all >= 0
+//! inside); false, \p w untouched, if the triangle is degenerate.
+inline bool barycentric(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                        const Eigen::Vector2d& c, Eigen::Vector3d& w)
+{
+    const auto cross = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
+        return x.x() * y.y() - x.y() * y.x();
+    };
+    const double area = cross(b - a, c - a);
+    if (!(std::abs(area) > 0.0))
+        return false;
+    w[0] = cross(b - p, c - p) / area;
+    w[1] = cross(c - p, a - p) / area;
+    w[2] = 1.0 - w[0] - w[1];
+    return true;
 }
 
 //! Whether r, known to lie on the line through p and q, lies within the segment's box.

@@ -1,5 +1,7 @@
 #include "detail/coarse_correction.h"
 
+#include "detail/segments.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -8,22 +10,6 @@
 namespace vessel::detail {
 
 namespace {
-
-// The barycentric coordinates of p in the triangle (a, b, c); none if it is degenerate.
-bool barycentric(const Eigen::Vector2d& p, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                 const Eigen::Vector2d& c, Eigen::Vector3d& w)
-{
-    const auto cross = [](const Eigen::Vector2d& x, const Eigen::Vector2d& y) {
-        return x.x() * y.y() - x.y() * y.x();
-    };
-    const double area = cross(b - a, c - a);
-    if (!(std::abs(area) > 0.0))
-        return false;
-    w[0] = cross(b - p, c - p) / area;
-    w[1] = cross(c - p, a - p) / area;
-    w[2] = 1.0 - w[0] - w[1];
-    return true;
-}
 
 double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& energy, const double* x)
 {

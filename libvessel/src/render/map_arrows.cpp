@@ -2,6 +2,7 @@
 // of the faces' bounding boxes (each face visits the cells its box covers).
 #include "vessel/render/map_arrows.h"
 
+#include "detail/segments.h"
 #include "vessel/core/errors.h"
 
 #include <algorithm>
@@ -21,13 +22,11 @@ std::vector<MapArrow> sample_map_arrows(const Mesh& mesh, const Eigen::MatrixX2d
                                 "; give one row per cut-mesh vertex");
     if (!uv.allFinite() || !vectors.allFinite())
         throw InvalidInputError("sample_map_arrows: uv or vectors has a non-finite entry");
-    if (!(spacing > 0.0) || n == 0)
-    {
-        if (n == 0)
-            return {};
+    if (n == 0)
+        return {};
+    if (!(spacing > 0.0))
         throw InvalidInputError("sample_map_arrows: spacing must be > 0, got " +
                                 std::to_string(spacing));
-    }
     const Eigen::Vector2d lo = uv.colwise().minCoeff().transpose();
     const Eigen::Vector2d hi = uv.colwise().maxCoeff().transpose();
     const double nx_real = std::floor((hi.x() - lo.x()) / spacing) + 1;
@@ -51,9 +50,8 @@ std::vector<MapArrow> sample_map_arrows(const Mesh& mesh, const Eigen::MatrixX2d
         for (auto v : f.vertices())
             c[k++] = v.idx();
         const Eigen::Vector2d a = uv.row(c[0]), b = uv.row(c[1]), d = uv.row(c[2]);
-        const double area = (b - a).x() * (d - a).y() - (b - a).y() * (d - a).x();
-        if (!(area != 0.0))
-            continue;
+        if (!(std::abs(detail::orient(a, b, d)) > 0.0))
+            continue;  // a degenerate face holds no point
         const Eigen::Vector2d fmin = a.cwiseMin(b).cwiseMin(d), fmax = a.cwiseMax(b).cwiseMax(d);
         const int i0 = std::max(0, static_cast<int>(std::ceil((fmin.x() - origin.x()) / spacing)));
         const int i1 = std::min(nx - 1, static_cast<int>(std::floor((fmax.x() - origin.x()) / spacing)));
@@ -65,18 +63,12 @@ std::vector<MapArrow> sample_map_arrows(const Mesh& mesh, const Eigen::MatrixX2d
                 const std::size_t cell = static_cast<std::size_t>(j) * nx + i;
                 if (holder[cell] >= 0)
                     continue;
-                const Eigen::Vector2d p = centre(i, j);
-                // Barycentric coordinates; a point on an edge belongs to either face.
-                const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& w) {
-                    return u.x() * w.y() - u.y() * w.x();
-                };
-                const double wa = cross(b - p, d - p) / area;
-                const double wb = cross(d - p, a - p) / area;
-                const double wd = 1.0 - wa - wb;
-                if (wa < 0.0 || wb < 0.0 || wd < 0.0)
+                // A point on an edge belongs to the first of its faces.
+                Eigen::Vector3d w;
+                if (!detail::barycentric(centre(i, j), a, b, d, w) || w.minCoeff() < 0.0)
                     continue;
                 holder[cell] = f.idx();
-                weights[cell] = {wa, wb, wd};
+                weights[cell] = w;
             }
     }
     std::vector<MapArrow> arrows;
