@@ -32,7 +32,7 @@ PEER_STAGES = ["Z", "GC", "VC", "AC", "F"]
 # isometry-seeking), so a map that lost or gained more than this is a broken stage F.
 AREA_RATIO_TOLERANCE = 0.05
 # Issue 32: every cut winds at most this many degrees around its vessel (the bound of
-# CutPlanOptions::winding_streamline_limit_deg), the seam's length-weighted mean at most the
+# CutPlanOptions::winding_limit_deg), the seam's length-weighted mean at most the
 # second; the meter's figure rests on the cut vertices that lie on a clean ring.
 MAX_CUT_WINDING_DEG = 45.0
 MAX_MEAN_WINDING_DEG = 20.0

@@ -6,6 +6,7 @@
 // streamline routes' field, descent_direction() of H, both in flatten()'s Z).
 // VC/peer/ follows the method's rule as ours; VC/peer-inlet/ the peer's former, easier rule
 // (later cuts may end on the inlet); VC/check/ (no timing) compares the two sides' paths.
+// VC/natural/ is VC/default/ with --natural-cuts (the winding-bounded routes).
 // VC/bare/ (ours with the method's bare rule) and VC/peer-our-costs/ (the peer's search on our
 // travel costs) solve one problem and find the same paths: the like-for-like pair.
 // See docs/benchmarks.md.
@@ -132,6 +133,14 @@ vessel::CutPlan default_vc(Ours& o)
                              o.H);
 }
 
+// The default with --natural-cuts (CutPlanOptions::natural_cuts: the winding-bounded routes).
+vessel::CutPlan natural_vc(Ours& o)
+{
+    vessel::CutPlanOptions options;
+    options.natural_cuts = true;
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, options, o.stream, o.H);
+}
+
 // FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal
 // checksums before and after a change of the search mean the same paths.
 double checksum(const vessel::CutPlan& plan)
@@ -234,6 +243,7 @@ void add_mesh(const std::string& name, const std::function<vessel::Mesh()>& load
     })->Unit(benchmark::kMillisecond);
     for (const auto& [label, plan_of] :
          {std::pair{"VC/ours/", &ours_vc}, std::pair{"VC/default/", &default_vc},
+          std::pair{"VC/natural/", &natural_vc},
           std::pair{"VC/bare/", &bare_vc},
           std::pair{"VC/paper/", &paper_vc}})
     {

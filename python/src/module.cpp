@@ -318,6 +318,8 @@ const std::map<std::string, Setter>& setters()
          number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.join_excess; })},
         {"tie_tolerance",
          number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.tie_tolerance; })},
+        {"natural_cuts",
+         flag([](CallOptions& o) -> bool& { return o.flatten.cuts.natural_cuts; })},
         {"relief_cuts",
          number<int>([](CallOptions& o) -> int& { return o.flatten.relief.max_cuts; })},
         {"relief_target", number<double>([](CallOptions& o) -> double& {

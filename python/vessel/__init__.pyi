@@ -100,6 +100,7 @@ def flatten(
     join_reach: float = ...,
     join_excess: float = ...,
     tie_tolerance: float = ...,
+    natural_cuts: bool = ...,
     relief_cuts: int = ...,
     relief_target: float = ...,
     largest_component: bool = ...,

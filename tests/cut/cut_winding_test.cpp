@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -341,11 +342,13 @@ CutPlan default_plan(const Mesh& mesh, const CutPlanOptions& cuts, Eigen::Vector
                      cuts, descent_direction(mesh, longitudinal), longitudinal);
 }
 
-// Each cut's winding by the library's meter, default options.
-std::vector<PathWinding> default_cut_windings(const Mesh& mesh)
+// Each cut's winding by the library's meter, default options (with \p natural, natural_cuts).
+std::vector<PathWinding> default_cut_windings(const Mesh& mesh, bool natural = false)
 {
     Eigen::VectorXd H;
-    const CutPlan plan = default_plan(mesh, FlattenOptions().cuts, H);
+    CutPlanOptions cuts = FlattenOptions().cuts;
+    cuts.natural_cuts = natural;
+    const CutPlan plan = default_plan(mesh, cuts, H);
     const WindingMeter meter(mesh, H);
     std::vector<PathWinding> windings;
     for (const auto& path : plan.paths)
@@ -380,53 +383,83 @@ TEST_CASE("cut_winding: natural cuts on the SimVascular demo at its resolution a
     }
 }
 
-TEST_CASE("cut_winding: the coarse coronary phantom's long cuts keep to their side")
+TEST_CASE("cut_winding: --natural-cuts holds every cut of every valid real tree to the bound")
 {
-    // The cheapest path follows the mesh's twisted edge columns (one cut turned 149 degrees
-    // before the winding was priced in, issue 32); default cuts now meet the issue's targets.
-    const TreeSurface surface = load_tree_surface(
-        std::string(VESSEL_SHARED_DATA) + "/x-ray-angio-data/coronary-phantom-tri3-coarse.ply");
-    const std::vector<PathWinding> windings = default_cut_windings(surface.mesh);
-    REQUIRE(windings.size() == 6);
-    for (const auto& w : windings)
+    // Issue 32's targets by the library's meter with CutPlanOptions::natural_cuts: every cut
+    // winds at most 45 degrees around its vessel end to end and spans at most 45 (which bounds
+    // each piece between two joins, the paths seamwinding.py measures), length-weighted mean
+    // at most 20.
+    // By default the vmtk aorta's first cut winds 63 degrees (every route a multiplier can
+    // reach winds about +-80), the Glenn tree's up to 66 with spans to 83, the AneuRisk side
+    // branch's 101 (docs/results.md).
+    const char* trees[] = {"vmtk-test-data/aorta-surface-open-ends.ply",
+                           "vampy/artery.ply",
+                           "vampy/artery-coarse.ply",
+                           "vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply",
+                           "svfsi-tests/pulmonary-glenn-wall.ply",
+                           "x-ray-angio-data/coronary-phantom-tri3-coarse.ply",
+                           "x-ray-angio-data/coronary-clinical-branch-fine.ply",
+                           "simvascular-tests/demo-model-open.ply"};
+    for (const char* name : trees)
     {
-        MESSAGE("coronary phantom: cut of " << w.length << " mm winds " << w.winding_deg
-                                            << " deg");
-        CHECK(std::abs(w.winding_deg) <= 45.0);
+        CAPTURE(name);
+        const TreeSurface surface =
+            load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/" + name);
+        const std::vector<PathWinding> windings = default_cut_windings(surface.mesh, true);
+        REQUIRE(windings.size() + 1 == boundary_loops(surface.mesh).size());
+        double worst = 0.0, widest = 0.0;
+        for (const auto& w : windings)
+        {
+            CHECK(std::abs(w.winding_deg) <= 45.0);
+            CHECK(w.span_deg <= 45.0);
+            worst = std::max(worst, std::abs(w.winding_deg));
+            widest = std::max(widest, w.span_deg);
+        }
+        const double mean = seam_winding(windings).mean_abs_deg;
+        MESSAGE(std::string(name) << ": " << windings.size() << " cuts, mean " << mean << " deg, largest "
+                     << worst << ", widest span " << widest);
+        CHECK(mean <= 20.0);
     }
-    CHECK(seam_winding(windings).mean_abs_deg <= 20.0);
 }
 
-TEST_CASE("cut_winding: a streamline cut within the bound is not searched again")
+TEST_CASE("cut_winding: a natural streamline cut is not searched again")
 {
-    // The 10-outlet tree phantom: outlet 5's streamline cut winds 23 degrees (over the 15 the
-    // steered search aims at, under the 45 of winding_streamline_limit_deg). Steered, it moved
-    // to the top of its vessel, outlet 6's cut joined it there, and the fan layout swung outlet
-    // 6 past outlet 1 (map_look_test's 10-outlet case). Asserted: while the plans with and
-    // without the steered search agree, a traced cut within the bound is the same cut in both.
-    const Mesh mesh = test::test_tree_phantom(10);
-    CutPlanOptions unsteered = FlattenOptions().cuts;
-    unsteered.winding_target_deg = 0.0;
-    Eigen::VectorXd H;
-    const CutPlan before = default_plan(mesh, unsteered, H);
-    const CutPlan after = default_plan(mesh, FlattenOptions().cuts, H);
-    const WindingMeter meter(mesh, H);
-    REQUIRE(before.paths.size() == after.paths.size());
+    // A cut taken along a streamline that winds more than the 15 degrees the steered search
+    // aims at but is natural (winds and spans at most winding_limit_deg, 45) is kept: steered,
+    // such a cut on the 10-outlet tree phantom (outlet 5, 23 degrees) moved to the top of its
+    // vessel, outlet 6's cut joined it there, and the fan layout swung outlet 6 past outlet 1
+    // (map_look_test's 10-outlet case). Asserted on tree phantoms: while the plans with and
+    // without the steered search agree, a natural traced cut is the same cut in both.
     int kept = 0;
-    for (std::size_t k = 0; k < before.paths.size(); ++k)
-    {
-        const CutPath& cut = before.paths[k];
-        const bool same = cut.halfedges == after.paths[k].halfedges;
-        const double wound = meter.measure(cut).winding_deg;
-        CAPTURE(cut.outlet);
-        CAPTURE(wound);
-        if (cut.traced && std::abs(wound) <= FlattenOptions().cuts.winding_streamline_limit_deg)
+    for (int outlets : {4, 6, 10})
+        for (std::uint32_t seed : {1u, 2u, 3u})
         {
-            CHECK(same);
-            kept += std::abs(wound) > FlattenOptions().cuts.winding_target_deg;
+            CAPTURE(outlets);
+            CAPTURE(seed);
+            const Mesh mesh = test::test_tree_phantom(outlets, seed);
+            CutPlanOptions unsteered = FlattenOptions().cuts;
+            unsteered.winding_target_deg = 0.0;
+            Eigen::VectorXd H;
+            const CutPlan before = default_plan(mesh, unsteered, H);
+            const CutPlan after = default_plan(mesh, FlattenOptions().cuts, H);
+            const WindingMeter meter(mesh, H);
+            REQUIRE(before.paths.size() == after.paths.size());
+            const double limit = FlattenOptions().cuts.winding_limit_deg;
+            for (std::size_t k = 0; k < before.paths.size(); ++k)
+            {
+                const CutPath& cut = before.paths[k];
+                const bool same = cut.halfedges == after.paths[k].halfedges;
+                const PathWinding wound = meter.measure(cut);
+                CAPTURE(cut.outlet);
+                CAPTURE(wound.winding_deg);
+                if (cut.traced && std::abs(wound.winding_deg) <= limit && wound.span_deg <= limit)
+                {
+                    CHECK(same);
+                    kept += std::abs(wound.winding_deg) > FlattenOptions().cuts.winding_target_deg;
+                }
+                if (!same)
+                    break;  // later cuts join a different tree
+            }
         }
-        if (!same)
-            break;  // later cuts join a different tree
-    }
     CHECK(kept >= 1);  // the case is exercised: a traced cut over the target was kept
 }

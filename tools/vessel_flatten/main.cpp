@@ -408,6 +408,10 @@ int main(int argc, char** argv)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(cut_tuning);
+    app.add_flag("--natural-cuts", options.cuts.natural_cuts,
+                 "Hold every cut to 45 degrees around its vessel, end to end and in span (a "
+                 "winding-bounded route where needed; may change the branch layout)")
+        ->group(cut_tuning);
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "
                    "least winding one is taken (0 = plain Dijkstra)")

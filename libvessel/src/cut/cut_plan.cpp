@@ -4,6 +4,7 @@
 #include "vessel/cut/cut_winding.h"
 #include "vessel/core/errors.h"
 #include "vessel/cut/streamline.h"
+#include "vessel/cut/winding_bound.h"
 #include "detail/edge_distance.h"
 
 #include <Eigen/Geometry>
@@ -42,9 +43,9 @@ void CutPlanOptions::validate() const
             "CutPlanOptions: winding_max_alignment_loss must be finite and >= 0");
     if (!(winding_target_deg >= 0.0) || !std::isfinite(winding_target_deg))
         throw InvalidInputError("CutPlanOptions: winding_target_deg must be finite and >= 0");
-    if (!(winding_streamline_limit_deg >= 0.0) || !std::isfinite(winding_streamline_limit_deg))
+    if (!(winding_limit_deg >= 0.0) || !std::isfinite(winding_limit_deg))
         throw InvalidInputError(
-            "CutPlanOptions: winding_streamline_limit_deg must be finite and >= 0");
+            "CutPlanOptions: winding_limit_deg must be finite and >= 0");
 }
 
 std::vector<EdgeHandle> CutPlan::seam_edges(const Mesh& mesh) const
@@ -575,21 +576,40 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
                         std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
-// CutRoute::Aligned: a cut that still winds more than options.winding_target_deg around its
-// vessel (WindingMeter) after keep_traced()'s choice is searched again with its signed winding
-// priced into the arcs (PathQuery::steer_rate = WindingMeter::angular_rate(), a Lagrangian
-// relaxation of "winds at most the target"). The multiplier opposes the way \p current winds; it
-// doubles from 1/16 of the path's cost per half turn (up to 16) until the steered cut winds less
-// than the target or the other way, then three bisections between the last two. The cheapest
-// path of the edge costs follows twisted edge columns of a coarse or structured mesh (a path of
-// aligned edges costs less than a straight zigzag); no multiplier reaches a winding that lies
-// off the convex hull of (winding, cost), so a few cuts keep theirs. The best steered path
-// replaces \p current if it winds less by more than options.winding_min_gain_deg and its
-// alignment with the stream field is at most options.winding_max_alignment_loss lower.
-// \p traced: \p current was taken along a streamline; it is searched again only if it winds
-// more than options.winding_streamline_limit_deg too.
-// \p finish: what the caller does to a cheapest path (the cut back of CutJoin::Approach).
+// CutRoute::Aligned: a cut that winds more than options.winding_target_deg around its vessel
+// end to end, or that is no natural cut (it winds more than options.winding_limit_deg, or with
+// options.natural_cuts its angle spans more than that: WindingMeter), is searched again.
+//
+// 1. Its signed winding priced into the arcs (PathQuery::steer_rate =
+//    WindingMeter::angular_rate(), a Lagrangian relaxation of "winds at most the target"): the
+//    multiplier opposes the way \p current winds; it doubles from 1/16 of the path's cost per
+//    half turn (up to 16) until the steered cut winds less than the target or the other way,
+//    then three bisections between the last two. A multiplier reaches only the routes on the
+//    convex hull of (winding, cost). A steered path replaces \p current if it winds less by
+//    more than options.winding_min_gain_deg and its alignment with the stream field is at most
+//    options.winding_max_alignment_loss lower.
+// 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
+//    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
+//    kSearchBridge ring radii) and the target as its bound (then, if that gives no natural cut,
+//    half the limit, bridged and then not), the cheapest route whose angle stays within +-bound at every vertex
+//    (span <= 2 x bound), inside the hull too (on the
+//    vmtk aorta every route on the hull winds about +-80 degrees). There a candidate must
+//    also keep a natural cut natural, and a cut that is not natural takes a natural candidate
+//    whatever its alignment (the bound is what natural means; the alignment's floor was fitted
+//    on cuts that wind less).
+// \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
+// more than its band); it is searched again only if it is no natural cut.
+// \p finish: what the caller does to a cheapest path (the cut back of CutJoin::Approach); a
+// bounded route keeps its cut back only if it stays within the bound.
 // Empty = keep \p current.
+// The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
+// ring radius (WindingMeter::step()). With the meter's own restart at every such vertex (0), the
+// search learned to turn where a band fails the spread test by noise alone: on the vampy artery
+// it replaced a traced cut by one the meter read at 7 degrees and seamwinding.py, whose bands
+// differ by rounding, at 54. A radius spans the noisy bands seen (one to four vertices) and
+// stops short of junctions and sacs.
+constexpr double kSearchBridge = 1.0;
+
 template <class Finish>
 std::optional<GraphPath> steer_path(CutGraph& graph, PathQuery& query,
                                     const Eigen::MatrixX3d& winding_rate,
@@ -600,53 +620,109 @@ std::optional<GraphPath> steer_path(CutGraph& graph, PathQuery& query,
     const Mesh& mesh = graph.mesh();
     if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
         return std::nullopt;
-    const double wound = std::abs(meter.measure(as_cut(mesh, current)).winding_deg);
-    if (!(wound > options.winding_target_deg) ||
-        (traced && !(wound > options.winding_streamline_limit_deg)))
+    const bool strict = options.natural_cuts;
+    const auto natural = [&](const PathWinding& w) {
+        return std::abs(w.winding_deg) <= options.winding_limit_deg &&
+               (!strict || w.span_deg <= options.winding_limit_deg);
+    };
+    const PathWinding now = meter.measure(as_cut(mesh, current));
+    const double wound = std::abs(now.winding_deg);
+    const bool was_natural = natural(now);
+    if (was_natural && (traced || !(wound > options.winding_target_deg)))
         return std::nullopt;
     const double floor_alignment =
         path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
         options.winding_max_alignment_loss;
     std::optional<GraphPath> best;
+    bool best_natural = was_natural;
     double best_wound = wound - options.winding_min_gain_deg;
-    query.steer_rate = [&meter](int v) { return meter.angular_rate(VertexHandle(v)); };
-    const double sign = meter.measure(as_cut(mesh, current)).winding_deg > 0.0 ? 1.0 : -1.0;
-    const double unit = current.cost / M_PI;  // t = 1: a half turn costs the path's cost
-    // The signed winding of the steered path at multiplier t (0 = on target).
-    const auto steer = [&](double t) {
-        query.steer_weight = sign * t * unit;
-        GraphPath p = finish(graph.shortest_path(query, winding_rate));
+    // Whether \p p replaces the best so far (and becomes it).
+    const auto offer = [&](GraphPath& p) {
         const CutPath cut = as_cut(mesh, p);
-        const double w = meter.measure(cut).winding_deg;
-        if (std::abs(w) < best_wound &&
-            path_alignment(mesh, cut, stream_field).mean >= floor_alignment)
+        const PathWinding w = meter.measure(cut);
+        const bool is_natural = natural(w);
+        const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
+        const bool better =
+            strict ? (!best_natural && is_natural) ||
+                         (std::abs(w.winding_deg) < best_wound &&
+                          (is_natural || !best_natural) && aligned)
+                   : std::abs(w.winding_deg) < best_wound && aligned;
+        if (better)
         {
-            best_wound = std::abs(w);
+            best_wound = std::abs(w.winding_deg);
+            best_natural = is_natural;
             best = std::move(p);
         }
-        return std::abs(w) <= options.winding_target_deg ? 0.0 : sign * w;
+        return w.winding_deg;
     };
-    double low = 0.0, high = 0.0;
-    for (double t = 1.0 / 16; t <= 16.0; t *= 2.0)
+    if (wound > options.winding_target_deg)
     {
-        const double left = steer(t);
-        if (left <= 0.0)
+        query.steer_rate = [&meter](int v) { return meter.angular_rate(VertexHandle(v)); };
+        const double sign = now.winding_deg > 0.0 ? 1.0 : -1.0;
+        const double unit = current.cost / M_PI;  // t = 1: a half turn costs the path's cost
+        // The signed winding of the steered path at multiplier t (0 = on target).
+        const auto steer = [&](double t) {
+            query.steer_weight = sign * t * unit;
+            GraphPath p = finish(graph.shortest_path(query, winding_rate));
+            const double w = offer(p);
+            return std::abs(w) <= options.winding_target_deg ? 0.0 : sign * w;
+        };
+        double low = 0.0, high = 0.0;
+        for (double t = 1.0 / 16; t <= 16.0; t *= 2.0)
         {
-            high = t;
-            break;
+            const double left = steer(t);
+            if (left <= 0.0)
+            {
+                high = t;
+                break;
+            }
+            low = t;
         }
-        low = t;
+        if (high > 0.0 && low == 0.0)
+            low = high / 2.0;
+        if (high > 0.0 && best_wound > options.winding_target_deg)
+            for (int i = 0; i < 3 && best_wound > options.winding_target_deg; ++i)
+            {
+                const double t = std::sqrt(low * high);
+                (steer(t) > 0.0 ? low : high) = t;
+            }
+        query.steer_rate = nullptr;
+        query.steer_weight = 0.0;
     }
-    if (high > 0.0 && low == 0.0)
-        low = high / 2.0;
-    if (high > 0.0 && best_wound > options.winding_target_deg)
-        for (int i = 0; i < 3 && best_wound > options.winding_target_deg; ++i)
+    // The target as the bound first; if no route keeps it (or none is taken), half the natural
+    // limit, which still bounds the span by the limit.
+    // Last, half the limit with the meter's own steps (no bridge): the bound then holds exactly
+    // as the meter reads it.
+    const std::pair<double, double> tries[] = {{options.winding_target_deg, kSearchBridge},
+                                               {0.5 * options.winding_limit_deg, kSearchBridge},
+                                               {0.5 * options.winding_limit_deg, 0.0}};
+    for (const auto& [limit, bridge] : tries)
+    {
+        if (!(strict && (best_wound > options.winding_target_deg || !best_natural)) ||
+            !(limit > 0.0 && limit < 180.0))
+            break;
+        WindingBoundOptions bound;
+        bound.limit_deg = limit;
+        const double carry = bridge;
+        std::optional<GraphPath> bounded = winding_bounded_path(
+            graph, query,
+            [&meter, carry](VertexHandle last, VertexHandle w, bool gap) {
+                return meter.step(last, w, gap, carry);
+            },
+            bound);
+        if (bounded)
         {
-            const double t = std::sqrt(low * high);
-            (steer(t) > 0.0 ? low : high) = t;
+            // A later cut that would run beside the tree is cut back and bridged to it
+            // (CutJoin::Approach); the bridge may turn, so a bounded route keeps its cut back
+            // only if it stays within the bound (else it may run beside the tree).
+            GraphPath p = finish(*bounded);
+            if (std::abs(meter.measure(as_cut(mesh, p)).winding_deg) > bound.limit_deg)
+                p = std::move(*bounded);
+            offer(p);
         }
-    query.steer_rate = nullptr;
-    query.steer_weight = 0.0;
+        if (best_natural)
+            break;
+    }
     return best;
 }
 

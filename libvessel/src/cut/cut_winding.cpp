@@ -212,51 +212,60 @@ PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
     for (std::size_t i = 1; i < path.size(); ++i)
         result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
 
-    Ring scratch;
-    bool framed = false;  // a reference and a previous angle exist (the last vertex was measured)
-    Eigen::Vector3d reference, previous_axis;
-    double previous_angle = 0.0, total = 0.0, low = 0.0, high = 0.0;
+    double total = 0.0, low = 0.0, high = 0.0;
+    VertexHandle last, previous;  // the last measured vertex, the vertex before p
     for (auto p : path)
     {
-        Eigen::Vector3d d;
-        const RingFit& ring = ring_fit(p, scratch);
-        bool ok = ring.ok;
-        if (ok)
-        {
-            d = to_eigen(mesh_.point(p)) - ring.centre;
-            d -= d.dot(ring.axis) * ring.axis;
-            ok = d.norm() > options_.min_offset * ring.radius;
-        }
-        if (!ok)  // a junction, a sac, an end: no angle across it
-        {
-            framed = false;
-            continue;
-        }
+        const double turn = step(last, p, previous != last);
+        previous = p;
+        if (std::isnan(turn))
+            continue;  // p is not measured: the frame waits at `last`
         ++result.measured;
-        d.normalize();
-        if (!framed)
-        {
-            reference = d;
-            previous_angle = 0.0;
-        }
-        else
-        {
-            reference = transport(reference, previous_axis, ring.axis);
-            reference -= reference.dot(ring.axis) * ring.axis;
-            reference.normalize();
-            const double angle =
-                std::atan2(reference.cross(d).dot(ring.axis), reference.dot(d));
-            total += std::remainder(angle - previous_angle, 2.0 * M_PI);
-            low = std::min(low, total);
-            high = std::max(high, total);
-            previous_angle = angle;
-        }
-        framed = true;
-        previous_axis = ring.axis;
+        total += turn;
+        low = std::min(low, total);
+        high = std::max(high, total);
+        last = p;
     }
     result.winding_deg = total * 180.0 / M_PI;
     result.span_deg = (high - low) * 180.0 / M_PI;
     return result;
+}
+
+bool WindingMeter::offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const
+{
+    Ring scratch;
+    const RingFit& ring = ring_fit(p, scratch);
+    fit = &ring;
+    if (!ring.ok)
+        return false;
+    d = to_eigen(mesh_.point(p)) - ring.centre;
+    d -= d.dot(ring.axis) * ring.axis;
+    if (!(d.norm() > options_.min_offset * ring.radius))
+        return false;
+    d.normalize();
+    return true;
+}
+
+double WindingMeter::step(VertexHandle last, VertexHandle w, bool gap, double bridge) const
+{
+    Eigen::Vector3d to;
+    const RingFit* b = nullptr;
+    if (!offset(w, to, b))
+        return std::numeric_limits<double>::quiet_NaN();
+    if (!last.is_valid())
+        return 0.0;
+    const Eigen::Vector3d axis_b = b->axis;  // fits_ may grow (and move) at the next fit
+    Eigen::Vector3d from;
+    const RingFit* a = nullptr;
+    if (!offset(last, from, a))
+        return 0.0;
+    // Over a gap the frame is carried only a short way: across a junction or a sac it restarts.
+    if (gap && !((mesh_.point(w) - mesh_.point(last)).norm() <= bridge * a->radius))
+        return 0.0;
+    Eigen::Vector3d carried = transport(from, a->axis, axis_b);
+    carried -= carried.dot(axis_b) * axis_b;
+    carried.normalize();
+    return std::atan2(carried.cross(to).dot(axis_b), carried.dot(to));
 }
 
 Eigen::Vector3d WindingMeter::angular_rate(VertexHandle v) const

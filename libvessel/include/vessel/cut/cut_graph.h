@@ -83,6 +83,9 @@ public:
         return {arcs_.data() + first_[v], arcs_.data() + first_[v + 1]};
     }
 
+    //! The weight of the arc along halfedge \p h.
+    double weight(HalfedgeHandle h) const { return weights_[static_cast<std::size_t>(h.idx())]; }
+
     //! \brief A given route as a GraphPath: its halfedges and the sum of their weights.
     //! \param halfedges consecutive halfedges, head to tail.
     GraphPath path_of(std::vector<HalfedgeHandle> halfedges) const;

@@ -84,6 +84,21 @@ public:
     //! The same for a path given as its vertices, in order.
     PathWinding measure(const std::vector<VertexHandle>& path) const;
 
+    //! \brief The signed angle (radians) measure() adds when a path reaches \p w with \p last
+    //! the path's last measured vertex: the angle around w's ring axis from last's offset,
+    //! carried to w's ring by the minimal rotation between the two axes, to w's offset.
+    //! NaN when w is not measured (no clean ring, or too near the axis): the path's frame
+    //! then waits at \p last. 0 when \p last is invalid (the path's first measured vertex), or
+    //! when \p gap (the path passed unmeasured vertices since \p last) and \p last lies farther
+    //! from w than \p bridge radii of its ring (the frame restarts). measure() restarts after
+    //! every vertex it does not measure (\p bridge 0, as the yardstick seamwinding.py), so it is
+    //! the sum of these steps; a search that carries `last` along bounds a path's winding as the
+    //! meter reads it (winding_bounded_path()). With \p bridge > 0 the turn across a short gap
+    //! (a band that fails the spread test by discretization noise) counts too, so that a search
+    //! cannot turn there unseen; across a junction or a sac, longer than a radius, the frame
+    //! still restarts.
+    double step(VertexHandle last, VertexHandle w, bool gap, double bridge = 0.0) const;
+
     //! \brief The angle around the vessel (radians) this meter reads per unit displacement at
     //! \p v: (a x d) / |d|^2 with a the axis of v's ring and d the offset of v from it, so that
     //! a step s from v turns by about angular_rate(v) . s (to first order, ignoring the turn
@@ -98,6 +113,10 @@ private:
     WindingMeter(const Mesh& mesh, const CutGraph* graph, const Eigen::VectorXd& longitudinal,
                  const WindingOptions& options);
     bool ring_at(VertexHandle p, Ring& ring) const;
+    struct RingFit;
+    //! The unit offset \p d of p from its ring's axis, and the ring; false where measure()
+    //! does not measure p.
+    bool offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const;
 
     const Mesh& mesh_;
     const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs

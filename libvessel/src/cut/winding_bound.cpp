@@ -1,0 +1,215 @@
+#include "vessel/cut/winding_bound.h"
+
+#include "vessel/core/errors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace vessel {
+
+void WindingBoundOptions::validate() const
+{
+    if (!(limit_deg > 0.0) || !(limit_deg < 180.0))
+        throw InvalidInputError("WindingBoundOptions: limit_deg must lie in (0, 180)");
+    if (bins < 1 || bins > 720)
+        throw InvalidInputError("WindingBoundOptions: bins must lie in [1, 720]");
+}
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+using Item = std::pair<double, int>;  // (key, index)
+using MinHeap = std::priority_queue<Item, std::vector<Item>, std::greater<Item>>;
+
+// The unconstrained cost from every vertex to the nearest target, over arcs into unblocked
+// vertices only: Dijkstra from the targets over the reversed arcs (the arc u -> x is the
+// opposite of the halfedge x -> u). A lower bound of every constrained route's remaining cost.
+std::vector<double> cost_to_targets(const CutGraph& graph, const PathQuery& query)
+{
+    const std::size_t nv = graph.mesh().n_vertices();
+    const bool any_blocked = !query.is_blocked.empty();
+    std::vector<double> cost(nv, kInfinity);
+    MinHeap heap;
+    for (std::size_t v = 0; v < nv; ++v)
+        if (query.is_target[v])
+        {
+            cost[v] = 0.0;
+            heap.push({0.0, static_cast<int>(v)});
+        }
+    while (!heap.empty())
+    {
+        const auto [d, x] = heap.top();
+        heap.pop();
+        if (d > cost[x])
+            continue;
+        const auto [first, last] = graph.arcs(x);
+        for (const CutGraph::Arc* a = first; a != last; ++a)
+        {
+            const int u = a->to;
+            if (any_blocked && query.is_blocked[u])
+                continue;
+            const double nd = d + graph.weight(HalfedgeHandle(a->halfedge ^ 1));
+            if (nd < cost[u])
+            {
+                cost[u] = nd;
+                heap.push({nd, u});
+            }
+        }
+    }
+    return cost;
+}
+
+}  // namespace
+
+std::optional<GraphPath> winding_bounded_path(
+    const CutGraph& graph, const PathQuery& query,
+    const std::function<double(VertexHandle, VertexHandle, bool)>& turn,
+    const WindingBoundOptions& options)
+{
+    options.validate();
+    const Mesh& mesh = graph.mesh();
+    const std::size_t nv = mesh.n_vertices();
+    if (query.sources.empty())
+        throw InvalidInputError("winding_bounded_path: no source vertices");
+    if (query.is_target.size() != nv)
+        throw InvalidInputError("winding_bounded_path: is_target needs one flag per vertex");
+    if (!query.is_blocked.empty() && query.is_blocked.size() != nv)
+        throw InvalidInputError(
+            "winding_bounded_path: is_blocked needs one flag per vertex (or none)");
+    for (auto v : query.sources)
+        if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= nv)
+            throw InvalidInputError("winding_bounded_path: invalid source vertex handle");
+
+    const std::vector<double> to_target = cost_to_targets(graph, query);
+    const bool any_blocked = !query.is_blocked.empty();
+    const double limit = options.limit_deg * M_PI / 180.0;
+    const double width = 2.0 * limit / options.bins;
+    const auto bin_of = [&](double winding) {
+        return std::min(options.bins - 1, static_cast<int>((winding + limit) / width));
+    };
+
+    // One label per (vertex, bin) reached: the cheapest route there so far.
+    struct Label
+    {
+        double cost;
+        double winding;
+        int vertex;
+        int last;      // the route's last vertex where `turn` gave an angle, -1 if none yet
+        int parent;    // label it was reached from, -1 at a source
+        int halfedge;  // entering halfedge, -1 at a source
+        bool settled;
+    };
+    std::vector<Label> labels;
+    std::unordered_map<std::int64_t, int> label_of;
+    const auto key = [&](int v, int bin) {
+        return static_cast<std::int64_t>(v) * options.bins + bin;
+    };
+    std::vector<char> is_source(nv, 0);
+    MinHeap heap;  // (cost + lower bound to the targets, label)
+    for (auto s : query.sources)
+        if (!is_source[s.idx()] && std::isfinite(to_target[s.idx()]))
+        {
+            is_source[s.idx()] = 1;
+            label_of.emplace(key(s.idx(), bin_of(0.0)), static_cast<int>(labels.size()));
+            heap.push({to_target[s.idx()], static_cast<int>(labels.size())});
+            const double first = turn(VertexHandle(), s, false);
+            labels.push_back({0.0, 0.0, s.idx(), std::isnan(first) ? -1 : s.idx(), -1, -1, false});
+        }
+
+    int found = -1;
+    while (!heap.empty())
+    {
+        const auto [f, l] = heap.top();
+        heap.pop();
+        if (labels[l].settled || f > labels[l].cost + to_target[labels[l].vertex])
+            continue;  // settled, or a stale key
+        labels[l].settled = true;
+        const int v = labels[l].vertex;
+        if (query.is_target[v])
+        {
+            found = l;
+            break;
+        }
+        const double cost = labels[l].cost, winding = labels[l].winding;
+        const int last_turned = labels[l].last;
+        const auto [first, last] = graph.arcs(v);
+        for (const CutGraph::Arc* a = first; a != last; ++a)
+        {
+            const int w = a->to;
+            // A cut opens its loop at one vertex: it never comes back to a source.
+            if (is_source[w] || (any_blocked && query.is_blocked[w]) ||
+                !std::isfinite(to_target[w]))
+                continue;
+            const double step =
+                turn(VertexHandle(last_turned), VertexHandle(w), last_turned != v);
+            const double turned = std::isnan(step) ? winding : winding + step;
+            if (!(std::abs(turned) <= limit))
+                continue;
+            const int reached_last = std::isnan(step) ? last_turned : w;
+            const double reached = cost + a->weight;
+            const auto [it, fresh] =
+                label_of.emplace(key(w, bin_of(turned)), static_cast<int>(labels.size()));
+            if (fresh)
+                labels.push_back({reached, turned, w, reached_last, l, a->halfedge, false});
+            else
+            {
+                Label& old = labels[it->second];
+                if (old.settled || !(reached < old.cost))
+                    continue;
+                old = {reached, turned, w, reached_last, l, a->halfedge, false};
+            }
+            heap.push({reached + to_target[w], it->second});
+        }
+    }
+    if (found < 0 || labels[found].parent < 0)
+        return std::nullopt;  // no route, or a source that is a target (no path to take)
+
+    std::vector<HalfedgeHandle> halfedges;
+    for (int l = found; labels[l].parent >= 0; l = labels[l].parent)
+        halfedges.push_back(HalfedgeHandle(labels[l].halfedge));
+    std::reverse(halfedges.begin(), halfedges.end());
+    // A route through one vertex twice (at two windings) loses the loop between the visits.
+    std::unordered_map<int, std::size_t> position;  // vertex -> halfedges kept before it
+    std::vector<HalfedgeHandle> simple;
+    position[mesh.from_vertex_handle(halfedges.front()).idx()] = 0;
+    for (auto h : halfedges)
+    {
+        const int to = mesh.to_vertex_handle(h).idx();
+        const auto it = position.find(to);
+        if (it != position.end())
+        {
+            for (std::size_t k = it->second; k < simple.size(); ++k)
+                position.erase(mesh.to_vertex_handle(simple[k]).idx());
+            simple.resize(it->second);
+            position[to] = simple.size();
+            continue;
+        }
+        simple.push_back(h);
+        position[to] = simple.size();
+    }
+    GraphPath path = graph.path_of(std::move(simple));
+    VertexHandle last, previous;
+    for (std::size_t k = 0; k <= path.halfedges.size(); ++k)
+    {
+        const VertexHandle v = k == 0 ? mesh.from_vertex_handle(path.halfedges.front())
+                                      : mesh.to_vertex_handle(path.halfedges[k - 1]);
+        const double step = turn(last, v, previous != last);
+        previous = v;
+        if (!std::isnan(step))
+        {
+            path.winding_rad += step;
+            last = v;
+        }
+    }
+    return path;
+}
+
+}  // namespace vessel

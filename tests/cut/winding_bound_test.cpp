@@ -1,0 +1,167 @@
+#include <doctest/doctest.h>
+
+#include "vessel/cut/boundary.h"
+#include "vessel/cut/cut_cost.h"
+#include "vessel/cut/cut_graph.h"
+#include "vessel/cut/cut_metrics.h"
+#include "vessel/cut/cut_winding.h"
+#include "vessel/cut/winding_bound.h"
+#include "vessel/core/errors.h"
+#include "vessel/direction/geodesic.h"
+#include "vessel/phantom/phantom.h"
+
+#include <cmath>
+#include <set>
+#include <vector>
+
+using namespace vessel;
+
+namespace {
+
+// A straight tube (rings of 24, staggered) whose arcs turning one way around it cost three
+// times their length and the others their length: the cheapest path up the tube takes only
+// the cheap slanted edges and winds round and round.
+struct TwistedTube
+{
+    HelicalTubeOptions options;
+    Mesh mesh;
+    std::vector<BoundaryLoop> loops;
+    Eigen::VectorXd u;
+    HalfedgeWeights weights;
+
+    TwistedTube()
+    {
+        options.helix_radius = 0.0;
+        options.pitch = 12.0;
+        options.n_around = 24;
+        mesh = helical_tube(options);
+        loops = boundary_loops(mesh);
+        u = harmonic_longitudinal(mesh, loops, heat_geodesic_distance(mesh, loops[0].vertices));
+        weights = evaluate_cost(mesh, LengthCost{1.0});
+        for (auto h : mesh.halfedges())
+        {
+            const double turn = std::remainder(
+                helical_tube_angle(options, to_eigen(mesh.point(mesh.to_vertex_handle(h)))) -
+                    helical_tube_angle(options, to_eigen(mesh.point(mesh.from_vertex_handle(h)))),
+                2.0 * M_PI);
+            if (turn < -1e-9)
+                weights[h.idx()] *= 3.0;
+        }
+    }
+
+    // From one vertex of the first loop to any vertex of the second.
+    PathQuery up() const
+    {
+        PathQuery query;
+        query.sources = {loops[0].vertices.front()};
+        query.is_target.assign(mesh.n_vertices(), 0);
+        for (auto v : loops[1].vertices)
+            query.is_target[v.idx()] = 1;
+        return query;
+    }
+};
+
+std::vector<VertexHandle> vertices_of(const Mesh& mesh, const GraphPath& path)
+{
+    std::vector<VertexHandle> vertices{mesh.from_vertex_handle(path.halfedges.front())};
+    for (auto h : path.halfedges)
+        vertices.push_back(mesh.to_vertex_handle(h));
+    return vertices;
+}
+
+}  // namespace
+
+TEST_CASE("winding_bound: the cheapest path within the bound, as the meter reads it")
+{
+    const TwistedTube tube;
+    CutGraph graph(tube.mesh, tube.weights);
+    const WindingMeter meter(tube.mesh, tube.u);
+    const PathQuery query = tube.up();
+    const GraphPath free = graph.shortest_path(query);
+    const PathWinding free_winding = meter.measure(vertices_of(tube.mesh, free));
+    MESSAGE("cheapest path: cost " << free.cost << ", winds " << free_winding.winding_deg
+                                   << " deg");
+    REQUIRE(std::abs(free_winding.winding_deg) > 180.0);  // the case is exercised
+
+    const auto turn = [&meter](VertexHandle last, VertexHandle w, bool gap) {
+        return meter.step(last, w, gap);
+    };
+    for (double limit : {10.0, 30.0, 90.0})
+    {
+        CAPTURE(limit);
+        WindingBoundOptions options;
+        options.limit_deg = limit;
+        const std::optional<GraphPath> bounded = winding_bounded_path(graph, query, turn, options);
+        REQUIRE(bounded);
+        const std::vector<VertexHandle> vertices = vertices_of(tube.mesh, *bounded);
+        const PathWinding w = meter.measure(vertices);
+        MESSAGE("bound " << limit << ": cost " << bounded->cost << ", winds " << w.winding_deg
+                         << " deg, span " << w.span_deg);
+        // The meter is the sum of its steps, so the bound holds as the meter reads it, at
+        // every vertex (the span) and end to end.
+        CHECK(bounded->winding_rad * 180.0 / M_PI == doctest::Approx(w.winding_deg).epsilon(1e-9));
+        CHECK(std::abs(w.winding_deg) <= limit + 1e-9);
+        CHECK(w.span_deg <= 2.0 * limit + 1e-9);
+        CHECK(w.measured == w.vertices);  // a tube: every vertex on a clean ring
+        // No cheaper than the free path, and a route from the source to a target that visits
+        // no vertex twice.
+        CHECK(bounded->cost >= free.cost - 1e-9);
+        CHECK(vertices.front() == query.sources.front());
+        CHECK(query.is_target[vertices.back().idx()]);
+        CHECK(std::set<VertexHandle>(vertices.begin(), vertices.end()).size() == vertices.size());
+        for (std::size_t k = 1; k < vertices.size(); ++k)
+            CHECK(tube.mesh.find_halfedge(vertices[k - 1], vertices[k]) ==
+                  bounded->halfedges[k - 1]);
+    }
+}
+
+TEST_CASE("winding_bound: no route within the bound, a loose bound, and what is refused")
+{
+    const TwistedTube tube;
+    CutGraph graph(tube.mesh, tube.weights);
+    const WindingMeter meter(tube.mesh, tube.u);
+    const auto turn = [&meter](VertexHandle last, VertexHandle w, bool gap) {
+        return meter.step(last, w, gap);
+    };
+
+    // Targets only on the far side of the tube's far end: any route turns about half a turn.
+    PathQuery query = tube.up();
+    const double start = helical_tube_angle(tube.options,
+                                            to_eigen(tube.mesh.point(query.sources.front())));
+    for (auto v : tube.loops[1].vertices)
+    {
+        const double a = std::remainder(
+            helical_tube_angle(tube.options, to_eigen(tube.mesh.point(v))) - start, 2.0 * M_PI);
+        query.is_target[v.idx()] = std::abs(a) > 0.8 * M_PI;
+    }
+    WindingBoundOptions tight;
+    tight.limit_deg = 45.0;
+    CHECK_FALSE(winding_bounded_path(graph, query, turn, tight));
+
+    // With the plain length cost the cheapest path keeps to its side; a bound it keeps
+    // changes nothing: the bounded route costs the same.
+    const HalfedgeWeights length = evaluate_cost(tube.mesh, LengthCost{1.0});
+    CutGraph plain(tube.mesh, length);
+    query = tube.up();
+    const GraphPath straight = plain.shortest_path(query);
+    const PathWinding straight_winding = meter.measure(vertices_of(tube.mesh, straight));
+    WindingBoundOptions loose;
+    loose.limit_deg = 60.0;
+    REQUIRE(straight_winding.span_deg < loose.limit_deg);
+    const auto bounded = winding_bounded_path(plain, query, turn, loose);
+    REQUIRE(bounded);
+    CHECK(bounded->cost == doctest::Approx(straight.cost));
+
+    WindingBoundOptions bad;
+    bad.limit_deg = 0.0;
+    CHECK_THROWS_AS(winding_bounded_path(graph, query, turn, bad), InvalidInputError);
+    bad = WindingBoundOptions{};
+    bad.bins = 0;
+    CHECK_THROWS_AS(winding_bounded_path(graph, query, turn, bad), InvalidInputError);
+    PathQuery empty = query;
+    empty.sources.clear();
+    CHECK_THROWS_AS(winding_bounded_path(graph, empty, turn), InvalidInputError);
+    PathQuery short_targets = query;
+    short_targets.is_target.resize(3);
+    CHECK_THROWS_AS(winding_bounded_path(graph, short_targets, turn), InvalidInputError);
+}
