@@ -1,6 +1,7 @@
 #include "vessel/cut/cut_graph.h"
 
 #include "vessel/core/errors.h"
+#include "detail/path_query.h"
 #include "detail/quad_heap.h"
 
 #include <algorithm>
@@ -24,20 +25,12 @@ void check_weights(const Mesh& mesh, const HalfedgeWeights& weights)
 
 void check_query(const Mesh& mesh, const PathQuery& query, const Eigen::MatrixX3d& winding_rate)
 {
-    const std::size_t nv = mesh.n_vertices();
-    if (query.sources.empty())
-        throw InvalidInputError("shortest_path: no source vertices");
-    if (query.is_target.size() != nv)
-        throw InvalidInputError("shortest_path: is_target needs one flag per vertex");
-    if (!query.is_blocked.empty() && query.is_blocked.size() != nv)
-        throw InvalidInputError("shortest_path: is_blocked needs one flag per vertex (or none)");
-    if (winding_rate.rows() != 0 && static_cast<std::size_t>(winding_rate.rows()) != nv)
+    detail::check_path_query(mesh, query, "shortest_path");
+    if (winding_rate.rows() != 0 &&
+        static_cast<std::size_t>(winding_rate.rows()) != mesh.n_vertices())
         throw InvalidInputError("shortest_path: winding_rate needs one row per vertex (or none)");
     if (!std::isfinite(query.steer_weight))
         throw InvalidInputError("shortest_path: steer_weight must be finite");
-    for (auto v : query.sources)
-        if (!mesh.is_valid_handle(v))
-            throw InvalidInputError("shortest_path: invalid source vertex handle");
 }
 
 // PathQuery::steer_rate: a steered arc keeps at least this fraction of its weight, so no arc

@@ -576,6 +576,14 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
                         std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
+// The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
+// ring radius (WindingMeter::step()). With the meter's own restart at every such vertex the
+// search can turn where a band fails the spread test by noise alone, unseen by this meter and
+// seen by another whose bands differ by rounding (seamwinding.py; docs/design.md, "Natural
+// cuts"). A radius spans such noisy bands (one to four vertices) and stops short of junctions
+// and sacs.
+constexpr double kSearchBridge = 1.0;
+
 // CutRoute::Aligned: a cut that winds more than options.winding_target_deg around its vessel
 // end to end, or that is no natural cut (it winds more than options.winding_limit_deg, or with
 // options.natural_cuts its angle spans more than that: WindingMeter), is searched again.
@@ -590,26 +598,18 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
 //    options.winding_max_alignment_loss lower.
 // 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
 //    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
-//    kSearchBridge ring radii) and the target as its bound (then, if that gives no natural cut,
-//    half the limit, bridged and then not), the cheapest route whose angle stays within +-bound at every vertex
-//    (span <= 2 x bound), inside the hull too (on the
-//    vmtk aorta every route on the hull winds about +-80 degrees). There a candidate must
-//    also keep a natural cut natural, and a cut that is not natural takes a natural candidate
-//    whatever its alignment (the bound is what natural means; the alignment's floor was fitted
-//    on cuts that wind less).
+//    kSearchBridge ring radii) and the target as its bound (then, if that gives no natural
+//    cut, half the limit, bridged and then not): the cheapest route whose angle stays within
+//    +-bound at every vertex (span <= 2 x bound), inside the hull too (on the vmtk aorta every
+//    route on the hull winds about +-80 degrees). There a candidate must also keep a natural
+//    cut natural, and a cut that is not natural takes a natural candidate whatever its
+//    alignment (the bound is what natural means; the alignment's floor was fitted on cuts
+//    that wind less).
 // \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
 // more than its band); it is searched again only if it is no natural cut.
 // \p finish: what the caller does to a cheapest path (the cut back of CutJoin::Approach); a
 // bounded route keeps its cut back only if it stays within the bound.
 // Empty = keep \p current.
-// The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
-// ring radius (WindingMeter::step()). With the meter's own restart at every such vertex (0), the
-// search learned to turn where a band fails the spread test by noise alone: on the vampy artery
-// it replaced a traced cut by one the meter read at 7 degrees and seamwinding.py, whose bands
-// differ by rounding, at 54. A radius spans the noisy bands seen (one to four vertices) and
-// stops short of junctions and sacs.
-constexpr double kSearchBridge = 1.0;
-
 template <class Finish>
 std::optional<GraphPath> steer_path(CutGraph& graph, PathQuery& query,
                                     const Eigen::MatrixX3d& winding_rate,

@@ -1,6 +1,8 @@
 #include "vessel/cut/winding_bound.h"
 
 #include "vessel/core/errors.h"
+#include "detail/path_query.h"
+#include "detail/quad_heap.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,36 +33,38 @@ using MinHeap = std::priority_queue<Item, std::vector<Item>, std::greater<Item>>
 
 // The unconstrained cost from every vertex to the nearest target, over arcs into unblocked
 // vertices only: Dijkstra from the targets over the reversed arcs (the arc u -> x is the
-// opposite of the halfedge x -> u). A lower bound of every constrained route's remaining cost.
+// opposite of the halfedge x -> u), on the cut graph's 4-ary heap. A lower bound of every
+// constrained route's remaining cost.
 std::vector<double> cost_to_targets(const CutGraph& graph, const PathQuery& query)
 {
     const std::size_t nv = graph.mesh().n_vertices();
     const bool any_blocked = !query.is_blocked.empty();
     std::vector<double> cost(nv, kInfinity);
-    MinHeap heap;
+    std::vector<int> slot(nv, -1);
+    std::vector<detail::HeapItem> heap;
+    const auto closer = [](const detail::HeapItem& a, const detail::HeapItem& b) {
+        return a.first < b.first;
+    };
     for (std::size_t v = 0; v < nv; ++v)
         if (query.is_target[v])
         {
             cost[v] = 0.0;
-            heap.push({0.0, static_cast<int>(v)});
+            detail::heap_lower(heap, slot, static_cast<int>(v), 0.0, closer);
         }
     while (!heap.empty())
     {
-        const auto [d, x] = heap.top();
-        heap.pop();
-        if (d > cost[x])
-            continue;
+        const int x = detail::heap_pop(heap, slot, closer).second;
         const auto [first, last] = graph.arcs(x);
         for (const CutGraph::Arc* a = first; a != last; ++a)
         {
             const int u = a->to;
             if (any_blocked && query.is_blocked[u])
                 continue;
-            const double nd = d + graph.weight(HalfedgeHandle(a->halfedge ^ 1));
+            const double nd = cost[x] + graph.weight(HalfedgeHandle(a->halfedge ^ 1));
             if (nd < cost[u])
             {
                 cost[u] = nd;
-                heap.push({nd, u});
+                detail::heap_lower(heap, slot, u, nd, closer);
             }
         }
     }
@@ -77,16 +81,7 @@ std::optional<GraphPath> winding_bounded_path(
     options.validate();
     const Mesh& mesh = graph.mesh();
     const std::size_t nv = mesh.n_vertices();
-    if (query.sources.empty())
-        throw InvalidInputError("winding_bounded_path: no source vertices");
-    if (query.is_target.size() != nv)
-        throw InvalidInputError("winding_bounded_path: is_target needs one flag per vertex");
-    if (!query.is_blocked.empty() && query.is_blocked.size() != nv)
-        throw InvalidInputError(
-            "winding_bounded_path: is_blocked needs one flag per vertex (or none)");
-    for (auto v : query.sources)
-        if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= nv)
-            throw InvalidInputError("winding_bounded_path: invalid source vertex handle");
+    detail::check_path_query(mesh, query, "winding_bounded_path");
 
     const std::vector<double> to_target = cost_to_targets(graph, query);
     const bool any_blocked = !query.is_blocked.empty();

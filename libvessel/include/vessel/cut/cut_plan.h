@@ -139,13 +139,11 @@ struct CutPlanOptions
     //! CutRoute::Aligned with a longitudinal coordinate: hold every cut to winding_limit_deg,
     //! end to end and in span (which bounds each piece between two joins, what the shared
     //! yardstick seamwinding.py measures). A cut that is not natural after the multiplier
-    //! takes winding_bounded_path()'s route within +-winding_target_deg whatever its alignment.
-    //! Every cut of every valid real tree then winds and spans at most 45 degrees (vmtk aorta
-    //! 63 -> 6, AneuRisk 101 -> 19, Glenn 66 -> 28; docs/results.md "Winding of the cuts").
-    //! Off by default: the routes it takes change which cuts join where, and on the Glenn tree
-    //! the map's look (10 walk inversions against 7, above the look retry's broken-look line),
-    //! a later cut runs beside an earlier one on the SimVascular demo and the vmtk aorta, and a
-    //! 30-outlet tree phantom's map failed (mean |log area| 2.7). CLI `--natural-cuts`.
+    //! takes winding_bounded_path()'s route within +-winding_target_deg (or half the limit)
+    //! whatever its alignment. Off by default: the routes it takes change where later cuts
+    //! join, and with it the branch layout's look and the seam's alignment; a later cut may
+    //! run beside an earlier one (docs/results.md, "Winding of the cuts", has the figures per
+    //! real tree). CLI `--natural-cuts`.
     bool natural_cuts = false;
     //! Where on its loop each cut starts and the first cut ends (endpoints.h); null =
     //! ImaginaryNodeEndpoints, the paper's cheapest point of the loop.
