@@ -69,6 +69,17 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
     CHECK(r.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
     CHECK(r.quality.mean_abs_log_area_normalized <=
           1.5 * kept.quality.mean_abs_log_area_normalized);
+    // Coarse-to-fine runs the retry on its coarse mesh and checks its bound again at full
+    // resolution: against the `keep` map made there (the same as the pipeline's at full
+    // resolution, up to the elimination ordering), not the coarse mesh's.
+    FlattenOptions keep_full = keep;
+    keep_full.multilevel.coarse_vertices = 0;
+    const FlattenResult full = flatten(surface.mesh, keep_full);
+    CHECK(r.look_retry.keep_area ==
+          doctest::Approx(full.quality.mean_abs_log_area_normalized).epsilon(0.01));
+    CHECK(r.quality.mean_abs_log_area_normalized <=
+          FlattenOptions().look_retry.max_area_over_keep *
+              full.quality.mean_abs_log_area_normalized);
     MESSAGE("Glenn: before the retry " << r.look_retry.default_look.outlets_below_inlet
                                        << " below, " << r.look_retry.default_look.walk_inversions
                                        << " walk inversions, mean |log area| "
@@ -76,7 +87,9 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
                                        << r.look.outlets_below_inlet << ", "
                                        << r.look.walk_inversions << ", "
                                        << r.quality.mean_abs_log_area_normalized << "; keep "
-                                       << kept.quality.mean_abs_log_area_normalized);
+                                       << kept.quality.mean_abs_log_area_normalized
+                                       << ", at full resolution "
+                                       << full.quality.mean_abs_log_area_normalized);
 }
 
 TEST_SUITE("slow")

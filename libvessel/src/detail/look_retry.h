@@ -16,8 +16,10 @@ namespace vessel::detail {
 //! outlets.
 //! \param initial the map refine_map() started from (the LSCM map at the layout).
 //! \param pins the layout's inlet pins refine_map() was given.
+//! \param replaced if not null and the pulled map is kept: the default map it replaced (the
+//! coarse-to-fine path checks the bound again at full resolution and may go back to it).
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed);
+                const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr);
 
 }  // namespace vessel::detail

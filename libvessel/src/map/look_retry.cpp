@@ -54,7 +54,7 @@ bool look_better(const MapLook& look, const MapLook& than)
 
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed)
+                const LayoutResult& placed, Eigen::MatrixX2d* replaced)
 {
     const LookRetryOptions& retry = options.look_retry;
     if (retry.mode == LookRetry::Off || options.look_pull > 0.0 ||
@@ -119,6 +119,8 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     result.notes.push_back(summary.report);
     if (summary.kept)
     {
+        if (replaced)
+            *replaced = std::move(result.uv);
         result.uv = std::move(trial.uv);
         result.injective = trial.injective;
     }

@@ -7,6 +7,8 @@
 #include "detail/face_jacobian.h"
 #include "detail/segments.h"
 #include "detail/refine_map.h"
+#include "vessel/map/area_polish.h"
+#include "vessel/map/centre_pull.h"
 #include "vessel/map/embedding.h"
 #include "vessel/map/lscm.h"
 #include "vessel/map/multilevel.h"
@@ -31,9 +33,38 @@ Pins concat(const Pins& a, const Pins& b)
     return all;
 }
 
+// The map refinement starts from (FlattenOptions::initialization).
+Eigen::MatrixX2d initial_map(const Mesh& mesh, const LayoutResult& placed,
+                             Initialization initialization, const VertexOrdering* order)
+{
+    switch (initialization)
+    {
+        case Initialization::SpectralConformal:
+            return spectral_conformal(mesh);
+        case Initialization::Tutte:
+            return tutte_embedding(mesh);
+        case Initialization::LayoutLscm:
+            break;
+    }
+    return lscm(mesh, concat(placed.inlet, placed.outlets), order);
+}
+
+// The inlet's pins for the refinement of \p initial: the layout's, or where the initial map
+// put them when it is not the layout's LSCM map.
+Pins inlet_pins(const LayoutResult& placed, const Eigen::MatrixX2d& initial, bool at_layout)
+{
+    Pins pins = placed.inlet;
+    if (!at_layout)
+        for (auto& pin : pins)
+            pin.uv = initial.row(pin.vertex.idx()).transpose();
+    return pins;
+}
+
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
+// \param unpulled if not null and the look retry kept its pulled map: the map it replaced.
 bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
-                        const FlattenOptions& options, FlattenResult& result)
+                        const FlattenOptions& options, FlattenResult& result,
+                        Eigen::MatrixX2d* unpulled = nullptr)
 {
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
@@ -58,18 +89,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
             return arap_prefactor(mesh, placed.inlet, &cut_order);
         });
     bool at_layout = at_lscm;
-    switch (options.initialization)
-    {
-        case Initialization::LayoutLscm:
-            result.uv = lscm(mesh, concat(placed.inlet, placed.outlets), &cut_order);
-            break;
-        case Initialization::SpectralConformal:
-            result.uv = spectral_conformal(mesh);
-            break;
-        case Initialization::Tutte:
-            result.uv = tutte_embedding(mesh);
-            break;
-    }
+    result.uv = initial_map(mesh, placed, options.initialization, &cut_order);
     FlattenOptions prefactored;  // options with the factor, when made ahead
     const FlattenOptions& refine_options = arap_factor.valid() ? prefactored : options;
     if (arap_factor.valid())
@@ -77,10 +97,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
         prefactored = options;
         prefactored.arap.prefactored = arap_factor.get();
     }
-    Pins pins = placed.inlet;
-    if (!at_layout)  // keep the initial map's own placement of the inlet
-        for (auto& pin : pins)
-            pin.uv = result.uv.row(pin.vertex.idx()).transpose();
+    const Pins pins = inlet_pins(placed, result.uv, at_layout);
     if (options.refiner)
         return refine_by_policy(mesh, &input, &placed, *options.refiner, pins, at_layout, result);
     const std::string crossing = "the map at the layout overlaps itself (its boundary crosses)";
@@ -95,7 +112,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
                            crosses_at_once ? crossing : "", result, &input, &placed))
     {
         at_layout = false;
-        retry_look(mesh, pins, initial, options, result, input, placed);
+        retry_look(mesh, pins, initial, options, result, input, placed, unpulled);
     }
     return at_layout;
 }
@@ -266,74 +283,21 @@ std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pin
     return guard.near_contacts(x).size();
 }
 
-// The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
-// untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
-// untouched.
-std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
-                                 const LayoutResult& placed, const FlattenOptions& options,
-                                 std::size_t boundary_levels, FlattenResult& result,
-                                 bool& at_layout)
+// The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
+// result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
+std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
+                     const LayoutResult& placed, const FlattenOptions& options,
+                     std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
+                     FlattenResult& result)
 {
-    // The hierarchy, each segment keeping its ends and evenly spaced vertices between them,
-    // so that each loop keeps its run of the boundary and its shape: an outlet loop decimated
-    // to a spike between its ends leaves its fine vertices no room on the coarse edges.
-    std::vector<VertexHandle> keep;
-    constexpr int per_segment = 8;
-    for (const BoundarySegment& segment : input.segments)
-    {
-        const std::size_t n = segment.vertices.size();
-        for (int i = 0; i < per_segment && n > 0; ++i)
-            keep.push_back(segment.vertices[(n - 1) * i / (per_segment - 1)]);
-    }
     const MultilevelOptions& multilevel = options.multilevel;
-    const std::vector<CoarseMesh> levels =
-        coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels);
-    const Mesh& coarsest = levels.back().mesh;
-    const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
-
-    // The coarse problem: every per-vertex input renumbered or dropped.
-    LayoutInput coarse_input = input;
-    coarse_input.mesh = &coarsest;
-    coarse_input.origin.resize(coarsest.n_vertices());
-    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-        if (coarse_of[v] >= 0)
-            coarse_input.origin[coarse_of[v]] = input.origin[v];
-    for (BoundarySegment& segment : coarse_input.segments)
-    {
-        BoundarySegment kept{segment.loop, {}, {}};
-        for (std::size_t i = 0; i < segment.vertices.size(); ++i)
-            if (const int c = coarse_of[segment.vertices[i].idx()]; c >= 0)
-            {
-                kept.vertices.push_back(VertexHandle(c));
-                kept.arc_length.push_back(segment.arc_length[i]);
-            }
-        segment = std::move(kept);
-    }
-    LayoutResult coarse_placed = placed;
-    coarse_placed.inlet = renumbered(placed.inlet, coarse_of);
-    coarse_placed.outlets = renumbered(placed.outlets, coarse_of);
-
-    FlattenResult solved;
-    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved);
     char line[200];
-    std::snprintf(line, sizeof line,
-                  "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
-                  coarsest.n_vertices(), mesh.n_vertices(), levels.size());
-    result.notes.push_back(line);
-    for (const std::string& note : solved.notes)
-        result.notes.push_back("coarse: " + note);
-    result.arap = solved.arap;
-    result.untangle = solved.untangle;
-    result.injective = solved.injective;
-    result.look_retry = solved.look_retry;
-
     // Carried up level by level (cascadic multigrid, Bornemann and Deuflhard 1996): at each
     // level the pins (when they held) put back exactly, flips untangled, then the error of the
     // level's own wavelength relaxed away, which the finer levels' local steps would remove
     // only slowly.
     const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
-    Eigen::MatrixX2d uv = std::move(solved.uv);
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
@@ -389,6 +353,170 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     }
     result.uv = std::move(uv);
     return "";
+}
+
+// The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full
+// resolution, with the look retry's pulls when \p pulled; one note.
+void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOptions& options,
+                    bool pulled, Eigen::MatrixX2d& uv, FlattenResult& result)
+{
+    AreaPolishOptions polish = options.area_polish;
+    polish.keep_boundary_simple = true;
+    if (pulled)
+        polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
+                                         options.look_pull_form, options.look_margin_deg,
+                                         options.look_hold);
+    result.notes.push_back("coarse-to-fine: " + area_polish(mesh, uv, {}, polish).report);
+}
+
+// The `keep` map's quality at full resolution (OverlapPolicy::Keep from the initial map),
+// the reference of the look retry's bound.
+FlatQuality keep_quality(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+                         const FlattenOptions& options)
+{
+    FlattenOptions keep = options;
+    keep.overlaps = OverlapPolicy::Keep;
+    FlattenResult unconstrained;
+    unconstrained.uv = initial_map(mesh, placed, options.initialization, nullptr);
+    const bool at_lscm = options.initialization == Initialization::LayoutLscm;
+    refine_map(mesh, inlet_pins(placed, unconstrained.uv, at_lscm), keep, "", "", unconstrained,
+               &input, &placed);
+    return flat_quality(mesh, unconstrained.uv);
+}
+
+// After the look retry kept its pulled map on the coarse mesh: its bound
+// (LookRetryOptions::max_area_over_keep times the `keep` map's mean |log area|) checked again
+// at full resolution, against \p reference, keep_quality() of the fine mesh. The coarse mesh's
+// areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091 coarse, 0.0041
+// fine), so a map within the bound there can be far above it here. Above it, the map is
+// polished at full resolution with the pulls; still above, the look retry is undone: the
+// default map it replaced (\p unpulled, on the coarse mesh) is carried up instead, and
+// polished there if it is above the bound too. result.uv holds the carried pulled map on entry.
+std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
+                               const LayoutResult& placed, const FlattenOptions& options,
+                               const std::vector<CoarseMesh>& levels,
+                               std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
+                               const FlatQuality& reference, FlattenResult& result)
+{
+    const double bound = options.look_retry.max_area_over_keep;
+    LookRetrySummary& summary = result.look_retry;
+    summary.keep_area = reference.mean_abs_log_area_normalized;
+    // Both measures, as the look retry's own test.
+    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
+        const FlatQuality q = flat_quality(mesh, uv);
+        const bool ok =
+            q.mean_abs_log_area_normalized <= bound * reference.mean_abs_log_area_normalized &&
+            q.mean_abs_log_area <= bound * reference.mean_abs_log_area;
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "coarse-to-fine: look retry at full resolution: %s mean |log area| %.4f "
+                      "(keep %.4f), %s the bound",
+                      what, q.mean_abs_log_area_normalized,
+                      reference.mean_abs_log_area_normalized, ok ? "within" : "above");
+        result.notes.push_back(line);
+        return ok;
+    };
+    if (within(result.uv, "the carried pulled map"))
+        return "";
+    Eigen::MatrixX2d uv = result.uv;
+    polish_carried(mesh, input, options, true, uv, result);
+    if (within(uv, "the polished pulled map"))
+    {
+        result.uv = std::move(uv);
+        return "";
+    }
+    FlattenResult fallback;
+    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, false,
+                                        std::move(unpulled), fallback);
+    result.notes.insert(result.notes.end(), fallback.notes.begin(), fallback.notes.end());
+    if (!failed.empty())
+        return "the default map (the look retry undone): " + failed;
+    summary.kept = false;
+    summary.report += "; above the bound at full resolution, went back to the default map";
+    result.notes.push_back("coarse-to-fine: " + summary.report);
+    if (!within(fallback.uv, "the carried default map"))
+    {
+        polish_carried(mesh, input, options, false, fallback.uv, result);
+        within(fallback.uv, "the polished default map");
+    }
+    result.uv = std::move(fallback.uv);
+    return "";
+}
+
+// The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
+// untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
+// untouched.
+std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
+                                 const LayoutResult& placed, const FlattenOptions& options,
+                                 std::size_t boundary_levels, FlattenResult& result,
+                                 bool& at_layout)
+{
+    // The hierarchy, each segment keeping its ends and evenly spaced vertices between them,
+    // so that each loop keeps its run of the boundary and its shape: an outlet loop decimated
+    // to a spike between its ends leaves its fine vertices no room on the coarse edges.
+    std::vector<VertexHandle> keep;
+    constexpr int per_segment = 8;
+    for (const BoundarySegment& segment : input.segments)
+    {
+        const std::size_t n = segment.vertices.size();
+        for (int i = 0; i < per_segment && n > 0; ++i)
+            keep.push_back(segment.vertices[(n - 1) * i / (per_segment - 1)]);
+    }
+    const MultilevelOptions& multilevel = options.multilevel;
+    const std::vector<CoarseMesh> levels =
+        coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels);
+    const Mesh& coarsest = levels.back().mesh;
+    const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
+
+    // The coarse problem: every per-vertex input renumbered or dropped.
+    LayoutInput coarse_input = input;
+    coarse_input.mesh = &coarsest;
+    coarse_input.origin.resize(coarsest.n_vertices());
+    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
+        if (coarse_of[v] >= 0)
+            coarse_input.origin[coarse_of[v]] = input.origin[v];
+    for (BoundarySegment& segment : coarse_input.segments)
+    {
+        BoundarySegment kept{segment.loop, {}, {}};
+        for (std::size_t i = 0; i < segment.vertices.size(); ++i)
+            if (const int c = coarse_of[segment.vertices[i].idx()]; c >= 0)
+            {
+                kept.vertices.push_back(VertexHandle(c));
+                kept.arc_length.push_back(segment.arc_length[i]);
+            }
+        segment = std::move(kept);
+    }
+    LayoutResult coarse_placed = placed;
+    coarse_placed.inlet = renumbered(placed.inlet, coarse_of);
+    coarse_placed.outlets = renumbered(placed.outlets, coarse_of);
+
+    FlattenResult solved;
+    Eigen::MatrixX2d unpulled;
+    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
+                                   &unpulled);
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
+                  coarsest.n_vertices(), mesh.n_vertices(), levels.size());
+    result.notes.push_back(line);
+    for (const std::string& note : solved.notes)
+        result.notes.push_back("coarse: " + note);
+    result.arap = solved.arap;
+    result.untangle = solved.untangle;
+    result.injective = solved.injective;
+    result.look_retry = solved.look_retry;
+    // The look retry's reference at full resolution, made on the second core during the carry.
+    std::future<FlatQuality> reference;
+    if (result.look_retry.kept)
+        reference = std::async(std::launch::async, [&mesh, &input, &placed, &options] {
+            return keep_quality(mesh, input, placed, options);
+        });
+    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
+                                        std::move(solved.uv), result);
+    if (!failed.empty() || !reference.valid())
+        return failed;
+    return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
+                              std::move(unpulled), reference.get(), result);
 }
 
 // The map and the solvers' summaries of \p solved into \p result (not its notes).

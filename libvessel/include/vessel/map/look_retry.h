@@ -34,7 +34,10 @@ struct LookRetryOptions
     //! The pulled map is kept only if its mean |log area| (both FlatQuality measures) is at
     //! most this factor times that of the unconstrained map (`--overlaps keep`, computed for the
     //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
-    //! less a margin. CLI `--look-retry-area`.
+    //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh and
+    //! the bound is checked again at full resolution against the fine mesh's `keep` map: the
+    //! coarse mesh's areas do not say it (docs/benchmarks.md "The look retry at full
+    //! resolution"). CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
     //! \brief Whether \p look is broken by the rule above.
     bool look_broken(const MapLook& look) const;
@@ -49,7 +52,8 @@ struct LookRetrySummary
     bool kept = false;           //!< the pulled map replaced the default one
     double default_area = 0.0;   //!< default map's mean |log area| (normalized)
     double pulled_area = 0.0;    //!< pulled map's, when tried
-    double keep_area = 0.0;      //!< the `keep` map's, when it was computed (else 0)
+    //! the `keep` map's, when it was computed (else 0); at full resolution after coarse-to-fine
+    double keep_area = 0.0;
     MapLook default_look;        //!< the default map's look, when tried
     std::string report;          //!< one line, also in FlattenResult::notes
 };

@@ -9,7 +9,8 @@
 // triangulated surfaces with optimal parameterizations", and Liu et al. 2018, "Progressive
 // parameterizations"). The map is carried up a hierarchy of levels, local steps at each
 // removing the error of its own wavelength; what is left is the error of wavelengths no level's
-// steps converge (docs/benchmarks.md "Coarse-to-fine").
+// steps converge (docs/benchmarks.md "Coarse-to-fine"). A look retry kept on the coarse mesh is
+// checked again at full resolution (look_retry.h, LookRetryOptions::max_area_over_keep).
 
 #include "vessel/core/mesh.h"
 #include "vessel/layout/pins.h"
