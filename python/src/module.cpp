@@ -201,7 +201,7 @@ const std::map<std::string, Setter>& setters()
              if (p.size() != 3)
                  throw vessel::InvalidInputError("option viewpoint must be 3 numbers (x, y, z), "
                                                  "got " + std::to_string(p.size()));
-             o.flatten.cuts.endpoints = std::make_shared<vessel::NearestPointEndpoints>(
+             o.flatten.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
                  Eigen::Vector3d(p[0], p[1], p[2]));
          }},
         {"alpha", number<double>([](CallOptions& o) -> double& { return o.flatten.alpha_deg; })},

@@ -203,6 +203,27 @@ TEST_CASE("cut_plan: viewpoint endpoints start and end at the loop vertices near
     // On a cylinder with axial edges the E_c cut is the straight generator line.
     for (auto h : plan.paths[0].halfedges)
         CHECK(p.mesh.point(p.mesh.to_vertex_handle(h))[1] == doctest::Approx(1.0));
+    // In front of the cylinder for the viewer at +y, wholly behind it for one at -y.
+    CHECK(far_side_fraction(p.mesh, plan, Eigen::Vector3d(0.0, 10.0, 3.0)) == 0.0);
+    CHECK(far_side_fraction(p.mesh, plan, Eigen::Vector3d(0.0, -10.0, 3.0)) == 1.0);
+    CHECK(far_side_fraction(p.mesh, CutPlan{}, Eigen::Vector3d(0.0, 10.0, 3.0)) == 0.0);
+    CHECK_THROWS_AS(far_side_fraction(p.mesh, plan, Eigen::Vector3d(0.0, std::nan(""), 0.0)),
+                    InvalidInputError);
+}
+
+TEST_CASE("cut_plan: far-side endpoints put the cut on the side away from the point")
+{
+    const Prepared p = prepare(open_cylinder(1.0, 6.0, 24, 24));
+    const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
+    CutPlanOptions options = paper_route();
+    const Eigen::Vector3d viewpoint(0.0, 10.0, 3.0);
+    options.endpoints = std::make_shared<FarSideEndpoints>(viewpoint);
+    const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, options);
+    REQUIRE(plan.paths.size() == 1);
+    CHECK(p.mesh.point(plan.paths[0].start)[1] == doctest::Approx(-1.0));
+    CHECK(p.mesh.point(plan.paths[0].end)[1] == doctest::Approx(-1.0));
+    CHECK(far_side_fraction(p.mesh, plan, viewpoint) == 1.0);
+    CHECK_THROWS_AS(FarSideEndpoints(Eigen::Vector3d(0.0, 0.0, std::nan(""))), InvalidInputError);
 }
 
 namespace {

@@ -312,8 +312,8 @@ int main(int argc, char** argv)
         ->option_text("curvature|geodesic|blend")
         ->group(cut_group);
     app.add_option("--viewpoint", viewpoint,
-                   "Start the cuts nearest this 3D point X Y Z (e.g. "
-                   "the camera)")
+                   "Put the cuts on the far side of the vessels from this "
+                   "3D point X Y Z (e.g. the camera)")
         ->expected(3)
         ->option_text("X Y Z")
         ->group(cut_group);
@@ -620,7 +620,7 @@ int main(int argc, char** argv)
         options.layout = vessel::make_layout(layout, options.alpha_deg);
         if (!viewpoint.empty())
         {
-            options.cuts.endpoints = std::make_shared<vessel::NearestPointEndpoints>(
+            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
                 Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]));
         }
         if (!batch.inputs.empty() && !split_at.empty())
@@ -711,6 +711,9 @@ int main(int argc, char** argv)
                          "is unexpected)\n",
                          surface.reoriented_faces,
                          surface.reoriented_faces == 1 ? "face was" : "faces were");
+        std::optional<Eigen::Vector3d> view;
+        if (!viewpoint.empty())
+            view = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
         // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
         const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
                                        const std::string& out, const std::string& report) {
@@ -775,7 +778,9 @@ int main(int argc, char** argv)
             if (!report.empty())
                 vessel::write_text_file(
                     report,
-                    vessel::cli::report_json(input, piece, result, read_s, write_s).dump(2) + "\n");
+                    vessel::cli::report_json(input, piece, result, read_s, write_s, view)
+                        .dump(2) +
+                    "\n");
             if (!quiet)
             {
                 const auto& q = result.quality;

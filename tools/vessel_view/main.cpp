@@ -31,7 +31,7 @@ int main(int argc, char** argv)
         ->check(CLI::ExistingFile);
     app.add_option("-o,--output", output, "The HTML page to write")->required();
     app.add_option("--viewpoint", viewpoint,
-                   "Start/end cuts at the loop vertices nearest this "
+                   "Put the cuts on the far side of the vessels from this "
                    "3D point (the page shows the one of its camera); "
                    "the 3D view starts looking from there")
         ->expected(3);
@@ -66,7 +66,7 @@ int main(int argc, char** argv)
         if (!viewpoint.empty())
         {
             view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
-            options.cuts.endpoints = std::make_shared<vessel::NearestPointEndpoints>(*view.viewpoint);
+            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view.viewpoint);
         }
         if (!vessel::viewer_available())
             throw vessel::IoError(

@@ -60,7 +60,10 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
     first_.assign(nv + 1, 0);
     arcs_.reserve(mesh.n_halfedges());
     // Outgoing halfedges clockwise from the vertex's halfedge, as voh_range() visits them (the
-    // order decides between exactly equal routes), without the circulator's overhead.
+    // order decides between exactly equal routes), without the circulator's overhead. Arcs
+    // along the boundary weigh infinity, so no search takes them: a seam is made of interior
+    // edges (cut_along_edges()), and a route whose end is fixed on a loop (FarSideEndpoints)
+    // would otherwise walk along the loop to it.
     for (std::size_t v = 0; v < nv; ++v)
     {
         const HalfedgeHandle start = mesh.halfedge_handle(VertexHandle(static_cast<int>(v)));
@@ -69,7 +72,10 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
             HalfedgeHandle h = start;
             do
             {
-                arcs_.push_back({mesh.to_vertex_handle(h).idx(), h.idx(), weights[h.idx()]});
+                const bool interior =
+                    !mesh.is_boundary(h) && !mesh.is_boundary(mesh.opposite_halfedge_handle(h));
+                arcs_.push_back({mesh.to_vertex_handle(h).idx(), h.idx(),
+                                 interior ? weights[h.idx()] : kInfinity});
                 h = mesh.cw_rotated_halfedge_handle(h);
             } while (h != start);
         }
@@ -204,6 +210,8 @@ GraphPath CutGraph::shortest_path(const PathQuery& query, const Eigen::MatrixX3d
                                                                    HalfedgeHandle(chosen)));
             for (auto h : mesh_.vih_range(VertexHandle(v)))
             {
+                if (mesh_.is_boundary(mesh_.edge_handle(h)))  // as its arc's infinite weight
+                    continue;
                 const int u = mesh_.from_vertex_handle(h).idx();
                 const double weight = steered
                                           ? steer(query.steer_rate(u), u, v, weights_[h.idx()])

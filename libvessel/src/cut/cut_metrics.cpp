@@ -234,4 +234,33 @@ PathAlignment seam_alignment(const std::vector<PathAlignment>& paths)
     return all;
 }
 
+double far_side_fraction(const Mesh& mesh, const CutPlan& plan, const Eigen::Vector3d& viewpoint)
+{
+    if (!viewpoint.allFinite())
+        throw InvalidInputError("far_side_fraction: the viewpoint must have 3 finite coordinates");
+    double far = 0.0, total = 0.0;
+    for (const CutPath& path : plan.paths)
+        for (const HalfedgeHandle h : path.halfedges)
+        {
+            const Eigen::Vector3d a = to_eigen(mesh.point(mesh.from_vertex_handle(h)));
+            const Eigen::Vector3d b = to_eigen(mesh.point(mesh.to_vertex_handle(h)));
+            Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+            for (const HalfedgeHandle side : {h, mesh.opposite_halfedge_handle(h)})
+            {
+                if (mesh.is_boundary(side))
+                    continue;
+                const Eigen::Vector3d c =
+                    to_eigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(side))));
+                const Eigen::Vector3d p = to_eigen(mesh.point(mesh.from_vertex_handle(side)));
+                const Eigen::Vector3d q = to_eigen(mesh.point(mesh.to_vertex_handle(side)));
+                normal += (q - p).cross(c - p);
+            }
+            const double length = (b - a).norm();
+            total += length;
+            if (normal.dot(viewpoint - 0.5 * (a + b)) < 0.0)
+                far += length;
+        }
+    return total > 0.0 ? far / total : 0.0;
+}
+
 }  // namespace vessel

@@ -9,7 +9,7 @@
 namespace vessel {
 
 //! One shortest-path query on the directed cut graph (vertices = mesh vertices, arcs =
-//! halfedges weighted by HalfedgeWeights).
+//! halfedges weighted by HalfedgeWeights; those along the boundary weigh infinity).
 struct PathQuery
 {
     //! Start vertices. All of them are joined to one zero-cost imaginary source node, so the path
@@ -77,7 +77,8 @@ public:
     };
 
     //! \brief The arcs leaving vertex index \p v, as [first, last), in the order voh_range()
-    //! visits them (clockwise from the vertex's halfedge).
+    //! visits them (clockwise from the vertex's halfedge). An arc along the boundary weighs
+    //! infinity (a seam is made of interior edges); weight() gives its HalfedgeWeights value.
     std::pair<const Arc*, const Arc*> arcs(int v) const
     {
         return {arcs_.data() + first_[v], arcs_.data() + first_[v + 1]};

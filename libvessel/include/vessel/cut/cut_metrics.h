@@ -91,6 +91,14 @@ private:
 //! \throw InvalidInputError if \p index is out of range or \p distance is negative.
 double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance);
 
+//! \brief The fraction of the cuts' length (plan.paths, not the relief cuts) on the far side of
+//! their vessels from \p viewpoint: an edge is on the far side where the surface faces away
+//! from the viewpoint, i.e. where the normal n of its faces (outward, summed, area-weighted)
+//! has n . (viewpoint - midpoint) < 0. 0 for a plan without cuts. The plan's halfedges must
+//! index \p mesh (the uncut mesh of plan_cuts(), or FlattenResult::mesh with its plan).
+//! \throw InvalidInputError if \p viewpoint is not finite.
+double far_side_fraction(const Mesh& mesh, const CutPlan& plan, const Eigen::Vector3d& viewpoint);
+
 //! Length-weighted mean of per-cut path_alignment() results (all zero when there are none).
 PathAlignment seam_alignment(const std::vector<PathAlignment>& paths);
 

@@ -38,15 +38,34 @@ public:
                                       std::size_t loop_index) const override;
 };
 
-//! The loop vertex nearest a point (e.g. the camera position, CLI `--viewpoint X Y Z`): the
-//! cuts start and end on the side of each loop that faces it, so that in a view from there the
-//! seams lie behind the vessels.
+//! The loop vertex nearest a point: the cuts start and end on the side of each loop that faces
+//! it, so that in a view from there the seams lie in front of the vessels (FarSideEndpoints
+//! puts them behind).
 class NearestPointEndpoints : public EndpointPolicy
 {
 public:
     //! \throw InvalidInputError if \p point is not finite.
     explicit NearestPointEndpoints(const Eigen::Vector3d& point);
     std::string name() const override { return "nearest-point"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t loop_index) const override;
+    const Eigen::Vector3d& point() const { return point_; }
+
+private:
+    Eigen::Vector3d point_;
+};
+
+//! The loop vertex farthest from a point (the camera position, CLI `--viewpoint X Y Z`): the
+//! cuts start and end on the side of each loop away from it, so that in a view from there the
+//! seams lie behind the vessels and the wall in view is uncut in the map. The cut between its
+//! ends follows the travel cost; far_side_fraction() (cut_metrics.h) measures how much of it
+//! stays behind.
+class FarSideEndpoints : public EndpointPolicy
+{
+public:
+    //! \throw InvalidInputError if \p point is not finite.
+    explicit FarSideEndpoints(const Eigen::Vector3d& point);
+    std::string name() const override { return "far-side"; }
     std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
                                       std::size_t loop_index) const override;
     const Eigen::Vector3d& point() const { return point_; }
