@@ -618,10 +618,11 @@ int main(int argc, char** argv)
                                             "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
         options.layout = vessel::make_layout(layout, options.alpha_deg);
+        std::optional<Eigen::Vector3d> view;  // --viewpoint
         if (!viewpoint.empty())
         {
-            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
-                Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]));
+            view = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view);
         }
         if (!batch.inputs.empty() && !split_at.empty())
             throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
@@ -711,9 +712,6 @@ int main(int argc, char** argv)
                          "is unexpected)\n",
                          surface.reoriented_faces,
                          surface.reoriented_faces == 1 ? "face was" : "faces were");
-        std::optional<Eigen::Vector3d> view;
-        if (!viewpoint.empty())
-            view = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
         // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
         const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
                                        const std::string& out, const std::string& report) {

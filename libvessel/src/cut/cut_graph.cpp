@@ -72,10 +72,9 @@ CutGraph::CutGraph(const Mesh& mesh, const HalfedgeWeights& weights)
             HalfedgeHandle h = start;
             do
             {
-                const bool interior =
-                    !mesh.is_boundary(h) && !mesh.is_boundary(mesh.opposite_halfedge_handle(h));
                 arcs_.push_back({mesh.to_vertex_handle(h).idx(), h.idx(),
-                                 interior ? weights[h.idx()] : kInfinity});
+                                 mesh.is_boundary(mesh.edge_handle(h)) ? kInfinity
+                                                                       : weights[h.idx()]});
                 h = mesh.cw_rotated_halfedge_handle(h);
             } while (h != start);
         }

@@ -22,4 +22,15 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
                 const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr);
 
+//! \brief The look retry's reference: the quality of the `keep` map (OverlapPolicy::Keep,
+//! refine_map() from \p initial holding \p pins, the area polish included).
+FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
+                         const FlattenOptions& options, const LayoutInput& layout,
+                         const LayoutResult& placed);
+
+//! \brief Whether \p map is within LookRetryOptions::max_area_over_keep of \p keep by both
+//! measures of mean |log area| (the normalized one is flatcheck's): the bound holds for either.
+bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
+                       const LookRetryOptions& retry);
+
 }  // namespace vessel::detail

@@ -52,6 +52,26 @@ bool look_better(const MapLook& look, const MapLook& than)
 
 }  // namespace
 
+FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
+                         const FlattenOptions& options, const LayoutInput& layout,
+                         const LayoutResult& placed)
+{
+    FlattenOptions keep = options;
+    keep.overlaps = OverlapPolicy::Keep;
+    FlattenResult unconstrained;
+    unconstrained.uv = initial;
+    refine_map(mesh, pins, keep, "", "", unconstrained, &layout, &placed);
+    return flat_quality(mesh, unconstrained.uv);
+}
+
+bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
+                       const LookRetryOptions& retry)
+{
+    return map.mean_abs_log_area_normalized <=
+               retry.max_area_over_keep * keep.mean_abs_log_area_normalized &&
+           map.mean_abs_log_area <= retry.max_area_over_keep * keep.mean_abs_log_area;
+}
+
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
                 const LayoutResult& placed, Eigen::MatrixX2d* replaced)
@@ -88,17 +108,9 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     else if (summary.pulled_area > summary.default_area ||
              quality.mean_abs_log_area > before.mean_abs_log_area)
     {
-        FlattenOptions keep = options;
-        keep.overlaps = OverlapPolicy::Keep;
-        FlattenResult unconstrained;
-        unconstrained.uv = initial;
-        refine_map(mesh, pins, keep, "", "", unconstrained, &layout, &placed);
-        const FlatQuality keep_quality = flat_quality(mesh, unconstrained.uv);
-        summary.keep_area = keep_quality.mean_abs_log_area_normalized;
-        // Both measures (the normalized one is flatcheck's): the bound holds for either.
-        if (summary.pulled_area > retry.max_area_over_keep * summary.keep_area ||
-            quality.mean_abs_log_area >
-                retry.max_area_over_keep * keep_quality.mean_abs_log_area)
+        const FlatQuality keep = keep_quality(mesh, pins, initial, options, layout, placed);
+        summary.keep_area = keep.mean_abs_log_area_normalized;
+        if (!within_area_bound(quality, keep, retry))
             verdict = "area above the bound";
     }
     summary.kept = verdict.empty();

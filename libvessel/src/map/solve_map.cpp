@@ -369,24 +369,9 @@ void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOpt
     result.notes.push_back("coarse-to-fine: " + area_polish(mesh, uv, {}, polish).report);
 }
 
-// The `keep` map's quality at full resolution (OverlapPolicy::Keep from the initial map),
-// the reference of the look retry's bound.
-FlatQuality keep_quality(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
-                         const FlattenOptions& options)
-{
-    FlattenOptions keep = options;
-    keep.overlaps = OverlapPolicy::Keep;
-    FlattenResult unconstrained;
-    unconstrained.uv = initial_map(mesh, placed, options.initialization, nullptr);
-    const bool at_lscm = options.initialization == Initialization::LayoutLscm;
-    refine_map(mesh, inlet_pins(placed, unconstrained.uv, at_lscm), keep, "", "", unconstrained,
-               &input, &placed);
-    return flat_quality(mesh, unconstrained.uv);
-}
-
 // After the look retry kept its pulled map on the coarse mesh: its bound
 // (LookRetryOptions::max_area_over_keep times the `keep` map's mean |log area|) checked again
-// at full resolution, against \p reference, keep_quality() of the fine mesh. The coarse mesh's
+// at full resolution, against \p reference, keep_quality() on the fine mesh. The coarse mesh's
 // areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091 coarse, 0.0041
 // fine), so a map within the bound there can be far above it here. Above it, the map is
 // polished at full resolution with the pulls; still above, the look retry is undone: the
@@ -398,15 +383,11 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
                                std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
                                const FlatQuality& reference, FlattenResult& result)
 {
-    const double bound = options.look_retry.max_area_over_keep;
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
-    // Both measures, as the look retry's own test.
     const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
         const FlatQuality q = flat_quality(mesh, uv);
-        const bool ok =
-            q.mean_abs_log_area_normalized <= bound * reference.mean_abs_log_area_normalized &&
-            q.mean_abs_log_area <= bound * reference.mean_abs_log_area;
+        const bool ok = within_area_bound(q, reference, options.look_retry);
         char line[200];
         std::snprintf(line, sizeof line,
                       "coarse-to-fine: look retry at full resolution: %s mean |log area| %.4f "
@@ -509,7 +490,11 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     std::future<FlatQuality> reference;
     if (result.look_retry.kept)
         reference = std::async(std::launch::async, [&mesh, &input, &placed, &options] {
-            return keep_quality(mesh, input, placed, options);
+            const Eigen::MatrixX2d initial =
+                initial_map(mesh, placed, options.initialization, nullptr);
+            const bool at_lscm = options.initialization == Initialization::LayoutLscm;
+            return keep_quality(mesh, inlet_pins(placed, initial, at_lscm), initial, options,
+                                input, placed);
         });
     const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
                                         std::move(solved.uv), result);
