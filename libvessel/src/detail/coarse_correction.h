@@ -42,8 +42,9 @@ public:
                      const std::vector<int>& pinned, double lambda);
 
     //! One correction of the map x (interleaved), whose energy is \p current (updated).
-    //! Returns the energy lowered (0: no admissible step; x unchanged).
-    double step(const VertexEnergy& energy, Eigen::VectorXd& x, BoundaryGuard& guard, double& current);
+    //! Returns the energy lowered (0: no admissible step; x unchanged). \p guard null: the
+    //! boundary is not kept simple (no coarse vertex held).
+    double step(const VertexEnergy& energy, Eigen::VectorXd& x, BoundaryGuard* guard, double& current);
 
 private:
     const std::vector<FaceOperator>& faces_;

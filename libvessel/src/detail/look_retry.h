@@ -2,6 +2,8 @@
 
 #include "vessel/pipeline.h"
 
+#include <functional>
+
 namespace vessel::detail {
 
 //! \brief FlattenOptions::look_retry after a restarted map: measure the look of result.uv; if it
@@ -18,9 +20,12 @@ namespace vessel::detail {
 //! \param pins the layout's inlet pins refine_map() was given.
 //! \param replaced if not null and the pulled map is kept: the default map it replaced (the
 //! coarse-to-fine path checks the bound again at full resolution and may go back to it).
+//! \param on_try if set, called once the retry is going to be made, before its solve (the
+//! coarse-to-fine path starts its full-resolution reference then, on the second core).
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr);
+                const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr,
+                const std::function<void()>& on_try = {});
 
 //! \brief The look retry's reference: the quality of the `keep` map (OverlapPolicy::Keep,
 //! refine_map() from \p initial holding \p pins, the area polish included).

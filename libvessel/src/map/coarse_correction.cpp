@@ -167,7 +167,7 @@ void CoarseCorrection::factorize()
         solver_.factorize(system_);
 }
 
-double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, BoundaryGuard& guard,
+double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, BoundaryGuard* guard,
                               double& current)
 {
     const double* x = xv.data();
@@ -192,9 +192,12 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         held_.assign(coarse_.rows(), 0);
         // Held from the start: the coarse vertices around boundary parts within half a boundary
         // edge of each other, where a step would soon close the gap.
-        guard.rebuild(x);
-        for (int v : guard.near_pairs(x, std::max(0.5 * guard.mean_edge(), guard.clearance())))
-            hold_around(v, held_);
+        if (guard)
+        {
+            guard->rebuild(x);
+            for (int v : guard->near_pairs(x, std::max(0.5 * guard->mean_edge(), guard->clearance())))
+                hold_around(v, held_);
+        }
         factorize();
     }
     const Eigen::VectorXd restricted = P_.transpose() * gradient;
@@ -225,10 +228,13 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
             return 0.0;
         // A step that brings boundary parts nearer than the clearance is solved again with the
         // coarse vertices there held.
-        guard.rebuild(trial.data());
         int added = 0;
-        for (int v : guard.near_contacts(trial.data()))
-            added += hold_around(v, held_);
+        if (guard)
+        {
+            guard->rebuild(trial.data());
+            for (int v : guard->near_contacts(trial.data()))
+                added += hold_around(v, held_);
+        }
         if (added == 0)
         {
             const double lowered = current - e;

@@ -74,7 +74,8 @@ bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
 
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed, Eigen::MatrixX2d* replaced)
+                const LayoutResult& placed, Eigen::MatrixX2d* replaced,
+                const std::function<void()>& on_try)
 {
     const LookRetryOptions& retry = options.look_retry;
     if (retry.mode == LookRetry::Off || options.look_pull > 0.0 ||
@@ -86,6 +87,8 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
         (retry.mode == LookRetry::Auto && !retry.look_broken(summary.default_look)))
         return;
     summary.tried = true;
+    if (on_try)
+        on_try();
     const FlatQuality before = flat_quality(mesh, result.uv);
     summary.default_area = before.mean_abs_log_area_normalized;
 

@@ -316,12 +316,13 @@ void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eige
 class GrowingBoundary
 {
 public:
-    GrowingBoundary(const CoarseMesh& coarse, const Eigen::MatrixX2d& uv)
+    // \p tested false: every place is clear (a map allowed to overlap itself).
+    GrowingBoundary(const CoarseMesh& coarse, const Eigen::MatrixX2d& uv, bool tested)
     {
         for (auto h : coarse.mesh.halfedges())
             if (h.is_boundary())
                 add(coarse.fine_of[h.from().idx()], coarse.fine_of[h.to().idx()]);
-        if (edges_.empty())
+        if (edges_.empty() || !tested)
             return;
         Eigen::Vector2d lo = uv.row(edges_[0].a).transpose(), hi = lo;
         double length = 0.0;
@@ -432,7 +433,8 @@ private:
 }  // namespace
 
 Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
-                            const Eigen::MatrixX2d& coarse_uv, double area_weight)
+                            const Eigen::MatrixX2d& coarse_uv, double area_weight,
+                            bool keep_boundary_simple)
 {
     if (coarse_uv.rows() != static_cast<Eigen::Index>(coarse.fine_of.size()) ||
         coarse.coarse_of.size() != fine.n_vertices())
@@ -440,7 +442,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
     Eigen::MatrixX2d uv = Eigen::MatrixX2d::Zero(fine.n_vertices(), 2);
     for (std::size_t c = 0; c < coarse.fine_of.size(); ++c)
         uv.row(coarse.fine_of[c]) = coarse_uv.row(c);
-    GrowingBoundary boundary(coarse, uv);
+    GrowingBoundary boundary(coarse, uv, keep_boundary_simple);
     // Undo the collapses, the last first: each vertex comes back into the star it left, whose
     // other vertices are all placed: a boundary vertex onto (or just inside) the edge it was
     // cut from, an interior one at the fitted position; where a face of its star would flip

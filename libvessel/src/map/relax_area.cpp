@@ -20,7 +20,8 @@ namespace vessel {
 
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options,
-                        const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv)
+                        const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv,
+                        bool keep_boundary_simple)
 {
     options.validate();
     if (uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
@@ -88,7 +89,8 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     std::vector<char> active(n, 1), next(n, 0);
     for (int sweep = 0; sweep < options.relax_sweeps; ++sweep)
     {
-        guard.rebuild(x);
+        if (keep_boundary_simple)
+            guard.rebuild(x);
         const double threshold =
             0.1 * options.tolerance * std::max(current - minimum, 0.0) / std::max(n, 1);
         double lowered = 0.0;
@@ -98,7 +100,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                 continue;
             const detail::Corner* begin = corners.data() + first[v];
             const detail::Corner* end = corners.data() + first[v + 1];
-            const bool boundary = guard.on_boundary(v);
+            const bool boundary = keep_boundary_simple && guard.on_boundary(v);
             const Eigen::Vector2d from(x[2 * v], x[2 * v + 1]);
             const double step = detail::vertex_newton_step(
                 energy, begin, end, x, v,
@@ -121,7 +123,8 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         if (correction && summary.corrections < options.coarse_corrections &&
             (summary.sweeps % 2 == 0 || converged))
         {
-            const double by = correction->step(energy, xv, guard, current);
+            const double by =
+                correction->step(energy, xv, keep_boundary_simple ? &guard : nullptr, current);
             x = xv.data();
             ++summary.corrections;
             if (by > 0.0)

@@ -19,6 +19,7 @@
 #include "vessel/core/errors.h"
 
 #include <cstdio>
+#include <functional>
 #include <future>
 #include <limits>
 
@@ -62,9 +63,11 @@ Pins inlet_pins(const LayoutResult& placed, const Eigen::MatrixX2d& initial, boo
 
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
 // \param unpulled if not null and the look retry kept its pulled map: the map it replaced.
+// \param on_retry called when the look retry is going to be made (retry_look()).
 bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
                         const FlattenOptions& options, FlattenResult& result,
-                        Eigen::MatrixX2d* unpulled = nullptr)
+                        Eigen::MatrixX2d* unpulled = nullptr,
+                        const std::function<void()>& on_retry = {})
 {
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
@@ -112,7 +115,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
                            crosses_at_once ? crossing : "", result, &input, &placed))
     {
         at_layout = false;
-        retry_look(mesh, pins, initial, options, result, input, placed, unpulled);
+        retry_look(mesh, pins, initial, options, result, input, placed, unpulled, on_retry);
     }
     return at_layout;
 }
@@ -302,7 +305,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
         const Eigen::MatrixX2d coarser_uv = uv;
-        uv = prolongate(above, levels[l], uv, lambda);
+        uv = prolongate(above, levels[l], uv, lambda, keep_simple);
         const Pins pins =
             at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
         for (const Pin& pin : pins)
@@ -330,7 +333,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                                        " boundary vertices nearer another part than the "
                                        "clearance after the carry");
         const RelaxSummary relaxed =
-            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv);
+            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv, keep_simple);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
@@ -471,10 +474,24 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     coarse_placed.inlet = renumbered(placed.inlet, coarse_of);
     coarse_placed.outlets = renumbered(placed.outlets, coarse_of);
 
+    // The look retry's reference at full resolution (recheck_look_retry()), made on the second
+    // core from when the retry starts on the coarse mesh, through the carry: it depends on the
+    // fine mesh alone. Where the retry does not keep its pulled map it is not used (the wait
+    // for it is then hidden behind the retry and the carry, as far as they take as long).
+    std::future<FlatQuality> reference;
+    const auto start_reference = [&] {
+        reference = std::async(std::launch::async, [&mesh, &input, &placed, &options] {
+            const Eigen::MatrixX2d initial =
+                initial_map(mesh, placed, options.initialization, nullptr);
+            const bool at_lscm = options.initialization == Initialization::LayoutLscm;
+            return keep_quality(mesh, inlet_pins(placed, initial, at_lscm), initial, options,
+                                input, placed);
+        });
+    };
     FlattenResult solved;
     Eigen::MatrixX2d unpulled;
     at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
-                                   &unpulled);
+                                   &unpulled, start_reference);
     char line[200];
     std::snprintf(line, sizeof line,
                   "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
@@ -486,19 +503,9 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.untangle = solved.untangle;
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
-    // The look retry's reference at full resolution, made on the second core during the carry.
-    std::future<FlatQuality> reference;
-    if (result.look_retry.kept)
-        reference = std::async(std::launch::async, [&mesh, &input, &placed, &options] {
-            const Eigen::MatrixX2d initial =
-                initial_map(mesh, placed, options.initialization, nullptr);
-            const bool at_lscm = options.initialization == Initialization::LayoutLscm;
-            return keep_quality(mesh, inlet_pins(placed, initial, at_lscm), initial, options,
-                                input, placed);
-        });
     const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
                                         std::move(solved.uv), result);
-    if (!failed.empty() || !reference.valid())
+    if (!failed.empty() || !result.look_retry.kept)
         return failed;
     return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
                               std::move(unpulled), reference.get(), result);

@@ -116,8 +116,11 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
 //! \return |V_fine| x 2, row `v.idx()`.
 //! \param area_weight lambda of the energy each re-inserted interior vertex is settled with
 //! (relax_area()).
+//! \param keep_boundary_simple false for a map allowed to overlap itself (OverlapPolicy::Keep):
+//! a boundary vertex's places are not tested against the other boundary edges.
 Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
-                            const Eigen::MatrixX2d& coarse_uv, double area_weight);
+                            const Eigen::MatrixX2d& coarse_uv, double area_weight,
+                            bool keep_boundary_simple = true);
 
 //! What relax_area() did.
 struct RelaxSummary
@@ -143,11 +146,15 @@ struct RelaxSummary
 //! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.
 //! \param coarser the level \p mesh was decimated to (its `coarse_of` indexes \p mesh), or null
 //! \param coarser_uv the map of `coarser->mesh` that \p uv was carried from
+//! \param keep_boundary_simple false for a map allowed to overlap itself (OverlapPolicy::Keep):
+//! boundary vertices then move as interior ones do, with no guard (a guard would hold every
+//! vertex whose edges cross another part already, and the map far from its minimum).
 //! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2, or the
 //! coarser level does not match.
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options = {},
                         const CoarseMesh* coarser = nullptr,
-                        const Eigen::MatrixX2d* coarser_uv = nullptr);
+                        const Eigen::MatrixX2d* coarser_uv = nullptr,
+                        bool keep_boundary_simple = true);
 
 }  // namespace vessel
