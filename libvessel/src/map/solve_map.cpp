@@ -286,12 +286,30 @@ std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pin
     return guard.near_contacts(x).size();
 }
 
+// A note of what relax_area() did at full resolution, after \p prefix; returns the energy's
+// isometric minimum (twice the surface area).
+double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& relaxed,
+                  FlattenResult& result)
+{
+    const double minimum = 2.0 * face_areas(mesh).sum();
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "%s%d relaxation sweeps, %d coarse-grid corrections, energy / minimum %.5f -> "
+                  "%.5f",
+                  prefix, relaxed.sweeps, relaxed.corrections, relaxed.energy_before / minimum,
+                  relaxed.energy_after / minimum);
+    result.notes.push_back(line);
+    return minimum;
+}
+
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
+// \param below if not null: the map of levels[0].mesh the fine map was carried from (for
+// relax_further()).
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
                      std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
-                     FlattenResult& result)
+                     FlattenResult& result, Eigen::MatrixX2d* below = nullptr)
 {
     const MultilevelOptions& multilevel = options.multilevel;
     char line[200];
@@ -301,10 +319,13 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     // only slowly.
     const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
+    Eigen::MatrixX2d finest_coarser;
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
         const Eigen::MatrixX2d coarser_uv = uv;
+        if (l == 0 && below)
+            finest_coarser = uv;
         uv = prolongate(above, levels[l], uv, lambda, keep_simple);
         const Pins pins =
             at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
@@ -338,13 +359,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
         {
-            const double minimum = 2.0 * face_areas(mesh).sum();
-            std::snprintf(line, sizeof line,
-                          "coarse-to-fine: %d relaxation sweeps, %d coarse-grid corrections, "
-                          "energy / minimum %.5f -> %.5f",
-                          relaxed.sweeps, relaxed.corrections, relaxed.energy_before / minimum,
-                          relaxed.energy_after / minimum);
-            result.notes.push_back(line);
+            const double minimum = relax_note("coarse-to-fine: ", mesh, relaxed, result);
             if (!(relaxed.energy_after <= multilevel.max_energy_ratio * minimum))
             {
                 std::snprintf(line, sizeof line,
@@ -354,8 +369,27 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             }
         }
     }
+    if (below)
+        *below = std::move(finest_coarser);
     result.uv = std::move(uv);
     return "";
+}
+
+// More of carry_up()'s relaxation of the fine map \p uv (twice relax_sweeps and
+// coarse_corrections, from levels[0] and its map \p below), without pins: the map of a
+// restart. The relaxation stops at relax_sweeps on trees whose carry starts far from the
+// minimum (Glenn split4: energy / minimum 1.50 -> 1.0067), and a few more sweeps come nearer
+// it at a fraction of the cost of Newton steps at full resolution (polish_carried()); one note.
+void relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
+                   const Eigen::MatrixX2d& below, const FlattenOptions& options,
+                   Eigen::MatrixX2d& uv, FlattenResult& result)
+{
+    MultilevelOptions further = options.multilevel;
+    further.relax_sweeps *= 2;
+    further.coarse_corrections *= 2;
+    const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
+    relax_note("coarse-to-fine: relaxed further: ", mesh,
+               relax_area(mesh, uv, {}, lambda, further, &levels[0], &below), result);
 }
 
 // The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full
@@ -377,14 +411,17 @@ void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOpt
 // at full resolution, against \p reference, keep_quality() on the fine mesh. The coarse mesh's
 // areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091 coarse, 0.0041
 // fine), so a map within the bound there can be far above it here. Above it, the map is
-// polished at full resolution with the pulls; still above, the look retry is undone: the
-// default map it replaced (\p unpulled, on the coarse mesh) is carried up instead, and
-// polished there if it is above the bound too. result.uv holds the carried pulled map on entry.
+// relaxed further (relax_further()), then polished at full resolution with the pulls; still
+// above, the look retry is undone: the default map it replaced (\p unpulled, on the coarse
+// mesh) is carried up instead, and relaxed further and polished there as far as it is above
+// the bound too. result.uv holds the carried pulled map on entry, \p below the map of
+// levels[0] it was carried from.
 std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
                                const LayoutResult& placed, const FlattenOptions& options,
                                const std::vector<CoarseMesh>& levels,
                                std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
-                               const FlatQuality& reference, FlattenResult& result)
+                               const Eigen::MatrixX2d& below, const FlatQuality& reference,
+                               FlattenResult& result)
 {
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
@@ -400,18 +437,28 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         result.notes.push_back(line);
         return ok;
     };
+    // Relaxed further, then polished, as far as the map is above the bound; whether it ends
+    // within it.
+    const auto bring_within = [&](Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& from,
+                                  bool pulled) {
+        relax_further(mesh, levels, from, options, uv, result);
+        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
+            return true;
+        polish_carried(mesh, input, options, pulled, uv, result);
+        return within(uv, pulled ? "the polished pulled map" : "the polished default map");
+    };
     if (within(result.uv, "the carried pulled map"))
         return "";
     Eigen::MatrixX2d uv = result.uv;
-    polish_carried(mesh, input, options, true, uv, result);
-    if (within(uv, "the polished pulled map"))
+    if (bring_within(uv, below, true))
     {
         result.uv = std::move(uv);
         return "";
     }
     FlattenResult fallback;
+    Eigen::MatrixX2d fallback_below;
     const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, false,
-                                        std::move(unpulled), fallback);
+                                        std::move(unpulled), fallback, &fallback_below);
     result.notes.insert(result.notes.end(), fallback.notes.begin(), fallback.notes.end());
     if (!failed.empty())
         return "the default map (the look retry undone): " + failed;
@@ -419,10 +466,7 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     summary.report += "; above the bound at full resolution, went back to the default map";
     result.notes.push_back("coarse-to-fine: " + summary.report);
     if (!within(fallback.uv, "the carried default map"))
-    {
-        polish_carried(mesh, input, options, false, fallback.uv, result);
-        within(fallback.uv, "the polished default map");
-    }
+        bring_within(fallback.uv, fallback_below, false);
     result.uv = std::move(fallback.uv);
     return "";
 }
@@ -503,12 +547,13 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.untangle = solved.untangle;
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
+    Eigen::MatrixX2d below;
     const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
-                                        std::move(solved.uv), result);
+                                        std::move(solved.uv), result, &below);
     if (!failed.empty() || !result.look_retry.kept)
         return failed;
     return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
-                              std::move(unpulled), reference.get(), result);
+                              std::move(unpulled), below, reference.get(), result);
 }
 
 // The map and the solvers' summaries of \p solved into \p result (not its notes).

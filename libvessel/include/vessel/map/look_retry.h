@@ -36,7 +36,8 @@ struct LookRetryOptions
     //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
     //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh and
     //! the bound is checked again at full resolution against the fine mesh's `keep` map: the
-    //! coarse mesh's areas do not say it (docs/benchmarks.md "The look retry at full
+    //! coarse mesh's areas do not say it. A carried map above it is relaxed further, then
+    //! polished, then given up for the default map (docs/benchmarks.md "The look retry at full
     //! resolution"). CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
     //! \brief Whether \p look is broken by the rule above.
