@@ -163,7 +163,7 @@ struct FlattenOptions
     double look_pull = 0.0;
     //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
     //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays
-    //! (each outlet held on its start ray, branch look2). CLI `--look-pull-form hinges|rays`.
+    //! (each outlet held on its start ray). CLI `--look-pull-form hinges|rays`.
     LookPullForm look_pull_form = LookPullForm::Hinges;
     //! The hinges' margin (look_pull_form Hinges), degrees: the least angle kept between two
     //! consecutive outlets' bearings and between an outlet and the inlet's line (less where the

@@ -135,9 +135,8 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         return 0;
     // The u and v of a vertex share their sparsity: the paired analysis of SLIM's global step
     // (the vertex graph ordered by AMD, by METIS on the largest maps), on the upper triangle.
-    // Against CHOLMOD's own AMD on the lower triangle: carotid-300k, 10 Newton steps, 2
-    // analyses: the factor's flops 1.17e10 -> 6.1e9, a factorization ~1.08 -> ~0.7 s
-    // (docs/benchmarks.md, branch fspeed7).
+    // About half the factor's flops of CHOLMOD's own AMD on the lower triangle
+    // (docs/journal/benchmarks-2026-11.md, "Stage F: counts per sub-step").
     detail::PairedCholmod solver;
     // The Hessian's pattern is the same at every step: built once, then each face's block is
     // added straight into its values.

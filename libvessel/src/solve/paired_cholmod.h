@@ -147,9 +147,8 @@ public:
         cholmod_sparse graph = upper_pattern(column_start, rows);
         std::vector<int> vertex_order(n);
         // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
-        // fill on large maps (carotid-1M, SLIM: peak RSS 2752 -> 2431 MB, page faults 11.0M
-        // -> 8.9M; branch fspeed6, docs/benchmarks.md); below it AMD, far cheaper to compute
-        // (see kMetisVertices).
+        // fill and memory on large maps (docs/journal/benchmarks-2026-11.md, "Stage F at 1M");
+        // below it AMD, far cheaper to compute (see kMetisVertices).
         const bool ok =
             n >= metis_vertices
                 ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())

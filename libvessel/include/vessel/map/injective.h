@@ -50,10 +50,9 @@ struct InjectiveOptions
     //! area|: 0.1598 at 0.1, 0.1561 at 0.02; the weight does not stall the steps).
     double scaffold_weight = 0.002;
     //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
-    //! progress continues below 1e-4 (pulmonary tree: 0.1527 at 1e-4, 0.1456 at 1e-5).
-    //! 2e-5 with `momentum` 0.5 (branch fmap, docs/benchmarks.md "SLIM momentum"): SLIM
-    //! iterations carotid-44k 112 -> 85, 100k 128 -> 79, 300k 99 -> 54, mean |log area| within
-    //! +3% of 1e-5 without momentum (3e-5: 300k +12%); the 8 real trees within -3% / +2%.
+    //! progress continues below 1e-4. With `momentum` 0.5, 2e-5 ends within a few percent of
+    //! the mean |log area| of 1e-5 without momentum in 55-75% of the iterations; 3e-5
+    //! stops visibly early on large maps (docs/journal/benchmarks-2026-11.md, "SLIM momentum").
     double scaffold_tolerance = 2e-5;
     //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
     //! many iterations; in between its triangles (box and Steiner vertices included) keep their
@@ -71,17 +70,16 @@ struct InjectiveOptions
     //! Keep the scaffold's triangulation (and the symbolic factorization of its pattern) for
     //! the next iteration when no scaffold triangle stopped the last step; only its rest shapes
     //! follow the map (as between scaffold_rebuild_every's triangulations). A step that did
-    //! stop at a collapsing scaffold triangle still gets a new triangulation. Measured (branch
-    //! fspeed3, default pipeline): scaffold triangulations carotid-44k 200 -> 96, CGAL CPU
-    //! 4.7 -> 2.1 s; mean |log area| carotid 0.0390 -> 0.0400, pulmonary tree 0.1487 ->
-    //! 0.1489, AneuRisk 0.1360 -> 0.1361.
+    //! stop at a collapsing scaffold triangle still gets a new triangulation. About half the
+    //! triangulations for the same maps within a few percent of mean |log area|
+    //! (docs/journal/benchmarks-2026-11.md, "F: cheaper scaffold iterations").
     bool scaffold_keep_unblocked = true;
     //! Treat a step stopped by a collapsing *surface* triangle like one stopped by a scaffold
     //! triangle: triangulate the scaffold anew, continue the step (scaffold_passes) and
-    //! triangulate again at the next iteration. false (default, branch fspeed6): only a step
-    //! that a scaffold triangle stopped is continued and re-triangulated; where a surface
-    //! triangle stops it a new scaffold cannot let it go further, and each new triangulation
-    //! costs a symbolic factorization (carotid-1M: see docs/benchmarks.md, "fspeed6").
+    //! triangulate again at the next iteration. false (default): only a step that a scaffold
+    //! triangle stopped is continued and re-triangulated; where a surface triangle stops it a
+    //! new scaffold cannot let it go further, and each new triangulation costs a symbolic
+    //! factorization (docs/journal/benchmarks-2026-11.md, "Stage F at 1M").
     bool scaffold_continue_surface_blocked = false;
     //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
     //! of the last iteration's motion and keeps whichever line search ends at the lower energy
