@@ -18,6 +18,7 @@
 #include "vessel/check/validation.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -356,6 +357,76 @@ std::vector<PathWinding> default_cut_windings(const Mesh& mesh, bool natural = f
     return windings;
 }
 
+// How far apart, around their vessels, the default cuts of a real tree and of the same surface
+// split 1 -> 4 lie (the same shape; each native vertex is a vertex of the split mesh). Per
+// vertex of a cut of the split mesh, the angle around its vessel (WindingMeter::step() on the
+// split mesh) from the nearest vertex of the same outlet's cut at the native resolution; per
+// cut the length-weighted mean (degrees) over the measured vertices, and the measured length
+// over the whole.
+struct SideApart
+{
+    int outlet = -1;
+    double mean_deg = 0.0, measured_fraction = 0.0;
+};
+
+std::vector<SideApart> sides_apart_at_two_resolutions(const std::string& name)
+{
+    const RawMesh raw = read_raw_mesh(std::string(VESSEL_SHARED_DATA) + "/" + name);
+    const TreeSurface native = make_tree_surface(raw);
+    const TreeSurface fine = make_tree_surface(split4(raw));
+    // The split mesh's vertex at each native vertex's place.
+    std::map<std::array<double, 3>, VertexHandle> at;
+    for (VertexHandle v : fine.mesh.vertices())
+    {
+        const auto p = fine.mesh.point(v);
+        at[{p[0], p[1], p[2]}] = v;
+    }
+    const auto fine_vertex = [&](VertexHandle v) {
+        const auto p = native.mesh.point(v);
+        const auto found = at.find({p[0], p[1], p[2]});
+        REQUIRE(found != at.end());
+        return found->second;
+    };
+    Eigen::VectorXd H, H_native;
+    const CutPlan coarse_plan = default_plan(native.mesh, FlattenOptions().cuts, H_native);
+    const CutPlan fine_plan = default_plan(fine.mesh, FlattenOptions().cuts, H);
+    REQUIRE(coarse_plan.paths.size() == fine_plan.paths.size());
+    const WindingMeter meter(fine.mesh, H);
+    std::vector<SideApart> apart;
+    for (const CutPath& path : fine_plan.paths)
+    {
+        const auto twin = std::find_if(coarse_plan.paths.begin(), coarse_plan.paths.end(),
+                                       [&](const CutPath& p) { return p.outlet == path.outlet; });
+        REQUIRE(twin != coarse_plan.paths.end());
+        std::vector<VertexHandle> others{fine_vertex(twin->start)};
+        for (HalfedgeHandle h : twin->halfedges)
+            others.push_back(fine_vertex(native.mesh.to_vertex_handle(h)));
+        double weighted = 0.0, measured = 0.0, total = 0.0;
+        VertexHandle previous = path.start;
+        for (HalfedgeHandle h : path.halfedges)
+        {
+            const VertexHandle w = fine.mesh.to_vertex_handle(h);
+            const Eigen::Vector3d p = to_eigen(fine.mesh.point(w));
+            const double step = (p - to_eigen(fine.mesh.point(previous))).norm();
+            previous = w;
+            total += step;
+            const VertexHandle nearest = *std::min_element(
+                others.begin(), others.end(), [&](VertexHandle a, VertexHandle b) {
+                    return (to_eigen(fine.mesh.point(a)) - p).squaredNorm() <
+                           (to_eigen(fine.mesh.point(b)) - p).squaredNorm();
+                });
+            const double angle = meter.step(nearest, w, false);
+            if (!std::isfinite(angle))
+                continue;
+            weighted += std::abs(angle) * 180.0 / M_PI * step;
+            measured += step;
+        }
+        REQUIRE(measured > 0.0);
+        apart.push_back({path.outlet, weighted / measured, measured / total});
+    }
+    return apart;
+}
+
 }  // namespace
 
 TEST_CASE("cut_winding: --viewpoint puts the cuts on the far side of the vessels")
@@ -434,6 +505,24 @@ TEST_CASE("cut_winding: natural cuts on the SimVascular demo at its resolution a
             CHECK(w.measured * 4 > w.vertices);  // the figure rests on at least a quarter of it
         }
         CHECK(seam_winding(windings).mean_abs_deg <= 20.0);
+    }
+}
+
+TEST_CASE("cut_winding: the VaMPy artery's cuts stay on the same side of their vessels at two "
+          "resolutions")
+{
+    // Issue 32's resolution target: the surface split 1 -> 4 is cut on the same side of each
+    // vessel as at its own resolution. Measured: 6.3 and 5.5 degrees apart (57% and 72% of
+    // each cut measured). Not met on two other real trees (docs/results.md "Cuts at two
+    // resolutions"): the SimVascular demo's cuts lie 59 and 85 degrees apart, the vmtk
+    // aorta's 59 and 35 (near-tied routes that the finer graph resolves differently).
+    for (const SideApart& cut : sides_apart_at_two_resolutions("vampy/artery.ply"))
+    {
+        CAPTURE(cut.outlet);
+        MESSAGE("outlet " << cut.outlet << ": " << cut.mean_deg << " degrees apart, "
+                          << cut.measured_fraction << " of it measured");
+        CHECK(cut.mean_deg <= 10.0);
+        CHECK(cut.measured_fraction >= 0.5);
     }
 }
 
