@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <future>
+#include <mutex>
 #include <optional>
 
 namespace vessel {
@@ -302,15 +303,23 @@ FlattenOptions with_progress(const FlattenOptions& options)
         return options;
     FlattenOptions wired = options;
     using Clock = std::chrono::steady_clock;
-    // The last iteration report (none yet: the first is made at once).
-    auto last = std::make_shared<std::optional<Clock::time_point>>();
+    // The last iteration report (none yet: the first is made at once), under a lock: the
+    // coarse-to-fine path solves the look retry's reference on a second thread, whose solvers
+    // report too, and on_progress is called from one thread at a time.
+    struct Last
+    {
+        std::mutex mutex;
+        std::optional<Clock::time_point> at;
+    };
+    auto last = std::make_shared<Last>();
     const auto report = [last, on_progress = options.on_progress,
                          interval = options.progress_interval_s](const char* phase, int iteration,
                                                                  int max_iterations) {
+        const std::lock_guard<std::mutex> lock(last->mutex);
         const Clock::time_point now = Clock::now();
-        if (*last && std::chrono::duration<double>(now - **last).count() < interval)
+        if (last->at && std::chrono::duration<double>(now - *last->at).count() < interval)
             return;
-        *last = now;
+        last->at = now;
         Progress progress;
         progress.stage = "F";
         progress.phase = phase;
@@ -333,7 +342,7 @@ FlattenOptions with_progress(const FlattenOptions& options)
             caller(it, scaffold);
     };
     const AreaPolishOptions& polish = options.area_polish;
-    wired.area_polish.on_chunk = [report, caller = polish.on_chunk,
+    wired.area_polish.on_step = [report, caller = polish.on_step,
                                   limit = polish.newton ? polish.newton_max_iterations
                                                         : polish.max_iterations](int done) {
         report("polish", done, limit);

@@ -85,6 +85,34 @@ TEST_CASE("area polish: lowers the 3-outlet tree phantom's area distortion, stil
                          doctest::Contains("untangle it first"), InvalidInputError);
 }
 
+TEST_CASE("area polish: on_step reports every Newton step, every chunk of L-BFGS")
+{
+    // Progress on large maps (issue 27): a Newton step of a 100k-vertex map takes about a
+    // second, a chunk of five several.
+    const FlattenResult plain = flatten_tree3(false);
+    for (const bool newton : {true, false})
+    {
+        CAPTURE(newton);
+        AreaPolishOptions options;
+        options.newton = newton;
+        std::vector<int> reported;
+        options.on_step = [&](int done) { reported.push_back(done); };
+        Eigen::MatrixX2d uv = plain.uv;
+        const AreaPolishSummary summary = area_polish(plain.mesh, uv, {}, options);
+        REQUIRE(summary.iterations > 0);
+        REQUIRE_FALSE(reported.empty());
+        CHECK(std::is_sorted(reported.begin(), reported.end()));
+        CHECK(std::adjacent_find(reported.begin(), reported.end()) == reported.end());
+        CHECK(reported.back() == summary.iterations);
+        if (newton)  // one call per step: 1, 2, ..., iterations
+            CHECK(reported.size() == static_cast<std::size_t>(summary.iterations));
+        else  // one per chunk
+            CHECK(reported.size() <= static_cast<std::size_t>(
+                                         (summary.iterations + options.chunk_iterations - 1) /
+                                         options.chunk_iterations) + 1);
+    }
+}
+
 TEST_CASE("area polish: under --overlaps keep the map is polished without a scaffold")
 {
     const FlattenResult keep = flatten_tree3(true, OverlapPolicy::Keep);

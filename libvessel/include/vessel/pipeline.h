@@ -200,10 +200,12 @@ struct FlattenOptions
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
     //! Called at the end of every stage and, within stage F, after the solvers' outer
-    //! iterations (ARAP sweeps, SLIM iterations, area polish chunks), at most once per
-    //! `progress_interval_s` for the iterations, so that a display shows a long run going on
-    //! without slowing it. Called on the thread that called flatten(). Null (the default) = no
-    //! calls. The vessel-flatten CLI draws it as one line on a terminal.
+    //! iterations (ARAP sweeps, SLIM iterations, area polish steps, relaxation sweeps), at most
+    //! once per `progress_interval_s` for the iterations, so that a display shows a long run
+    //! going on without slowing it. Called from one thread at a time: the thread that called
+    //! flatten(), or the second thread on which stage F makes the look retry's full-resolution
+    //! reference after coarse-to-fine (multilevel.h) while the first waits or relaxes. Null (the
+    //! default) = no calls. The vessel-flatten CLI draws it as one line on a terminal.
     std::function<void(const Progress&)> on_progress;
     //! The least time, in seconds, between two of on_progress's iteration reports (stage ends
     //! are always reported); 0 = every iteration.

@@ -125,7 +125,8 @@ private:
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
 // line searched from the full step back to one that flips no face and lowers the energy
 // (Armijo). Returns the steps taken; `cost` is the energy at the end.
-int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& cost)
+int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& cost,
+                 const std::function<void(int done)>& on_step)
 {
     const std::vector<int>& slot = energy.slot();
     const int m = energy.NumParameters();
@@ -177,6 +178,7 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         p = trial;
         if (!energy.Evaluate(p.data(), &cost, gradient.data()))
             break;  // cannot happen: the trial was valid
+        on_step(done + 1);
     }
     energy.scatter(p.data());
     return done;
@@ -311,7 +313,10 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
             done = newton_steps(*energy, options.area_weight,
                                 std::min(options.newton_chunk_iterations,
                                          options.newton_max_iterations - summary.iterations),
-                                after);
+                                after, [&](int steps) {
+                                    if (options.on_step)
+                                        options.on_step(summary.iterations + steps);
+                                });
         }
         else
         {
@@ -328,8 +333,8 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
             break;
         summary.iterations += done;
         summary.energy_after = after;
-        if (options.on_chunk)
-            options.on_chunk(summary.iterations);
+        if (!options.newton && options.on_step)
+            options.on_step(summary.iterations);
         // The energy is at least 2 x the surface area (isometry); stop when a chunk removes
         // less than `tolerance` of what is left above that.
         if (before - after < options.tolerance * (before - 2.0 * area))
