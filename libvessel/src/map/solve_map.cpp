@@ -286,6 +286,13 @@ std::size_t open_near_contacts(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pin
     return guard.near_contacts(x).size();
 }
 
+// The area weight lambda the carried maps are relaxed with: the area polish's when it runs,
+// else an even mix of the two energies.
+double relax_weight(const FlattenOptions& options)
+{
+    return options.polish_area ? options.area_polish.area_weight : 0.5;
+}
+
 // A note of what relax_area() did at full resolution, after \p prefix; returns the energy's
 // isometric minimum (twice the surface area).
 double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& relaxed,
@@ -317,16 +324,13 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     // level the pins (when they held) put back exactly, flips untangled, then the error of the
     // level's own wavelength relaxed away, which the finer levels' local steps would remove
     // only slowly.
-    const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
+    const double lambda = relax_weight(options);
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
-    Eigen::MatrixX2d finest_coarser;
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
-        const Eigen::MatrixX2d coarser_uv = uv;
-        if (l == 0 && below)
-            finest_coarser = uv;
-        uv = prolongate(above, levels[l], uv, lambda, keep_simple);
+        Eigen::MatrixX2d coarser_uv = std::move(uv);
+        uv = prolongate(above, levels[l], coarser_uv, lambda, keep_simple);
         const Pins pins =
             at_layout ? renumbered(placed.inlet, index_at(levels, l, mesh.n_vertices())) : Pins{};
         for (const Pin& pin : pins)
@@ -367,10 +371,10 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                               relaxed.energy_after / minimum, multilevel.max_energy_ratio);
                 return line;
             }
+            if (below)
+                *below = std::move(coarser_uv);
         }
     }
-    if (below)
-        *below = std::move(finest_coarser);
     result.uv = std::move(uv);
     return "";
 }
@@ -387,7 +391,7 @@ void relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     MultilevelOptions further = options.multilevel;
     further.relax_sweeps *= 2;
     further.coarse_corrections *= 2;
-    const double lambda = options.polish_area ? options.area_polish.area_weight : 0.5;
+    const double lambda = relax_weight(options);
     relax_note("coarse-to-fine: relaxed further: ", mesh,
                relax_area(mesh, uv, {}, lambda, further, &levels[0], &below), result);
 }
