@@ -1002,9 +1002,12 @@ TEST_CASE("cli: a batch flattens the good meshes, reports the bad ones and exits
     const std::vector<std::string> status = {"ok", "ok", "refused", "refused"};
     for (int i = 0; i < 4; ++i)
     {
-        REQUIRE(rows[i + 1].size() == 9);
+        REQUIRE(rows[i + 1].size() == 10);
         CHECK(fs::path(rows[i + 1][0]).stem() == names[i]);
         CHECK(rows[i + 1][1] == status[i]);
+        // Each mesh ran in a process of its own, whose peak memory is on its row.
+        REQUIRE(!rows[i + 1][9].empty());
+        CHECK(std::stod(rows[i + 1][9]) > 1.0);
     }
     CHECK(rows[1][2].empty());
     CHECK(rows[3][2].find("read_raw_mesh: file is empty") != std::string::npos);
@@ -1202,4 +1205,43 @@ TEST_CASE("cli: a batch's memory budget refuses a mesh above it and runs large o
     CHECK(summary.find("above the batch's memory cap") != std::string::npos);
     CHECK(fs::exists(dir + "/out/a.obj"));
     CHECK_FALSE(fs::exists(dir + "/out/b.obj"));
+}
+
+TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap, the others go on")
+{
+    // The estimate is for the default options; mapped at full resolution (--coarse-vertices 0)
+    // a 45k-triangle carotid needs far more (171 MB against 120 here), so a cap between the two
+    // admits it and must stop it. The small artery beside it is flattened.
+    const auto dir = temp_dir("cli_batch_watchdog");
+    fs::create_directories(dir + "/in");
+    fs::copy_file(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply", dir + "/in/a.ply");
+    CarotidPhantomOptions options;
+    options.edge_length = 0.263;
+    const Mesh carotid = carotid_phantom(options);
+    write_mesh(carotid, dir + "/in/b.ply");
+    const double estimate = vessel::cli::estimated_peak_mb(carotid.n_faces());
+    const double cap = estimate + 15.0;
+    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/out -q --coarse-vertices 0 " +
+              "--batch-memory " + std::to_string(cap) + " 2> " + dir + "/err.txt") == 1);
+    const auto rows = read_csv_rows(dir + "/out/summary.csv");
+    REQUIRE(rows.size() == 3);
+    CHECK(rows[1][1] == "ok");
+    CHECK(rows[2][1] == "failed");
+    CHECK(rows[2][2].rfind("stopped at ", 0) == 0);
+    CHECK(rows[2][2].find("above the batch's memory cap") != std::string::npos);
+    // Stopped once above the cap, not before, and not long after (the watchdog looks every
+    // 50 ms; the full-resolution map grows by a few MB per 50 ms).
+    const double peak = std::stod(rows[2][9]);
+    MESSAGE("carotid: estimate ", estimate, " MB, cap ", cap, " MB, stopped at ", peak, " MB");
+    CHECK(peak > cap);
+    CHECK(peak < cap + 40.0);
+    CHECK(fs::exists(dir + "/out/a.obj"));
+    CHECK_FALSE(fs::exists(dir + "/out/b.obj"));
+    CHECK_FALSE(fs::exists(dir + "/out/b.json"));
+    for (const auto& entry : fs::directory_iterator(dir + "/out"))
+        CHECK_MESSAGE(entry.path().extension() != ".tmp", entry.path());
+    // Alone with room, the same mesh is flattened at full resolution.
+    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/room -q --coarse-vertices 0 " +
+              "--batch-memory " + std::to_string(estimate + 200.0)) == 0);
+    CHECK(fs::exists(dir + "/room/b.obj"));
 }

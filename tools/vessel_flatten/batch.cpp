@@ -1,4 +1,5 @@
 #include "batch.h"
+#include "case_process.h"
 #include "memory_budget.h"
 
 #include "common/error_text.h"
@@ -15,6 +16,7 @@
 #include <cctype>
 #include <chrono>
 #include <csignal>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +26,7 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <sys/prctl.h>
 #include <unistd.h>
 #include <vector>
 
@@ -76,6 +79,7 @@ struct Row
     int flipped = 0;
     double area_ratio = 0;
     double mean_abs_log_area = 0;
+    double peak_mb = 0;  //!< peak resident memory of the mesh's process (0: not run)
 };
 
 bool is_mesh_file(const fs::path& p)
@@ -256,8 +260,9 @@ void remove_leftovers(const fs::path& dir, const std::vector<Input>& inputs)
     }
 }
 
-// Fills \p row from an earlier run's <stem>.json; false if it is unreadable or not a success.
-bool resume_row(const fs::path& json_path, Row& row)
+// Fills \p row from a mesh's report <name>.json (a success); false if it is unreadable or not
+// a success.
+bool row_from_report(const fs::path& json_path, Row& row)
 {
     try
     {
@@ -267,7 +272,6 @@ bool resume_row(const fs::path& json_path, Row& row)
             return false;
         row.status = "ok";
         row.message.clear();
-        row.resumed = true;
         row.total_s = j.at("timings").at("total").get<double>();
         row.faces = j.at("counts").at("faces").get<long>();
         const auto& q = j.at("quality");
@@ -303,7 +307,7 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
 {
     std::ostringstream csv;
     csv << "file,status,message,resumed,total_s,faces,flipped,area_ratio,"
-           "mean_abs_log_area_ratio\n";
+           "mean_abs_log_area_ratio,peak_mb\n";
     nlohmann::json files = nlohmann::json::array();
     std::map<std::string, int> counts;
     for (const auto& r : rows)
@@ -317,6 +321,7 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
                 << number(r.area_ratio) << "," << number(r.mean_abs_log_area);
         else
             csv << ",,,,";
+        csv << "," << (r.peak_mb > 0 ? number(r.peak_mb) : "");
         csv << "\n";
         nlohmann::json j = {{"file", r.file},
                             {"status", r.status},
@@ -330,6 +335,8 @@ void write_summaries(const fs::path& dir, const std::vector<Row>& rows, int sign
             j["area_ratio"] = r.area_ratio;
             j["mean_abs_log_area_ratio"] = r.mean_abs_log_area;
         }
+        if (r.peak_mb > 0)
+            j["peak_mb"] = r.peak_mb;
         files.push_back(j);
     }
     nlohmann::json summary = {{"inputs", rows.size()},
@@ -396,96 +403,124 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             continue;
         }
         const fs::path obj = dir / (row.stem + ".obj"), json = dir / (row.stem + ".json");
-        if (batch.resume && fs::exists(obj) && fs::exists(json) && resume_row(json, row))
+        if (batch.resume && fs::exists(obj) && fs::exists(json) && row_from_report(json, row))
+        {
+            row.resumed = true;
             continue;
+        }
         todo.push_back(i);
     }
 
-    FlattenOptions mesh_options = options;
-    mesh_options.on_stage = nullptr;
-    // OpenMesh's readers are process-wide singletons with per-read state (e.g. the PLY reader's
-    // element counts), so reads are serialized; flattening runs in parallel.
-    std::mutex read_mutex;
-    std::mutex print_mutex;
+    // OpenMesh's warnings would interleave between the meshes; our messages say what matters.
+    omerr().disable();
     const double memory_mb = batch.memory_mb > 0.0 ? batch.memory_mb : default_memory_mb();
-    MemoryBudget budget(memory_mb > 0.0 ? memory_mb : std::numeric_limits<double>::infinity());
+    const double cap = memory_mb > 0.0 ? memory_mb : std::numeric_limits<double>::infinity();
+    MemoryBudget budget(cap);
+    MemoryWatchdog watchdog(cap, std::chrono::milliseconds(50));
+    std::mutex print_mutex;
     std::atomic<std::size_t> next{0};
     std::size_t finished = files.size() - todo.size();
-    // OpenMesh warnings would interleave between threads; our messages say what matters.
-    omerr().disable();
     g_signal = 0;
     install_signal_handlers();
+    std::signal(SIGPIPE, SIG_IGN);  // a mesh's process that ended is seen by its exit status
 
+    // Each mesh runs in a process of its own (vessel-flatten ... --batch-case FILE NAME,
+    // run_batch_case()), which reads and validates the mesh, says its size, waits for the
+    // budget to admit it, flattens it and writes its outputs and its row.
     auto process = [&](Row& row) {
-        const fs::path obj = dir / (row.stem + ".obj"), json = dir / (row.stem + ".json");
-        bool validated = false;
+        std::vector<std::string> args = batch.command;
+        args.insert(args.end(), {"--batch-case", row.file, row.stem});
+        double need = 0.0;
+        bool admitted = false, reported = false;
+        ChildProcess::Exit exit;
+        MemoryWatchdog::Verdict verdict;
         try
         {
-            auto start = Clock::now();
-            RawMesh raw;
+            ChildProcess child("/proc/self/exe", args);
+            watchdog.watch(child.pid());
+            std::string line;
+            while (child.read_line(line))
             {
-                std::lock_guard<std::mutex> lock(read_mutex);
-                raw = read_raw_mesh(row.file);
+                if (line.rfind("faces ", 0) == 0)
+                {
+                    const std::size_t faces = std::stoul(line.substr(6));
+                    need = estimated_peak_mb(faces);
+                    if (!budget.acquire(need))
+                    {
+                        char text[300];
+                        std::snprintf(text, sizeof text,
+                                      "%zu triangles would need about %.0f MB, above the "
+                                      "batch's memory cap of %.0f MB; give a larger "
+                                      "--batch-memory, or flatten it alone",
+                                      faces, need, budget.cap());
+                        row.status = "refused";
+                        row.message = text;
+                        reported = true;
+                        child.kill();
+                        break;
+                    }
+                    admitted = true;
+                    watchdog.admit(child.pid(), need);
+                    child.write_line("go");
+                }
+                else if (line.rfind("ok", 0) == 0)
+                    reported = row_from_report(dir / (row.stem + ".json"), row);
+                else if (line.rfind("refused ", 0) == 0 || line.rfind("failed ", 0) == 0)
+                {
+                    const auto space = line.find(' ');
+                    row.status = line.substr(0, space);
+                    row.message = line.substr(space + 1);
+                    reported = true;
+                }
             }
-            const PreparedInput in = prepare_input(std::move(raw), batch.surface, batch.repair_options());
-            const TreeSurface& surface = in.surface;
-            const double read_s = seconds_since(start);
-            const double need = estimated_peak_mb(surface.mesh.n_faces());
-            if (!budget.acquire(need))
-            {
-                char text[300];
-                std::snprintf(text, sizeof text,
-                              "%zu triangles would need about %.0f MB, above the batch's memory "
-                              "cap of %.0f MB; give a larger --batch-memory, or flatten it alone",
-                              surface.mesh.n_faces(), need, budget.cap());
-                throw InvalidInputError(text);
-            }
-            struct Release
-            {
-                MemoryBudget& budget;
-                double need;
-                ~Release() { budget.release(need); }
-            } release{budget, need};
-            validated = true;
-            const FlattenResult result = flatten(surface.mesh, mesh_options);
-            start = Clock::now();
-            write_flat_obj(obj.string(), in.raw.points, result.mesh, result.uv);
-            const double write_s = seconds_since(start);
-            nlohmann::json report = report_json(row.file, in, result, read_s, write_s);
-            report["status"] = "ok";
-            write_text_file(json.string(), report.dump(2) + "\n");
-            row.status = "ok";
-            row.message.clear();
-            row.total_s = result.timings.total();
-            row.faces = static_cast<long>(surface.mesh.n_faces());
-            row.flipped = result.quality.flipped_triangles;
-            row.area_ratio = result.quality.area_ratio;
-            row.mean_abs_log_area = result.quality.mean_abs_log_area;
-            return;
-        }
-        catch (const InvalidInputError& e)
-        {
-            row.status = validated ? "failed" : "refused";
-            row.message = e.what();
-        }
-        catch (const IoError& e)
-        {
-            row.status = validated ? "failed" : "refused";
-            row.message = e.what();
+            verdict = watchdog.forget(child.pid());  // before the pid is reaped
+            exit = child.wait();
         }
         catch (const std::exception& e)
         {
             row.status = "failed";
-            row.message = error_text(e, row.file);
+            row.message = std::string("cannot run the mesh's process: ") + e.what();
+            reported = true;
         }
-        catch (...)
+        if (admitted)
+            budget.release(need);
+        row.peak_mb = exit.peak_mb;
+        if (verdict.killed)
         {
+            char text[400];
+            if (verdict.beside == 0)
+                std::snprintf(text, sizeof text,
+                              "stopped at %.0f MB, above the batch's memory cap of %.0f MB "
+                              "(estimate for its size: %.0f MB); give a larger --batch-memory, "
+                              "or flatten it alone",
+                              verdict.resident_mb, cap, need);
+            else
+                std::snprintf(text, sizeof text,
+                              "stopped at %.0f MB (estimate for its size: %.0f MB): with the %d "
+                              "other running mesh%s the batch went above its memory cap of "
+                              "%.0f MB; flatten it alone, or give a larger --batch-memory",
+                              verdict.resident_mb, need, verdict.beside,
+                              verdict.beside == 1 ? "" : "es", cap);
             row.status = "failed";
-            row.message = "unknown exception";
+            row.message = text;
         }
-        // No outputs of an earlier run may contradict the summary.
-        remove_quietly(obj);
-        remove_quietly(json);
+        else if (!reported)
+        {
+            row.status = admitted ? "failed" : "refused";
+            row.message = exit.signal != 0
+                              ? "its process ended by signal " + std::to_string(exit.signal) +
+                                    " (" + strsignal(exit.signal) + ")"
+                              : "its process ended (exit code " + std::to_string(exit.code) +
+                                    ") without a result";
+            row.message += "; please report it with the mesh";
+        }
+        if (row.status != "ok")
+        {
+            // No outputs of this or an earlier run may contradict the summary.
+            remove_quietly(dir / (row.stem + ".obj"));
+            remove_quietly(dir / (row.stem + ".json"));
+            remove_leftovers(dir, {Input{row.file, row.stem, ""}});
+        }
     };
 
     auto worker = [&]() {
@@ -538,6 +573,81 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     if (signal != 0)
         return 128 + signal;
     return bad > 0 ? 1 : 0;
+}
+
+int run_batch_case(const BatchOptions& batch, const FlattenOptions& options,
+                   const std::string& file, const std::string& name)
+{
+    // Ends with the batch (a second interrupt ends it at once); if it has ended already, so do we.
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() == 1)
+        return 1;
+    omerr().disable();
+    std::FILE* to_batch = ::fdopen(3, "w");
+    if (!to_batch)
+    {
+        std::fprintf(stderr, "vessel-flatten: --batch-case is the batch's own (one mesh of "
+                             "--batch in a process); run --batch instead\n");
+        return 1;
+    }
+    const auto say = [&](const std::string& line) {
+        std::fprintf(to_batch, "%s\n", line.c_str());
+        std::fflush(to_batch);
+    };
+    const fs::path dir = batch.output_dir;
+    const fs::path obj = dir / (name + ".obj"), json = dir / (name + ".json");
+    FlattenOptions mesh_options = options;
+    mesh_options.on_stage = nullptr;
+    std::string status, message;  // of a mesh not flattened
+    bool validated = false;
+    try
+    {
+        auto start = Clock::now();
+        const PreparedInput in =
+            prepare_input(read_raw_mesh(file), batch.surface, batch.repair_options());
+        const TreeSurface& surface = in.surface;
+        const double read_s = seconds_since(start);
+        // The batch admits the mesh by its size (MemoryBudget), or stops this process.
+        say("faces " + std::to_string(surface.mesh.n_faces()));
+        std::string answer;
+        for (int c; (c = std::getchar()) != EOF && c != '\n';)
+            answer.push_back(static_cast<char>(c));
+        if (answer != "go")
+            return 1;
+        validated = true;
+        const FlattenResult result = flatten(surface.mesh, mesh_options);
+        start = Clock::now();
+        write_flat_obj(obj.string(), in.raw.points, result.mesh, result.uv);
+        const double write_s = seconds_since(start);
+        nlohmann::json report = report_json(file, in, result, read_s, write_s);
+        report["status"] = "ok";
+        write_text_file(json.string(), report.dump(2) + "\n");
+        say("ok");  // the batch's row comes from the report
+        return 0;
+    }
+    catch (const InvalidInputError& e)
+    {
+        status = validated ? "failed" : "refused";
+        message = e.what();
+    }
+    catch (const IoError& e)
+    {
+        status = validated ? "failed" : "refused";
+        message = e.what();
+    }
+    catch (const std::exception& e)
+    {
+        status = "failed";
+        message = error_text(e, file);
+    }
+    catch (...)
+    {
+        status = "failed";
+        message = "unknown exception";
+    }
+    std::replace(message.begin(), message.end(), '\n', ' ');  // one line to the batch
+    say(status + " " + message);
+    return 0;
 }
 
 }  // namespace vessel::cli

@@ -181,6 +181,8 @@ int main(int argc, char** argv)
                              ->excludes(input_option)
                              ->option_text("DIR|LIST")
                              ->group(io_group);
+    std::vector<std::string> batch_case;  // FILE NAME: one mesh of --batch (run_batch_case())
+    app.add_option("--batch-case", batch_case)->expected(2)->needs(batch_option)->group("");
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
         ->option_text("N")
@@ -202,9 +204,10 @@ int main(int argc, char** argv)
                  "<stem>.json already exist in OUTDIR")
         ->group(input_tuning);
     app.add_option("--batch-memory", batch.memory_mb,
-                   "With --batch: memory the meshes running together may need, by an estimate "
-                   "from each one's triangles (32 MB + 2 KB each); a mesh above it is refused, "
-                   "large ones wait for room (default: 80% of the machine's memory)")
+                   "With --batch: memory the meshes running together may use; each is admitted "
+                   "by an estimate from its triangles (32 MB + 2 KB each): one above it is "
+                   "refused, large ones wait for room; one that uses more than the cap allows is "
+                   "stopped (default: 80% of the machine's memory)")
         ->check(CLI::PositiveNumber)
         ->option_text("MB")
         ->group(input_tuning);
@@ -630,6 +633,9 @@ int main(int argc, char** argv)
         {
             batch.output_dir = output;
             batch.quiet = quiet;
+            if (!batch_case.empty())
+                return vessel::cli::run_batch_case(batch, options, batch_case[0], batch_case[1]);
+            batch.command.assign(argv, argv + argc);
             return vessel::cli::run_batch(batch, options);
         }
         static const std::map<std::string, std::string> stage_names = {

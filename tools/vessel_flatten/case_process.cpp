@@ -1,0 +1,258 @@
+#include "case_process.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <system_error>
+#include <unistd.h>
+
+extern char** environ;
+
+namespace vessel::cli {
+
+namespace {
+
+[[noreturn]] void throw_errno(const char* what, int error)
+{
+    throw std::system_error(error, std::generic_category(), what);
+}
+
+void close_fd(int& fd)
+{
+    if (fd >= 0)
+        ::close(fd);
+    fd = -1;
+}
+
+}  // namespace
+
+ChildProcess::ChildProcess(const std::string& exe, const std::vector<std::string>& args)
+{
+    // Close-on-exec, so that a child started by another worker at the same time holds no end
+    // of these pipes (its copy would keep this child's pipe from ever reaching its end).
+    int in[2], out[2];
+    if (::pipe2(in, O_CLOEXEC) != 0)
+        throw_errno("cannot make a pipe to the mesh's process", errno);
+    if (::pipe2(out, O_CLOEXEC) != 0)
+    {
+        const int error = errno;
+        ::close(in[0]);
+        ::close(in[1]);
+        throw_errno("cannot make a pipe from the mesh's process", error);
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, in[0], 0);   // dup2 clears close-on-exec
+    posix_spawn_file_actions_adddup2(&actions, out[1], 3);
+    posix_spawnattr_t attr;
+    posix_spawnattr_init(&attr);
+    sigset_t none, defaults;
+    sigemptyset(&none);
+    sigemptyset(&defaults);
+    for (int s : {SIGPIPE, SIGINT, SIGTERM})  // the batch ignores SIGPIPE; the child must not
+        sigaddset(&defaults, s);
+    posix_spawnattr_setsigmask(&attr, &none);
+    posix_spawnattr_setsigdefault(&attr, &defaults);
+    posix_spawnattr_setpgroup(&attr, 0);
+    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF |
+                                        POSIX_SPAWN_SETPGROUP);
+    std::vector<char*> argv;
+    for (const auto& a : args)
+        argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const int error = ::posix_spawn(&pid_, exe.c_str(), &actions, &attr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attr);
+    ::close(in[0]);
+    ::close(out[1]);
+    if (error != 0)
+    {
+        ::close(in[1]);
+        ::close(out[0]);
+        pid_ = -1;
+        throw_errno(("cannot start " + exe).c_str(), error);
+    }
+    to_child_ = in[1];
+    from_child_ = ::fdopen(out[0], "r");
+    if (!from_child_)
+    {
+        ::close(out[0]);
+        kill();
+        wait();
+        close_fd(to_child_);
+        throw_errno("cannot read from the mesh's process", errno);
+    }
+}
+
+ChildProcess::~ChildProcess()
+{
+    if (pid_ > 0 && !reaped_)
+    {
+        kill();
+        wait();
+    }
+    close_fd(to_child_);
+    if (from_child_)
+        std::fclose(from_child_);
+}
+
+bool ChildProcess::read_line(std::string& line)
+{
+    line.clear();
+    for (;;)
+    {
+        const int c = std::fgetc(from_child_);
+        if (c == EOF)
+        {
+            if (std::ferror(from_child_) && errno == EINTR)  // a signal to the batch
+            {
+                std::clearerr(from_child_);
+                continue;
+            }
+            return !line.empty();
+        }
+        if (c == '\n')
+            return true;
+        line.push_back(static_cast<char>(c));
+    }
+}
+
+bool ChildProcess::write_line(const std::string& line)
+{
+    const std::string text = line + "\n";
+    std::size_t done = 0;
+    while (done < text.size())
+    {
+        const ssize_t n = ::write(to_child_, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            return false;  // EPIPE: the child has ended
+        done += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+void ChildProcess::kill()
+{
+    if (pid_ > 0 && !reaped_)
+        ::kill(pid_, SIGKILL);
+}
+
+ChildProcess::Exit ChildProcess::wait()
+{
+    Exit exit;
+    if (pid_ <= 0 || reaped_)
+        return exit;
+    int status = 0;
+    rusage usage{};
+    pid_t got;
+    do
+        got = ::wait4(pid_, &status, 0, &usage);
+    while (got < 0 && errno == EINTR);
+    reaped_ = true;
+    if (got != pid_)
+        return exit;
+    if (WIFEXITED(status))
+        exit.code = WEXITSTATUS(status);
+    else if (WIFSIGNALED(status))
+        exit.signal = WTERMSIG(status);
+    exit.peak_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+    return exit;
+}
+
+Resident resident_mb(pid_t pid)
+{
+    char path[64];
+    std::snprintf(path, sizeof path, "/proc/%d/statm", static_cast<int>(pid));
+    std::FILE* f = std::fopen(path, "r");
+    if (!f)
+        return {};
+    long size = 0, resident = 0, shared = 0;
+    const int n = std::fscanf(f, "%ld %ld %ld", &size, &resident, &shared);
+    std::fclose(f);
+    if (n != 3)
+        return {};
+    static const double page_mb = static_cast<double>(::sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
+    return {static_cast<double>(resident) * page_mb,
+            static_cast<double>(std::max(resident - shared, 0L)) * page_mb};
+}
+
+MemoryWatchdog::MemoryWatchdog(double cap_mb, std::chrono::milliseconds period)
+    : cap_mb_(cap_mb), period_(period), thread_([this] { run(); })
+{
+}
+
+MemoryWatchdog::~MemoryWatchdog()
+{
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stopping_ = true;
+    }
+    stop_.notify_all();
+    thread_.join();
+}
+
+void MemoryWatchdog::watch(pid_t pid)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    watched_[pid] = {};
+}
+
+void MemoryWatchdog::admit(pid_t pid, double estimate_mb)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    watched_[pid].estimate_mb = estimate_mb;
+}
+
+MemoryWatchdog::Verdict MemoryWatchdog::forget(pid_t pid)
+{
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = watched_.find(pid);
+    if (it == watched_.end())
+        return {};
+    const Verdict verdict = it->second.verdict;
+    watched_.erase(it);
+    return verdict;
+}
+
+void MemoryWatchdog::run()
+{
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!stop_.wait_for(lock, period_, [this] { return stopping_; }))
+    {
+        // The processes' own pages, and the pages they share (the program and its libraries, the
+        // same file pages in every process) once.
+        double own = 0.0, shared = 0.0, worst_excess = -1e300;
+        pid_t worst = -1;
+        std::map<pid_t, double> resident;
+        for (const auto& [pid, w] : watched_)
+        {
+            if (w.verdict.killed)
+                continue;
+            const Resident r = resident_mb(pid);
+            resident[pid] = r.total_mb;
+            own += r.own_mb;
+            shared = std::max(shared, r.total_mb - r.own_mb);
+            if (r.total_mb - w.estimate_mb > worst_excess)
+            {
+                worst_excess = r.total_mb - w.estimate_mb;
+                worst = pid;
+            }
+        }
+        if (worst < 0 || own + shared <= cap_mb_)
+            continue;
+        ::kill(worst, SIGKILL);
+        Verdict& v = watched_[worst].verdict;
+        v.killed = true;
+        v.resident_mb = resident[worst];
+        v.beside = static_cast<int>(resident.size()) - 1;
+    }
+}
+
+}  // namespace vessel::cli
