@@ -63,9 +63,6 @@ void FlattenOptions::validate() const
         multilevel.validate();
         if (polish_area)
             area_polish.validate();
-        if (polish_area && !(polished_scaffold_tolerance > 0.0))
-            throw InvalidInputError("FlattenOptions: polished_scaffold_tolerance must be > 0, got " +
-                                    std::to_string(polished_scaffold_tolerance));
         if (injective.max_iterations > 0)
             injective.validate();
     }

@@ -222,9 +222,6 @@ const std::map<std::string, Setter>& setters()
         {"crossing_patience", number<int>([](CallOptions& o) -> int& {
              return o.flatten.injective.crossing_patience;
          })},
-        {"polished_scaffold_tolerance", number<double>([](CallOptions& o) -> double& {
-             return o.flatten.polished_scaffold_tolerance;
-         })},
         {"refine", choice<vessel::Refinement>(
                        {{"injective", vessel::Refinement::Injective},
                         {"arap", vessel::Refinement::Arap},

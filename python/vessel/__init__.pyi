@@ -74,7 +74,6 @@ def flatten(
     slim_momentum: float = ...,
     scaffold_tolerance: float = ...,
     crossing_patience: int = ...,
-    polished_scaffold_tolerance: float = ...,
     refine: str = ...,
     overlaps: str = ...,
     keep_look: bool = ...,

@@ -153,15 +153,13 @@ TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one and
 TEST_CASE("area polish: SLIM hands over to it sooner, with the same area distortion")
 {
     FlattenOptions options;
-    options.polished_scaffold_tolerance = 0.0;
-    CHECK_THROWS_WITH_AS(options.validate(), doctest::Contains("polished_scaffold_tolerance"),
+    options.injective.scaffold_tolerance = -1e-5;
+    CHECK_THROWS_WITH_AS(options.validate(), doctest::Contains("scaffold_tolerance"),
                          InvalidInputError);
-    options.polish_area = false;
-    CHECK_NOTHROW(options.validate());  // only read when the polish runs
 
     // The old rule (SLIM's own scaffold tolerance before the polish) against the default.
     FlattenOptions old_rule;
-    old_rule.polished_scaffold_tolerance = old_rule.injective.scaffold_tolerance;
+    old_rule.injective.scaffold_tolerance = InjectiveOptions::kScaffoldTolerance;
     const Mesh carotid = carotid_phantom();  // its SLIM needs the scaffold (boundary crosses)
     const FlattenResult before = flatten(carotid, old_rule);
     const FlattenResult r = flatten(carotid, FlattenOptions());

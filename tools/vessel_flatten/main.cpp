@@ -485,9 +485,10 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->group(map_tuning);
     app.add_option("--scaffold-tolerance", options.injective.scaffold_tolerance,
-                   "With --overlaps prevent and --no-area-polish: SLIM stops once 3 "
-                   "scaffold iterations in a row lower the energy by less than this fraction")
-        ->check(CLI::PositiveNumber)
+                   "With --overlaps prevent: SLIM stops once 3 scaffold iterations in a row "
+                   "lower the energy by less than this fraction (0 = 3e-4 before the area "
+                   "polish, 2e-5 with --no-area-polish)")
+        ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);
     app.add_option("--coarse-vertices", options.multilevel.coarse_vertices,
@@ -495,12 +496,6 @@ int main(int argc, char** argv)
                    "are mapped coarse-to-fine (solved on a decimated copy, then relaxed at full "
                    "resolution); 0 = every map at full resolution (slower on large meshes)")
         ->check(CLI::NonNegativeNumber)
-        ->capture_default_str()
-        ->group(map_tuning);
-    app.add_option("--polished-scaffold-tolerance", options.polished_scaffold_tolerance,
-                   "As --scaffold-tolerance when the area polish follows SLIM (the default): "
-                   "the polish's Newton steps do the rest faster")
-        ->check(CLI::PositiveNumber)
         ->capture_default_str()
         ->group(map_tuning);
     app.add_option("--crossing-patience", options.injective.crossing_patience,

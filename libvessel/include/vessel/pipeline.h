@@ -190,13 +190,6 @@ struct FlattenOptions
     //! (initial map, SLIM, polish, look retry) on a decimated copy, then carried to every
     //! vertex and relaxed there; 0 = every map at full resolution. CLI `--coarse-vertices N`.
     MultilevelOptions multilevel;
-    //! With polish_area: SLIM's scaffold phase stops by this tolerance instead of
-    //! InjectiveOptions::scaffold_tolerance (same rule: 3 iterations in a row lowering the
-    //! energy by less than this fraction). The scaffold phase's slow tail evens out area, which
-    //! the polish's Newton steps do in a few steps anyway; the end maps' mean |log area| stays
-    //! the same (docs/benchmarks.md "SLIM hands over to the polish"). CLI
-    //! `--polished-scaffold-tolerance`.
-    double polished_scaffold_tolerance = 3e-4;
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
     //! Called at the end of every stage and, within stage F, after the solvers' outer

@@ -33,8 +33,9 @@ void InjectiveOptions::validate() const
         throw InvalidInputError("InjectiveOptions: tolerance must be > 0");
     if (!(scaffold_weight > 0.0))
         throw InvalidInputError("InjectiveOptions: scaffold_weight must be > 0");
-    if (!(scaffold_tolerance > 0.0))
-        throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be > 0");
+    if (!(scaffold_tolerance >= 0.0 && std::isfinite(scaffold_tolerance)))
+        throw InvalidInputError("InjectiveOptions: scaffold_tolerance must be >= 0 (0 = "
+                                "automatic) and finite");
     if (crossing_patience < 1)
         throw InvalidInputError("InjectiveOptions: crossing_patience must be >= 1, got " +
                                 std::to_string(crossing_patience));
@@ -514,6 +515,9 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
     detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
     detail::require_centre_pull_vertices(options.centre_pulls, n, "injective_refine");
+    const double scaffold_tolerance = options.scaffold_tolerance > 0.0
+                                          ? options.scaffold_tolerance
+                                          : InjectiveOptions::kScaffoldTolerance;
 
     const std::vector<FaceOperator> surface = face_operators(mesh);
     const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
@@ -790,7 +794,7 @@ InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const 
         e_surface = e_surface_new;
         // One small step can come from a short line search (a nearly collapsed triangle in
         // the way), not from convergence; three in a row cannot.
-        slow = decrease < (scaffold ? options.scaffold_tolerance : options.tolerance) ? slow + 1 : 0;
+        slow = decrease < (scaffold ? scaffold_tolerance : options.tolerance) ? slow + 1 : 0;
         if (slow == 3)
         {
             summary.converged = true;

@@ -51,8 +51,8 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         }
     }
     InjectiveOptions slim = options.injective;
-    if (options.polish_area)
-        slim.scaffold_tolerance = options.polished_scaffold_tolerance;  // the polish goes on
+    if (options.polish_area && slim.scaffold_tolerance == 0.0)
+        slim.scaffold_tolerance = InjectiveOptions::kPolishedScaffoldTolerance;  // the polish goes on
     if (!restart.empty())
     {
         // A one-to-one start: the fan start (fan_start.h) keeps the layout's look (inlet at the

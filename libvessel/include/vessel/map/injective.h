@@ -49,11 +49,19 @@ struct InjectiveOptions
     //! triangles. Heavier scaffolds resist the map's motion more (pulmonary tree, mean |log
     //! area|: 0.1598 at 0.1, 0.1561 at 0.02; the weight does not stall the steps).
     double scaffold_weight = 0.002;
-    //! The stopping rule's `tolerance` once a scaffold is in use: its steps are shorter, and
-    //! progress continues below 1e-4. With `momentum` 0.5, 2e-5 ends within a few percent of
-    //! the mean |log area| of 1e-5 without momentum in 55-75% of the iterations; 3e-5
-    //! stops visibly early on large maps (docs/journal/benchmarks-2026-11.md, "SLIM momentum").
-    double scaffold_tolerance = 2e-5;
+    //! The stopping rule's `tolerance` once a scaffold is in use; 0 = automatic:
+    //! kScaffoldTolerance, or kPolishedScaffoldTolerance where flatten()'s area polish follows
+    //! SLIM (FlattenOptions::polish_area).
+    double scaffold_tolerance = 0.0;
+    //! SLIM alone: the scaffold's steps are shorter, and progress continues below 1e-4. With
+    //! `momentum` 0.5, 2e-5 ends within a few percent of the mean |log area| of 1e-5 without
+    //! momentum in 55-75% of the iterations; 3e-5 stops visibly early on large maps
+    //! (docs/journal/benchmarks-2026-11.md, "SLIM momentum").
+    static constexpr double kScaffoldTolerance = 2e-5;
+    //! Before the area polish: the scaffold phase's slow tail evens out area, which the
+    //! polish's Newton steps do in a few steps anyway; the end map's mean |log area| stays the
+    //! same (docs/journal/benchmarks-2026-11.md, "SLIM hands over to the polish").
+    static constexpr double kPolishedScaffoldTolerance = 3e-4;
     //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
     //! many iterations; in between its triangles (box and Steiner vertices included) keep their
     //! connectivity and only their rest shapes follow the map (a triangle that became
