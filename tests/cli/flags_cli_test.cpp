@@ -526,8 +526,7 @@ int slim_iterations(const nlohmann::json& report) { return report["slim"]["itera
 
 }  // namespace
 
-TEST_CASE("cli: --scaffold-tolerance, --polished-scaffold-tolerance and --crossing-patience "
-          "steer SLIM's scaffold phase")
+TEST_CASE("cli: --scaffold-tolerance and --crossing-patience steer SLIM's scaffold phase")
 {
     // The vmtk aorta's restarted map crosses its boundary in SLIM, which goes back to its last
     // simple iterate and on with a scaffold (full resolution: 6 220 cut vertices).
@@ -535,10 +534,10 @@ TEST_CASE("cli: --scaffold-tolerance, --polished-scaffold-tolerance and --crossi
     const auto by_default = flatten_report(dir, "default", kAorta, "");
     REQUIRE(scaffold_from(by_default) > 1);
     const int iterations = slim_iterations(by_default);
-    // With the polish after SLIM (default), SLIM stops by --polished-scaffold-tolerance.
-    const auto polished = flatten_report(dir, "polished", kAorta, "--polished-scaffold-tolerance 0.05");
+    // With the polish after SLIM (default), SLIM stops by --scaffold-tolerance too.
+    const auto polished = flatten_report(dir, "polished", kAorta, "--scaffold-tolerance 0.05");
     CHECK(slim_iterations(polished) < iterations);
-    // Without the polish, by --scaffold-tolerance (tighter by default: more iterations).
+    // Without the polish, by its default there (tighter: more iterations), or as given.
     const auto plain = flatten_report(dir, "plain", kAorta, "--no-area-polish");
     const auto loose =
         flatten_report(dir, "loose", kAorta, "--no-area-polish --scaffold-tolerance 0.05");
