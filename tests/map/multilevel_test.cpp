@@ -1,7 +1,9 @@
 #include <doctest/doctest.h>
 
 #include "detail/boundary_guard.h"
+#include "detail/coarse_correction.h"
 #include "detail/face_jacobian.h"
+#include "detail/polish_hessian.h"
 #include "support/meshes.h"
 #include "vessel/core/errors.h"
 #include "vessel/map/embedding.h"
@@ -176,6 +178,56 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     CHECK_THROWS_AS(relax_area(mesh, uv, pins, 0.99, options, &other, &other_uv), InvalidInputError);
     options.coarse_corrections = -1;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
+}
+
+TEST_CASE("multilevel: the coarse operator by blocks equals the Galerkin product P^T H P")
+{
+    // A carried map of a cut cylinder with one boundary vertex held: the operator of the
+    // coarse-grid corrections against the product of the sparse matrices it replaces.
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
+    const CoarseMesh coarse = coarsen(mesh, 200, {});
+    const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
+    Eigen::MatrixX2d uv = prolongate(mesh, coarse, coarse_uv, 0.99);
+    relax_area(mesh, uv, {}, 0.99);  // off the carry, so that the faces differ
+    REQUIRE(test::count_flips(mesh, uv) == 0);
+    const int n = static_cast<int>(mesh.n_vertices());
+    std::vector<int> slot(n);
+    for (int v = 0; v < n; ++v)
+        slot[v] = v;
+    slot[test::boundary_vertices(mesh).front().idx()] = -1;  // held
+    const std::vector<detail::FaceOperator> faces = detail::face_operators(mesh);
+    const Eigen::VectorXd x = detail::interleaved(uv);
+    Eigen::SparseMatrix<double> P =
+        detail::coarse_interpolation(coarse.mesh, coarse.coarse_of, coarse_uv, uv);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows = P;
+    const Eigen::SparseMatrix<double> blocks = detail::galerkin_operator(faces, slot, x.data(), 0.99, rows);
+
+    P.prune([&](Eigen::Index r, Eigen::Index, double) { return slot[r / 2] >= 0; });
+    detail::PolishHessian hessian(faces, slot, 2 * n);
+    hessian.assemble(faces, x.data(), 0.99);
+    const Eigen::SparseMatrix<double> full = hessian.matrix().selfadjointView<Eigen::Upper>();
+    const Eigen::SparseMatrix<double> product =
+        (P.transpose() * full * P).triangularView<Eigen::Upper>();
+
+    REQUIRE(blocks.rows() == product.rows());
+    REQUIRE(blocks.cols() == product.cols());
+    const Eigen::MatrixXd difference = Eigen::MatrixXd(blocks) - Eigen::MatrixXd(product);
+    MESSAGE("coarse operator " << blocks.rows() << " x " << blocks.cols() << ", " << blocks.nonZeros()
+                               << " entries; largest difference " << difference.cwiseAbs().maxCoeff()
+                               << " of " << Eigen::MatrixXd(product).cwiseAbs().maxCoeff());
+    CHECK(difference.norm() <= 1e-12 * Eigen::MatrixXd(product).norm());
+    CHECK(Eigen::MatrixXd(product).norm() > 0.0);
+    // Upper triangle only, with every diagonal entry stored (the corrections shift it).
+    for (Eigen::Index c = 0; c < blocks.outerSize(); ++c)
+    {
+        bool diagonal = false;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(blocks, c); it; ++it)
+        {
+            CHECK(it.row() <= c);
+            diagonal = diagonal || it.row() == c;
+        }
+        CHECK(diagonal);
+    }
 }
 
 TEST_CASE("multilevel: the boundary guard keeps boundary parts a clearance apart")

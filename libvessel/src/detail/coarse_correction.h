@@ -33,6 +33,18 @@ Eigen::SparseMatrix<double> coarse_interpolation(const Mesh& coarse, const std::
                                                  const Eigen::MatrixX2d& coarse_uv,
                                                  const Eigen::MatrixX2d& fine_uv);
 
+//! The Galerkin operator P^T H P (upper triangle, 2|V_coarse| square) of the projected Hessian H
+//! of \p faces' energy (polish_hessian.h) at the map \p x, over the fine vertices with
+//! slot[v] >= 0, for an interpolation P given by rows (\p interpolation, as
+//! coarse_interpolation(): the same weights for u and v). Computed by 2 x 2 blocks without
+//! forming H or a sparse product: H's blocks summed per fine vertex and neighbour, then each
+//! coarse column gathered from the fine vertices it interpolates and their neighbours
+//! (Gustavson 1978, "Two fast algorithms for sparse matrices: multiplication and permuted
+//! transposition"). Equal to the product up to rounding.
+Eigen::SparseMatrix<double> galerkin_operator(
+    const std::vector<FaceOperator>& faces, const std::vector<int>& slot, const double* x,
+    double lambda, const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation);
+
 class CoarseCorrection
 {
 public:

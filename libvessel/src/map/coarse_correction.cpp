@@ -21,6 +21,140 @@ double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& 
 
 }  // namespace
 
+Eigen::SparseMatrix<double> galerkin_operator(
+    const std::vector<FaceOperator>& faces, const std::vector<int>& slot, const double* x,
+    double lambda, const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation)
+{
+    const int n = static_cast<int>(slot.size());
+    const int m = static_cast<int>(interpolation.cols() / 2);
+    // W: per free fine vertex its coarse vertices and weights (P's rows 2v, even columns).
+    std::vector<int> w_first(n + 1, 0), w_coarse;
+    std::vector<double> w_weight;
+    for (int v = 0; v < n; ++v)
+    {
+        if (slot[v] >= 0)
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(interpolation, 2 * v);
+                 it; ++it)
+            {
+                w_coarse.push_back(static_cast<int>(it.col() / 2));
+                w_weight.push_back(it.value());
+            }
+        w_first[v + 1] = static_cast<int>(w_coarse.size());
+    }
+    // W^T: per coarse vertex the free fine vertices it interpolates, with the weights.
+    std::vector<int> t_first(m + 1, 0), t_fine(w_coarse.size());
+    std::vector<double> t_weight(w_coarse.size());
+    for (int a : w_coarse)
+        ++t_first[a + 1];
+    for (int a = 0; a < m; ++a)
+        t_first[a + 1] += t_first[a];
+    {
+        std::vector<int> next(t_first.begin(), t_first.end() - 1);
+        for (int v = 0; v < n; ++v)
+            for (int e = w_first[v]; e < w_first[v + 1]; ++e)
+            {
+                t_fine[next[w_coarse[e]]] = v;
+                t_weight[next[w_coarse[e]]++] = w_weight[e];
+            }
+    }
+    // H by 2 x 2 blocks: per free fine vertex its diagonal block and, in a segment sized by its
+    // faces (two neighbours each, shared ones once), its free neighbours' blocks.
+    std::vector<int> seg(n + 1, 0), used(n, 0);
+    for (const FaceOperator& op : faces)
+        for (int v : op.corner)
+            seg[v + 1] += 2;
+    for (int v = 0; v < n; ++v)
+        seg[v + 1] += seg[v];
+    std::vector<int> neighbour(seg[n]);
+    std::vector<Eigen::Matrix2d> offdiagonal(seg[n], Eigen::Matrix2d::Zero());
+    std::vector<Eigen::Matrix2d> diagonal(n, Eigen::Matrix2d::Zero());
+    for (const FaceOperator& op : faces)
+    {
+        if (slot[op.corner[0]] < 0 && slot[op.corner[1]] < 0 && slot[op.corner[2]] < 0)
+            continue;
+        const FaceHessian H(op, jacobian(op, x), lambda);
+        for (int k = 0; k < 3; ++k)
+        {
+            const int i = op.corner[k];
+            if (slot[i] < 0)
+                continue;
+            diagonal[i] += H.block(k, k);
+            for (int l = 0; l < 3; ++l)
+            {
+                const int j = op.corner[l];
+                if (l == k || slot[j] < 0)
+                    continue;
+                int e = seg[i];
+                while (e < seg[i] + used[i] && neighbour[e] != j)
+                    ++e;
+                if (e == seg[i] + used[i])
+                {
+                    neighbour[e] = j;
+                    ++used[i];
+                }
+                offdiagonal[e] += H.block(k, l);
+            }
+        }
+    }
+    // Column a of the upper triangle by blocks: C_ab = sum over fine i of a, and j = i or a
+    // neighbour of i, of w_ia w_jb H_ij, for b <= a (C is symmetric: C_ab(r, s) is the entry
+    // (2b + s, 2a + r)).
+    std::vector<Eigen::Matrix2d> acc(m, Eigen::Matrix2d::Zero());
+    std::vector<char> seen(m, 0);
+    std::vector<int> touched;
+    std::vector<int> outer(2 * m + 1, 0), inner;
+    std::vector<double> values;
+    const auto gather = [&](int a, double wia, int j, const Eigen::Matrix2d& block) {
+        for (int e = w_first[j]; e < w_first[j + 1]; ++e)
+        {
+            const int b = w_coarse[e];
+            if (b > a)
+                continue;
+            if (!seen[b])
+            {
+                seen[b] = 1;
+                touched.push_back(b);
+            }
+            acc[b] += (wia * w_weight[e]) * block;
+        }
+    };
+    for (int a = 0; a < m; ++a)
+    {
+        touched.assign(1, a);  // the diagonal block, even if nothing adds to it
+        seen[a] = 1;
+        for (int t = t_first[a]; t < t_first[a + 1]; ++t)
+        {
+            const int i = t_fine[t];
+            const double wia = t_weight[t];
+            gather(a, wia, i, diagonal[i]);
+            for (int e = seg[i]; e < seg[i] + used[i]; ++e)
+                gather(a, wia, neighbour[e], offdiagonal[e]);
+        }
+        std::sort(touched.begin(), touched.end());
+        for (int r = 0; r < 2; ++r)
+        {
+            for (int b : touched)
+                for (int s = 0; s < 2 && (b < a || s <= r); ++s)
+                {
+                    inner.push_back(2 * b + s);
+                    values.push_back(acc[b](r, s));
+                }
+            outer[2 * a + r + 1] = static_cast<int>(inner.size());
+        }
+        for (int b : touched)
+        {
+            seen[b] = 0;
+            acc[b].setZero();
+        }
+    }
+    Eigen::SparseMatrix<double> C(2 * m, 2 * m);
+    C.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
+    std::copy(outer.begin(), outer.end(), C.outerIndexPtr());
+    std::copy(inner.begin(), inner.end(), C.innerIndexPtr());
+    std::copy(values.begin(), values.end(), C.valuePtr());
+    return C;
+}
+
 Eigen::SparseMatrix<double> coarse_interpolation(const Mesh& coarse, const std::vector<int>& coarse_of,
                                                  const Eigen::MatrixX2d& coarse_uv,
                                                  const Eigen::MatrixX2d& fine_uv)
@@ -181,10 +315,7 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         // The coarse operator at the first step, kept for the next ones: the relaxation changes
         // the map little, and the line search makes up for the difference (a frozen Newton
         // matrix), while the Galerkin product costs several sweeps.
-        PolishHessian hessian(faces_, slot_, static_cast<int>(n2));
-        hessian.assemble(faces_, x, lambda_);
-        const Eigen::SparseMatrix<double> full = hessian.matrix().selfadjointView<Eigen::Upper>();
-        coarse_ = (P_.transpose() * full * P_).triangularView<Eigen::Upper>();
+        coarse_ = galerkin_operator(faces_, slot_, x, lambda_, rows_);
         double trace = 0.0;
         for (Eigen::Index c = 0; c < coarse_.rows(); ++c)
             trace += coarse_.coeff(c, c);
