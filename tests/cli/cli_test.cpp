@@ -1210,8 +1210,9 @@ TEST_CASE("cli: a batch's memory budget refuses a mesh above it and runs large o
 TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap, the others go on")
 {
     // The estimate is for the default options; mapped at full resolution (--coarse-vertices 0)
-    // a 45k-triangle carotid needs far more (171 MB against 120 here), so a cap between the two
-    // admits it and must stop it. The small artery beside it is flattened.
+    // with Ceres's ARAP a 45k-triangle carotid needs more (191 MB for most of its run against
+    // an estimate of 164 here), so a cap between the two admits it and must stop it. The small
+    // artery beside it is flattened.
     const auto dir = temp_dir("cli_batch_watchdog");
     fs::create_directories(dir + "/in");
     fs::copy_file(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply", dir + "/in/a.ply");
@@ -1220,9 +1221,10 @@ TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap
     const Mesh carotid = carotid_phantom(options);
     write_mesh(carotid, dir + "/in/b.ply");
     const double estimate = vessel::cli::estimated_peak_mb(carotid.n_faces());
-    const double cap = estimate + 15.0;
+    const double cap = estimate + 12.0;
     CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/out -q --coarse-vertices 0 " +
-              "--batch-memory " + std::to_string(cap) + " 2> " + dir + "/err.txt") == 1);
+              "--arap-solver ceres --batch-memory " + std::to_string(cap) + " 2> " + dir +
+              "/err.txt") == 1);
     const auto rows = read_csv_rows(dir + "/out/summary.csv");
     REQUIRE(rows.size() == 3);
     CHECK(rows[1][1] == "ok");
@@ -1230,7 +1232,7 @@ TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap
     CHECK(rows[2][2].rfind("stopped at ", 0) == 0);
     CHECK(rows[2][2].find("above the batch's memory cap") != std::string::npos);
     // Stopped once above the cap, not before, and not long after (the watchdog looks every
-    // 50 ms; the full-resolution map grows by a few MB per 50 ms).
+    // 50 ms).
     const double peak = std::stod(rows[2][9]);
     MESSAGE("carotid: estimate ", estimate, " MB, cap ", cap, " MB, stopped at ", peak, " MB");
     CHECK(peak > cap);
@@ -1240,8 +1242,4 @@ TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap
     CHECK_FALSE(fs::exists(dir + "/out/b.json"));
     for (const auto& entry : fs::directory_iterator(dir + "/out"))
         CHECK_MESSAGE(entry.path().extension() != ".tmp", entry.path());
-    // Alone with room, the same mesh is flattened at full resolution.
-    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/room -q --coarse-vertices 0 " +
-              "--batch-memory " + std::to_string(estimate + 200.0)) == 0);
-    CHECK(fs::exists(dir + "/room/b.obj"));
 }

@@ -205,7 +205,7 @@ int main(int argc, char** argv)
         ->group(input_tuning);
     app.add_option("--batch-memory", batch.memory_mb,
                    "With --batch: memory the meshes running together may use; each is admitted "
-                   "by an estimate from its triangles (32 MB + 2 KB each): one above it is "
+                   "by an estimate from its triangles (32 MB + 3 KB each): one above it is "
                    "refused, large ones wait for room; one that uses more than the cap allows is "
                    "stopped (default: 80% of the machine's memory)")
         ->check(CLI::PositiveNumber)

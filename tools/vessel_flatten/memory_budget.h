@@ -8,12 +8,13 @@
 namespace vessel::cli {
 
 //! \brief The peak memory (MB) flattening a mesh of \p faces triangles with the default options
-//! is expected to need: 32 MB + 2 KB per triangle, a line at or just above the peak resident
-//! sets of the real trees and carotid phantoms from 7.5k to 301k triangles (docs/scale.md,
-//! "Memory").
+//! is expected to need: 32 MB + 3 KB per triangle, a line at or above the peak resident sets
+//! of the real trees and carotid phantoms from 7.5k to 301k triangles (docs/scale.md,
+//! "Memory"); the trees, whose look retry runs a full-resolution reference map beside the
+//! coarse-to-fine one, lie nearest to it.
 inline double estimated_peak_mb(std::size_t faces)
 {
-    return 32.0 + 2.0 * static_cast<double>(faces) / 1024.0;
+    return 32.0 + 3.0 * static_cast<double>(faces) / 1024.0;
 }
 
 //! Admits meshes to the batch's workers by their estimated peak memory (MB): each takes its
