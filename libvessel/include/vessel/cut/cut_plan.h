@@ -23,9 +23,9 @@ enum class CutRoute
     //! (WindingMeter of cut_winding.h, when plan_cuts() gets the longitudinal coordinate;
     //! CutPlanOptions::winding_min_gain_deg, winding_max_alignment_loss), or else the one
     //! better aligned with the stream field (path_alignment() of cut_metrics.h, windowed |cos|
-    //! against the field); ties keep the cheapest path. A measured rule per cut, not per
-    //! mesh: the cheapest path where it already follows the vessel, the traced one where the
-    //! cheapest path drifts or winds.
+    //! against the field); ties keep the cheapest path. A rule per cut, not per mesh: the
+    //! cheapest path where it already follows the vessel, the traced one where it drifts or
+    //! winds (docs/design.md, "Per-cut route choice").
     Aligned,
 };
 
@@ -36,90 +36,70 @@ enum class StreamField
     Harmonic,   //!< descent of harmonic_longitudinal() (cut_metrics.h): smooth across junctions
 };
 
-//! Where a later cut (every outlet but the largest) ends on the cuts made before it.
+//! Where a later cut (every outlet but the largest) ends on the cuts made before it
+//! (docs/design.md, "Where later cuts join").
 enum class CutJoin
 {
-    //! On whichever cut vertex the cheapest path reaches first (the paper's rule). With the
-    //! vessel direction's cost, running down the parent vessel beside an earlier cut is almost
-    //! free, so a cut can join far from its branch (carotid phantom of scripts/demo.sh: the ECA
-    //! cut runs 25 mm down the CCA beside the first cut and joins it near the inlet, 53.7 mm in
-    //! all; the map then shows a sliver of CCA wall).
+    //! On whichever cut vertex the cheapest path reaches first (the paper's rule, read
+    //! literally). With the vessel direction's cost a lateral step spread along the parent is
+    //! almost free, so a branch's cut can run down the parent beside an earlier cut and join it
+    //! far from its bifurcation; the map then shows a sliver of the parent's wall.
     Cheapest,
     //! The paper's wording: on a cut vertex closest to the outlet, i.e. within (1 + join_slack)
     //! x the edge-path distance of the closest one plus the outlet's perimeter; the cheapest
-    //! path to those. Opt-in (measured, docs/design.md): the demo carotid's ECA cut joins at
-    //! the bifurcation (33.6 mm, mean |log area| 0.038 vs 0.039, no sliver); flatcheck seam
-    //! alignment stays >= 0.915 on the valid real meshes, but the vmtk aorta's branch cut still
-    //! runs beside the first cut (its perimeter allows it), and without the perimeter term
-    //! AneuRisk drops to 0.870.
+    //! path to those. A wide outlet's perimeter still lets its cut run beside the tree.
     Closest,
     //! The cheapest path, cut back where it starts to run beside the cut tree (default): at its
     //! first vertex within join_reach outlet radii of the tree (edge-path distance) from which
     //! the path still runs more than join_excess outlet radii further than that distance, and
-    //! joined to the tree there over the shortest bridge. Measured (docs/design.md): the demo
-    //! carotid's ECA cut 53.7 -> 33.4 mm (no sliver), the 44k carotid phantom 52.4 -> 32.0 mm;
-    //! with reach 4 / excess 8 also the SimVascular demo's branch cut (32.1 -> 24.2 mm, no
-    //! spike of trunk wall) and the vmtk aorta's (75.9 -> 42.7 mm, no finger); every valid real
-    //! mesh keeps flatcheck alignment >= 0.915, 0 flips and overlaps.
+    //! joined to the tree there over the shortest bridge. The branch part of the path is the
+    //! cheapest path's own.
     Approach,
 };
 
 struct CutPlanOptions
 {
-    //! Per-cut choice of the better aligned route (default): flatcheck's smoothed seam
-    //! alignment >= 0.915 on every valid real mesh (Glenn 0.881 -> 0.922, AneuRisk 0.912 ->
-    //! 0.916), no mesh lower than with the paper's cheapest path (ShortestPath, still
-    //! selectable) or the streamline route alone (Glenn 0.934 but AneuRisk 0.853);
-    //! docs/design.md.
+    //! How each cut runs (default CutRoute::Aligned: no valid real mesh's seam less aligned
+    //! than with either route alone; docs/design.md, "Per-cut route choice").
     CutRoute route = CutRoute::Aligned;
     //! CutRoute::Streamline and Aligned: the field traced (the harmonic descent measured best).
     StreamField stream_field = StreamField::Harmonic;
-    //! CutRoute::Streamline: half-width, in edge rings, of the band around the faces the
+    //! CutRoute::Streamline: half-width, in edge rings (>= 0), of the band around the faces the
     //! streamline crosses in which the cut is taken (0 = those faces' corners only, measured
-    //! best; 1 and 2 let the cut wander further from the line).
+    //! best; wider bands let the cut wander further from the line).
     int band_rings = 0;
     //! CutRoute::Streamline: a later cut's streamline stops once it comes within this many
-    //! edge rings of an earlier cut, or else is cut back to where it first comes within this
-    //! many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
+    //! edge rings (>= 0) of an earlier cut, or else is cut back to where it first comes within
+    //! this many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
     //! Where the cheapest path of a later cut ends (CutRoute::ShortestPath, and the cheapest
     //! candidate of CutRoute::Aligned); CutRoute::Streamline joins by join_rings.
     CutJoin join = CutJoin::Approach;
     //! CutJoin::Closest: the later cut may end on any cut vertex whose edge-path distance from
-    //! the outlet is within (1 + join_slack) x the closest one's plus the outlet's perimeter;
-    //! the cheapest path among them is taken.
+    //! the outlet is within (1 + join_slack) x the closest one's plus the outlet's perimeter
+    //! (>= 0); the cheapest path among them is taken.
     double join_slack = 0.25;
     //! CutJoin::Approach: the cut-back vertex lies within this many outlet radii (perimeter /
-    //! 2 pi) of the cut tree. 4 reaches the runs seen: the SimVascular demo's branch cut runs
-    //! 8 mm up the trunk 1.2-1.8 mm (2.4-3.6 radii of its small outlet) from the trunk cut, the
-    //! demo carotid's at 0.5 radii, the 44k carotid phantom's at 2.1; 2.5 missed the first
-    //! (docs/design.md).
+    //! 2 pi; >= 0) of the cut tree. 4 reaches the runs beside the tree seen on the real meshes
+    //! and the carotid phantoms (0.5-3.6 radii from it; docs/design.md, "Reach 4, excess 8").
     double join_reach = 4.0;
     //! CutJoin::Approach: a cut is cut back only where its remaining length exceeds its
-    //! distance to the tree by more than this many outlet radii, so a head-on join or a short
-    //! run is kept. Fitted: 8 lies below the runs it should stop (at reach 4: vmtk aorta 8.3
-    //! radii, SimVascular demo 15.8, demo carotid 11.7; AneuRisk's 8.5 is cut back too, its
-    //! flatcheck seam alignment 0.973 -> 0.950) and above the tails of Glenn's 19 later cuts
-    //! (at most 7.6; with 6 two of them are cut back and the yardstick's largest Glenn winding
-    //! rises 69 -> 93 degrees). 10 missed the aorta's run (docs/design.md).
+    //! distance to the tree by more than this many outlet radii (>= 0), so a head-on join or a
+    //! short run is kept. Fitted, not derived: 8 lies below the runs it should stop and above
+    //! the tails of the Glenn tree's later cuts (docs/design.md, "Reach 4, excess 8").
     double join_excess = 8.0;
     //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
-    //! higher by more than this (|cos| units). Fitted, not derived: 0.015 lies between the
-    //! first-cut gain of the 3-outlet test phantom (0.011; taking it broke issue 7's 1.5x area
-    //! bound there) and of AneuRisk (0.016; without it AneuRisk's flatcheck seam is 0.884).
-    //! Drifting cuts gain 0.04-0.28 (docs/results.md).
+    //! higher by more than this (|cos| units, >= 0). Fitted, not derived: it separates the
+    //! small gains of cuts that already follow their vessel from those of drifting cuts
+    //! (docs/results.md, "Per-cut route choice").
     double aligned_min_gain = 0.015;
     //! CutRoute::Aligned with a longitudinal coordinate: the traced path replaces the cheapest
     //! one if it winds less by more than this many degrees (WindingMeter, end to end) ...
-    //! Measured with 0.05 below (docs/results.md): the yardstick's largest per-path winding
-    //! drops on SimVascular demo 180 -> 36, vmtk aorta 96 -> 53, coronary clinical 77 -> 15,
-    //! artery 39 -> 8 and stays on AneuRisk, Glenn and the coronary phantom; flatcheck's seam
-    //! alignment >= 0.92 everywhere. 30 keeps the aorta's 96-degree cut (its gain is 21).
     double winding_min_gain_deg = 15.0;
     //! ... and its alignment with the stream field is at most this much lower (|cos| units).
-    //! 0.05 admits the demo's branch cut (loss 0.037); 0.1 also admits a Glenn cut (0.059)
-    //! whose change moves later cuts and raises Glenn's largest winding 69 -> 93.
+    //! Both fitted on the real trees: a looser pair switches cuts whose change moves later
+    //! cuts and raises the largest winding (docs/results.md, "Winding of the cuts").
     double winding_max_alignment_loss = 0.05;
     //! CutRoute::Aligned with a longitudinal coordinate: a cut that winds more than this many
     //! degrees around its vessel end to end (WindingMeter) is searched again with its signed
@@ -130,9 +110,9 @@ struct CutPlanOptions
     //! CutJoin::Closest.
     double winding_target_deg = 15.0;
     //! CutRoute::Aligned with a longitudinal coordinate: the bound on a natural cut's winding,
-    //! in degrees (issue 32). A cut taken along a streamline (CutPath::traced) is searched again
-    //! only if it winds more than this: it cannot drift from an aligned curve by more than its
-    //! band (CutRoute::Streamline), so what it winds below this is the vessel's and the field's,
+    //! in degrees. A cut taken along a streamline (CutPath::traced) is searched again only if
+    //! it winds more than this: it cannot drift from an aligned curve by more than its band
+    //! (CutRoute::Streamline), so what it winds below this is the vessel's and the field's,
     //! not the graph's; a steered search may move it to another side of the vessel, where later
     //! cuts then join it instead and the branch layout changes with them.
     double winding_limit_deg = 45.0;
@@ -148,10 +128,10 @@ struct CutPlanOptions
     //! Where on its loop each cut starts and the first cut ends (endpoints.h); null =
     //! ImaginaryNodeEndpoints, the paper's cheapest point of the loop.
     std::shared_ptr<const EndpointPolicy> endpoints;
-    //! Per-step slack, as a fraction of the mean halfedge weight, within which two routes count
-    //! as equally cheap; among those the one that winds least around the vessel is taken.
-    //! 0 = the plain shortest path, which drifts around the vessel where costs (nearly) tie:
-    //! on a 1.5-turn helical tube it winds 195-220 degrees; with 0.1 it stays within 20.
+    //! Per-step slack, as a fraction of the mean halfedge weight (>= 0), within which two
+    //! routes count as equally cheap; among those the one that winds least around the vessel
+    //! is taken. 0 = the plain shortest path, which drifts around the vessel where costs
+    //! (nearly) tie (docs/design.md, "Winding-aware tie breaking in Dijkstra").
     double tie_tolerance = 0.1;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
