@@ -155,11 +155,10 @@ struct FlattenOptions
     //! With Refinement::Injective, when the map restarts on a tree's layout: SLIM and the area
     //! polish also keep the start's look with soft terms on the loops' centres (centre_pull.h,
     //! look_pulls(); look_pull_form: hinges, or look2's rays), holding the inlet; the weight
-    //! multiplies squared lengths (SLIM's energy is >= 4 x the area). 0 = off (default: no
-    //! weight meets issue 7's 1.5x-keep area bound everywhere; hinges at 100: Glenn walk
-    //! inversions 22 -> 7, 0 outlets below the inlet, mean |log area| 0.0097 -> 0.0141, 1.27x
-    //! `keep`; 30-outlet phantoms 1.5-2.4x `keep`; docs/overlaps.md "The look hinges"); the
-    //! default gets it adaptively instead (look_retry). CLI `--look-pull W`.
+    //! multiplies squared lengths (SLIM's energy is >= 4 x the area); >= 0. 0 = off (default:
+    //! no fixed weight keeps every tree's area distortion within 1.5x of the map without the
+    //! pull, docs/overlaps.md "The look hinges"); the default gets it adaptively instead
+    //! (look_retry). CLI `--look-pull W`.
     double look_pull = 0.0;
     //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
     //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays

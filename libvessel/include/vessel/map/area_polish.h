@@ -12,11 +12,10 @@ struct AreaPolishOptions
 {
     //! lambda of the energy below, in [0, 1): the weight of the area term against the shape
     //! term. 0.5 weighs them like the untangling (untangle.h) and barely changes a SLIM map;
-    //! larger values trade conformal distortion for area (10-outlet tree phantom, default map:
-    //! mean |log area| 0.096 -> 0.022 at 0.9, mean conformal 1.14 -> 1.27; at 0.7, with an
-    //! earlier stopping rule, 0.063 and 1.19). The default 0.99 keeps the one-to-one maps of
-    //! tree phantoms (10, 30 outlets) and of the pulmonary tree within 1.5x of the
-    //! unconstrained maps' area distortion (0.9: up to 1.89x on 30 outlets; docs/overlaps.md).
+    //! larger values trade conformal distortion for area. The default 0.99 keeps the
+    //! one-to-one maps of the tree phantoms and of the pulmonary tree within 1.5x of the
+    //! unconstrained maps' area distortion, which 0.9 does not (docs/overlaps.md, "Area polish
+    //! by default").
     double area_weight = 0.99;
     //! Minimize with projected Newton steps (each face's Hessian with its negative eigenvalues
     //! clamped to 0, CHOLMOD, an Armijo line search that flips no face) instead of L-BFGS.

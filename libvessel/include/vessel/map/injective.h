@@ -65,10 +65,9 @@ struct InjectiveOptions
     //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
     //! many iterations; in between its triangles (box and Steiner vertices included) keep their
     //! connectivity and only their rest shapes follow the map (a triangle that became
-    //! degenerate forces a new triangulation). 1 = every iteration (Jiang et al.). Measured
-    //! with 10: 10-outlet tree phantom 4.9 instead of 7.9 CPU s, mean |log area| 0.0964 vs
-    //! 0.0985; but pulmonary tree 0.179 vs 0.151 (the stale triangles block the steps), so
-    //! the default stays 1.
+    //! degenerate forces a new triangulation); >= 1. 1 = every iteration (Jiang et al.), the
+    //! default: on a many-outlet tree stale triangles block the steps
+    //! (docs/journal/overlaps-2026-11.md, `scaffold_rebuild_every`).
     int scaffold_rebuild_every = 1;
     //! Line searches per global step in the scaffold phase: when a step stops where a scaffold
     //! triangle would collapse, the free space is triangulated anew and the rest of the same

@@ -17,15 +17,15 @@ enum class LookRetry
 //! \brief The adaptive look of issue 7: after a restarted map (FlattenOptions::look_pull 0), if
 //! its look is broken, redo the restart, SLIM and the polish with the hinge pull and keep that
 //! map only if it is one-to-one, its look is better (fewer outlets below the inlet, or as many
-//! and fewer walk inversions) and its area distortion is within the bound.
-//! Measured (docs/overlaps.md "The adaptive look"): Glenn's default map (1 outlet below the
-//! inlet, 22 walk inversions) is redone and kept; trees whose look holds are untouched.
+//! and fewer walk inversions) and its area distortion is within the bound; trees whose look
+//! holds are untouched (docs/overlaps.md, "The adaptive look").
 struct LookRetryOptions
 {
     //! CLI `--look-retry auto|off|force`.
     LookRetry mode = LookRetry::Auto;
     //! The redo's hinge weight (FlattenOptions::look_pull; the other look_* options apply).
-    //! 100: Glenn 22 -> 7 walk inversions, 0 outlets below, 1.27x `keep`. CLI `--look-retry-pull`.
+    //! 100 restores the Glenn tree's look within the area bound (docs/overlaps.md, "The
+    //! adaptive look"). CLI `--look-retry-pull`.
     double pull = 100.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs (Glenn: 22 of 190 = 0.12; 10- and 30-outlet tree
