@@ -438,6 +438,14 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         {
             ChildProcess child("/proc/self/exe", args);
             watchdog.watch(child.pid());
+            // Unwatched before the child is reaped on every path (its number could be reused),
+            // also when this block throws: declared after `child`, destroyed before it.
+            struct Unwatch
+            {
+                MemoryWatchdog& watchdog;
+                pid_t pid;
+                ~Unwatch() { watchdog.forget(pid); }
+            } unwatch{watchdog, child.pid()};
             std::string line;
             while (child.read_line(line))
             {
