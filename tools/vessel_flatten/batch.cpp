@@ -527,7 +527,8 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             // No outputs of this or an earlier run may contradict the summary.
             remove_quietly(dir / (row.stem + ".obj"));
             remove_quietly(dir / (row.stem + ".json"));
-            remove_leftovers(dir, {Input{row.file, row.stem, ""}});
+            if (admitted)  // only an admitted process writes (its temporary files included)
+                remove_leftovers(dir, {Input{row.file, row.stem, ""}});
         }
     };
 

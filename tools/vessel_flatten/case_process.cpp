@@ -228,30 +228,28 @@ void MemoryWatchdog::run()
     {
         // The processes' own pages, and the pages they share (the program and its libraries, the
         // same file pages in every process) once.
-        double own = 0.0, shared = 0.0, worst_excess = -1e300;
+        double own = 0.0, shared = 0.0, worst_excess = -1e300, worst_mb = 0.0;
         pid_t worst = -1;
-        std::map<pid_t, double> resident;
+        int running = 0;
         for (const auto& [pid, w] : watched_)
         {
             if (w.verdict.killed)
                 continue;
             const Resident r = resident_mb(pid);
-            resident[pid] = r.total_mb;
+            ++running;
             own += r.own_mb;
             shared = std::max(shared, r.total_mb - r.own_mb);
             if (r.total_mb - w.estimate_mb > worst_excess)
             {
                 worst_excess = r.total_mb - w.estimate_mb;
                 worst = pid;
+                worst_mb = r.total_mb;
             }
         }
         if (worst < 0 || own + shared <= cap_mb_)
             continue;
         ::kill(worst, SIGKILL);
-        Verdict& v = watched_[worst].verdict;
-        v.killed = true;
-        v.resident_mb = resident[worst];
-        v.beside = static_cast<int>(resident.size()) - 1;
+        watched_[worst].verdict = {true, worst_mb, running - 1};
     }
 }
 
