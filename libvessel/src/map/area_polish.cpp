@@ -22,6 +22,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 
 namespace vessel {
 
@@ -122,11 +123,30 @@ private:
     const std::vector<CentrePull>& pulls_;
 };
 
-// Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x), each
-// line searched from the full step back to one that flips no face and lowers the energy
-// (Armijo). Returns the steps taken; `cost` is the energy at the end.
-int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& cost,
-                 const std::function<void(int done)>& on_step)
+// The Newton steps' Hessian and its symbolic analysis, for one set of faces and free vertices.
+// The u and v of a vertex share their sparsity: the paired analysis of SLIM's global step (the
+// vertex graph ordered by AMD, by METIS on the largest maps), on the upper triangle, about half
+// the factor's flops of CHOLMOD's own AMD on the lower triangle
+// (docs/journal/benchmarks-2026-11.md, "Stage F: counts per sub-step"). The pattern is the same
+// at every step: built once, then each face's block is added straight into its values. Without
+// a scaffold the faces stay the same from chunk to chunk, and so does all of this.
+struct NewtonSystem
+{
+    NewtonSystem(const PolishEnergy& energy)
+        : hessian(energy.faces(), energy.slot(), energy.NumParameters())
+    {
+    }
+    detail::PolishHessian hessian;
+    detail::PairedCholmod solver;
+    bool analyzed = false;
+};
+
+// Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x) with
+// `system` (made for the same faces and free vertices), each line searched from the full step
+// back to one that flips no face and lowers the energy (Armijo). Returns the steps taken; `cost`
+// is the energy at the end.
+int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, int iterations,
+                 double& cost, const std::function<void(int done)>& on_step)
 {
     const std::vector<int>& slot = energy.slot();
     const int m = energy.NumParameters();
@@ -134,14 +154,8 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
     energy.gather(p.data());
     if (!energy.Evaluate(p.data(), &cost, gradient.data()))
         return 0;
-    // The u and v of a vertex share their sparsity: the paired analysis of SLIM's global step
-    // (the vertex graph ordered by AMD, by METIS on the largest maps), on the upper triangle.
-    // About half the factor's flops of CHOLMOD's own AMD on the lower triangle
-    // (docs/journal/benchmarks-2026-11.md, "Stage F: counts per sub-step").
-    detail::PairedCholmod solver;
-    // The Hessian's pattern is the same at every step: built once, then each face's block is
-    // added straight into its values.
-    detail::PolishHessian hessian(energy.faces(), slot, m);
+    detail::PairedCholmod& solver = system.solver;
+    detail::PolishHessian& hessian = system.hessian;
     Eigen::SparseMatrix<double>& H = hessian.matrix();
     int done = 0;
     for (; done < iterations; ++done)
@@ -152,11 +166,12 @@ int newton_steps(PolishEnergy& energy, double lambda, int iterations, double& co
         hessian.shift_diagonal();
         {
             const detail::SerialOpenMp serial;
-            if (done == 0)
+            if (!system.analyzed)
             {
                 solver.analyze_pairs(H);
                 if (solver.info() != Eigen::Success)
                     break;
+                system.analyzed = true;
             }
             solver.factorize(H);
         }
@@ -278,6 +293,7 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
     solver.gradient_tolerance = 1e-14;
     solver.parameter_tolerance = 1e-14;
     const int limit = options.newton ? options.newton_max_iterations : options.max_iterations;
+    std::unique_ptr<NewtonSystem> system;  // kept from chunk to chunk without a scaffold
     for (int chunk = 0; summary.iterations < limit; ++chunk)
     {
         Eigen::VectorXd x = detail::interleaved(uv);
@@ -310,7 +326,9 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
         double after = before;
         if (options.newton)
         {
-            done = newton_steps(*energy, options.area_weight,
+            if (!system || summary.scaffold)
+                system = std::make_unique<NewtonSystem>(*energy);
+            done = newton_steps(*energy, *system, options.area_weight,
                                 std::min(options.newton_chunk_iterations,
                                          options.newton_max_iterations - summary.iterations),
                                 after, [&](int steps) {
