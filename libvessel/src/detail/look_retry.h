@@ -2,7 +2,9 @@
 
 #include "vessel/pipeline.h"
 
+#include <atomic>
 #include <functional>
+#include <future>
 
 namespace vessel::detail {
 
@@ -22,16 +24,39 @@ namespace vessel::detail {
 //! coarse-to-fine path checks the bound again at full resolution and may go back to it).
 //! \param on_try if set, called once the retry is going to be made, before its solve (the
 //! coarse-to-fine path starts its full-resolution reference then, on the second core).
+//! \param ahead if valid: pulled_map() already under way (solve_single_level() starts it beside
+//! the restarted map); the retry takes its map instead of solving it again.
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
                 const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr,
-                const std::function<void()>& on_try = {});
+                const std::function<void()>& on_try = {},
+                std::future<FlattenResult>* ahead = nullptr);
+
+//! Whether retry_look() can make a retry with \p options: LookRetry not Off, no look_pull
+//! already set, overlaps not OverlapPolicy::Keep.
+bool may_retry_look(const FlattenOptions& options);
+
+//! \brief The look retry's pulled map: refine_map() restarted (from the fan start or the layout
+//! circle, as the restarted default map) with FlattenOptions::look_pull = LookRetryOptions::pull.
+//! It depends on the mesh, the layout and the options alone, not on the map it may replace, so it
+//! can be solved beside that map. \p cancel as cancellable()'s.
+FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOptions& options,
+                         const LayoutInput& layout, const LayoutResult& placed,
+                         const std::atomic<bool>* cancel = nullptr);
 
 //! \brief The look retry's reference: the quality of the `keep` map (OverlapPolicy::Keep,
-//! refine_map() from \p initial holding \p pins, the area polish included).
+//! refine_map() from \p initial holding \p pins, the area polish included). \p cancel as
+//! cancellable()'s.
 FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                          const FlattenOptions& options, const LayoutInput& layout,
-                         const LayoutResult& placed);
+                         const LayoutResult& placed, const std::atomic<bool>* cancel = nullptr);
+
+//! \brief \p options whose solvers (ARAP's local/global sweeps, not Ceres', SLIM's iterations,
+//! the area polish's steps) read \p cancel after every iteration and, once it is set, stop by throwing
+//! an exception of a private type: for a solve made ahead on another thread whose result may
+//! not be wanted (its std::future is then waited for and never read). The callbacks already in
+//! \p options are still called. \p options itself if \p cancel is null.
+FlattenOptions cancellable(const FlattenOptions& options, const std::atomic<bool>* cancel);
 
 //! \brief Whether \p map is within LookRetryOptions::max_area_over_keep of \p keep by both
 //! measures of mean |log area| (the normalized one is flatcheck's): the bound holds for either.

@@ -54,9 +54,9 @@ bool look_better(const MapLook& look, const MapLook& than)
 
 FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                          const FlattenOptions& options, const LayoutInput& layout,
-                         const LayoutResult& placed)
+                         const LayoutResult& placed, const std::atomic<bool>* cancel)
 {
-    FlattenOptions keep = options;
+    FlattenOptions keep = cancellable(options, cancel);
     keep.overlaps = OverlapPolicy::Keep;
     FlattenResult unconstrained;
     unconstrained.uv = initial;
@@ -72,14 +72,68 @@ bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
            map.mean_abs_log_area <= retry.max_area_over_keep * keep.mean_abs_log_area;
 }
 
+bool may_retry_look(const FlattenOptions& options)
+{
+    return options.look_retry.mode != LookRetry::Off && options.look_pull == 0.0 &&
+           options.overlaps != OverlapPolicy::Keep;  // `keep` is the retry's own reference
+}
+
+namespace {
+
+// Thrown from a solver's iteration callback once a cancel flag is set (cancellable()).
+struct Cancelled
+{
+};
+
+}  // namespace
+
+FlattenOptions cancellable(const FlattenOptions& options, const std::atomic<bool>* cancel)
+{
+    if (!cancel)
+        return options;
+    FlattenOptions wired = options;
+    // Ceres' ARAP would pay an energy evaluation per call: it runs to its end.
+    if (options.arap.solver == ArapSolver::LocalGlobal)
+        wired.arap.on_iteration = [cancel, caller = options.arap.on_iteration](int iteration,
+                                                                                double energy) {
+            if (cancel->load())
+                throw Cancelled{};
+            return caller ? caller(iteration, energy) : true;
+        };
+    wired.injective.on_iteration = [cancel, caller = options.injective.on_iteration](
+                                       int iteration, bool scaffold) {
+        if (cancel->load())
+            throw Cancelled{};
+        if (caller)
+            caller(iteration, scaffold);
+    };
+    wired.area_polish.on_step = [cancel, caller = options.area_polish.on_step](int done) {
+        if (cancel->load())
+            throw Cancelled{};
+        if (caller)
+            caller(done);
+    };
+    return wired;
+}
+
+FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOptions& options,
+                         const LayoutInput& layout, const LayoutResult& placed,
+                         const std::atomic<bool>* cancel)
+{
+    FlattenOptions pulled = cancellable(options, cancel);
+    pulled.look_pull = options.look_retry.pull;
+    FlattenResult trial;
+    refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
+    return trial;
+}
+
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
                 const LayoutResult& placed, Eigen::MatrixX2d* replaced,
-                const std::function<void()>& on_try)
+                const std::function<void()>& on_try, std::future<FlattenResult>* ahead)
 {
     const LookRetryOptions& retry = options.look_retry;
-    if (retry.mode == LookRetry::Off || options.look_pull > 0.0 ||
-        options.overlaps == OverlapPolicy::Keep)  // `keep` is the retry's own reference
+    if (!may_retry_look(options))
         return;
     LookRetrySummary& summary = result.look_retry;
     summary.default_look = map_look(mesh, result.uv, layout.segments, placed);
@@ -92,11 +146,9 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     const FlatQuality before = flat_quality(mesh, result.uv);
     summary.default_area = before.mean_abs_log_area_normalized;
 
-    FlattenOptions pulled = options;
-    pulled.look_pull = retry.pull;
-    FlattenResult trial;
-    trial.uv = result.uv;
-    refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
+    FlattenResult trial = ahead && ahead->valid()
+                              ? ahead->get()
+                              : pulled_map(mesh, pins, options, layout, placed);
     const FlatQuality quality = flat_quality(mesh, trial.uv);
     summary.pulled_area = quality.mean_abs_log_area_normalized;
     const MapLook look = map_look(mesh, trial.uv, layout.segments, placed);

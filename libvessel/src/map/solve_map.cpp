@@ -18,10 +18,19 @@
 #include "vessel/solve/ordering.h"
 #include "vessel/core/errors.h"
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <future>
 #include <limits>
+
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
 
 namespace vessel::detail {
 
@@ -60,6 +69,41 @@ Pins inlet_pins(const LayoutResult& placed, const Eigen::MatrixX2d& initial, boo
             pin.uv = initial.row(pin.vertex.idx()).transpose();
     return pins;
 }
+
+// Runs `stop` when it goes out of scope: declared after the std::future of a solve made ahead
+// with a cancel flag, it sets the flag before the future's destructor waits for the solve to
+// end (cancellable(): at its next iteration; the exception stays in the future, unread).
+struct StopAhead
+{
+    std::function<void()> stop;
+    ~StopAhead() { stop(); }
+};
+
+// The calling thread (and the threads it starts) at the lowest scheduling priority (Linux: nice
+// 19 for this thread alone), for work made ahead that may be thrown away: it then runs on the
+// time the wanted work leaves idle and barely slows that work where both want every core.
+void lower_thread_priority()
+{
+#ifdef __linux__
+    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
+#endif
+}
+
+// Outlets of a tree (the loops of its boundary segments but the inlet, loop 0).
+int outlet_count(const LayoutInput& input)
+{
+    int outlets = 0;
+    for (const BoundarySegment& segment : input.segments)
+        outlets = std::max(outlets, segment.loop);
+    return outlets;
+}
+
+// The fewest outlets for which solve_single_level() solves the look retry's pulled map ahead.
+// The more outlets, the likelier a restart from the layout circle breaks the fan's order and the
+// retry follows; where it does not, the pulled map was solved for nothing beside the restarted
+// one, which it slows even at the lowest priority (two cores: docs/benchmarks.md, "The look
+// retry ahead").
+constexpr int kPulledAheadOutlets = 16;
 
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
 // \param unpulled if not null and the look retry kept its pulled map: the map it replaced.
@@ -111,11 +155,28 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
     const bool crosses_at_once =
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
+    // Where the map restarts at once on a tree of many outlets, the look retry's pulled map is
+    // solved beside it on the second core, at the lowest priority: it starts from the layout
+    // circle (or the fan start) as the restarted map does and depends on nothing that map
+    // gives, and a restart from the circle often loses the fan's order on such trees, so that
+    // the retry follows. Where the look turns out whole, the pulled map is stopped at its next
+    // iteration and dropped. Either way the maps are those of the retry made after the fact.
+    std::atomic<bool> cancel_ahead{false};
+    std::future<FlattenResult> pulled_ahead;
+    const StopAhead stop_ahead{[&] { cancel_ahead = true; }};
+    if (crosses_at_once && may_retry_look(options) && outlet_count(input) >= kPulledAheadOutlets)
+    {
+        pulled_ahead = std::async(std::launch::async, [&] {
+            lower_thread_priority();
+            return pulled_map(mesh, pins, options, input, placed, &cancel_ahead);
+        });
+    }
     if (refine_map(mesh, pins, refine_options, crossing,
                            crosses_at_once ? crossing : "", result, &input, &placed))
     {
         at_layout = false;
-        retry_look(mesh, pins, initial, options, result, input, placed, unpulled, on_retry);
+        retry_look(mesh, pins, initial, options, result, input, placed, unpulled, on_retry,
+                   &pulled_ahead);
     }
     return at_layout;
 }
@@ -419,14 +480,23 @@ void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOpt
 // above, the look retry is undone: the default map it replaced (\p unpulled, on the coarse
 // mesh) is carried up instead, and relaxed further and polished there as far as it is above
 // the bound too. result.uv holds the carried pulled map on entry, \p below the map of
-// levels[0] it was carried from.
+// levels[0] it was carried from. While \p made_reference is still being made (on the largest
+// trees it takes longer than the carry), the carried map is relaxed further ahead, as the
+// first step above the bound needs it; a map within the bound at once is kept as carried.
 std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
                                const LayoutResult& placed, const FlattenOptions& options,
                                const std::vector<CoarseMesh>& levels,
                                std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
-                               const Eigen::MatrixX2d& below, const FlatQuality& reference,
-                               FlattenResult& result)
+                               const Eigen::MatrixX2d& below,
+                               std::future<FlatQuality>& made_reference, FlattenResult& result)
 {
+    FlattenResult ahead;  // the further relaxed pulled map and its note, if made ahead
+    if (made_reference.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+    {
+        ahead.uv = result.uv;
+        relax_further(mesh, levels, below, options, ahead.uv, ahead);
+    }
+    const FlatQuality reference = made_reference.get();
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
     const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
@@ -445,7 +515,13 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     // within it.
     const auto bring_within = [&](Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& from,
                                   bool pulled) {
-        relax_further(mesh, levels, from, options, uv, result);
+        if (pulled && ahead.uv.size() > 0)
+        {
+            uv = std::move(ahead.uv);
+            result.notes.insert(result.notes.end(), ahead.notes.begin(), ahead.notes.end());
+        }
+        else
+            relax_further(mesh, levels, from, options, uv, result);
         if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
             return true;
         polish_carried(mesh, input, options, pulled, uv, result);
@@ -526,14 +602,18 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     // core from when the retry starts on the coarse mesh, through the carry: it depends on the
     // fine mesh alone. Where the retry does not keep its pulled map it is not used (the wait
     // for it is then hidden behind the retry and the carry, as far as they take as long).
+    // Started ahead with the pulled map (solve_single_level()), it is stopped where the retry
+    // turns out not to be made or not to keep its map.
+    std::atomic<bool> cancel_reference{false};
     std::future<FlatQuality> reference;
+    const StopAhead stop_reference{[&] { cancel_reference = true; }};
     const auto start_reference = [&] {
-        reference = std::async(std::launch::async, [&mesh, &input, &placed, &options] {
+        reference = std::async(std::launch::async, [&] {
             const Eigen::MatrixX2d initial =
                 initial_map(mesh, placed, options.initialization, nullptr);
             const bool at_lscm = options.initialization == Initialization::LayoutLscm;
             return keep_quality(mesh, inlet_pins(placed, initial, at_lscm), initial, options,
-                                input, placed);
+                                input, placed, &cancel_reference);
         });
     };
     FlattenResult solved;
@@ -557,7 +637,7 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     if (!failed.empty() || !result.look_retry.kept)
         return failed;
     return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
-                              std::move(unpulled), below, reference.get(), result);
+                              std::move(unpulled), below, reference, result);
 }
 
 // The map and the solvers' summaries of \p solved into \p result (not its notes).
