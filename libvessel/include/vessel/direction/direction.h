@@ -41,11 +41,10 @@ struct DirectionOptions
     //! umbilic or a symmetric saddle) at or above which z is the pure minimal curvature
     //! direction. Below it z = normalize(t c + (1 - t) g) with t = a / confident_anisotropy,
     //! c the curvature direction, g the guide. 0 = the paper's pure curvature field everywhere
-    //! (no guide is computed), the default. 0.6 lifts flatcheck's smoothed seam alignment of
-    //! the pulmonary Glenn tree from 0.88 to 0.905, but branch cuts elsewhere then run beside
-    //! the main cut before they join it, and the AneuRisk map's relief cuts no longer reach
-    //! the 0.15 area bound (0.137 -> 0.180); docs/results.md. Tubes (a ~ 1) and the helical
-    //! test tube keep the curvature field at any setting.
+    //! (no guide is computed), the default: a guided field aligns the seams of junction-rich
+    //! trees better, but branch cuts elsewhere then run beside the main cut before they join
+    //! it, and relief cuts can stop short of their area bound (docs/results.md). Tubes (a ~ 1)
+    //! keep the curvature field at any setting.
     double confident_anisotropy = 0.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;

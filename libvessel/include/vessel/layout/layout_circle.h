@@ -8,14 +8,14 @@ struct LayoutCircleOptions
 {
     //! Each gap between two loops (a run of cut sides) keeps at least this fraction of the angle
     //! its length would get on Tutte's circle, when the loops are moved toward their layout
-    //! bearings; in (0, 1]. 1 = Tutte's circle (loops at their arc-length positions).
-    //! 0.2 with pull 1 gave the 30-outlet phantom (seed 32) a start 200x Tutte's symmetric
-    //! Dirichlet energy; SLIM stalled there (mean |log area| 2.0). 0.5: 0.0049.
+    //! bearings; in (0, 1]. 1 = Tutte's circle (loops at their arc-length positions). Small
+    //! gaps squeeze the cut sides' faces, and a start of far higher symmetric Dirichlet energy
+    //! than Tutte's can stall SLIM (docs/overlaps.md, "The layout circle start").
     double min_gap_fraction = 0.5;
     //! How far each loop's centre moves from its place on Tutte's constant-speed circle toward
     //! its layout target, in [0, 1]: 0 = Tutte's circle with the inlet at the bottom, 1 = the
-    //! layout's bearings. Measured on the 30-outlet phantoms (docs/overlaps.md): 0.5 leaves 1-2
-    //! outlets below the inlet, 1 none.
+    //! layout's bearings. Less than 1 leaves outlets below the inlet on many-outlet trees
+    //! (docs/overlaps.md, "The layout circle start").
     double pull = 1.0;
     //! An outlet at layout bearing b (seen from the inlet's midpoint, the bottom of the circle)
     //! is aimed at the circle's point seen from there at b, i.e. at central angle

@@ -91,9 +91,9 @@ struct InjectiveOptions
     //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
     //! of the last iteration's motion and keeps whichever line search ends at the lower energy
     //! (flips and, with a scaffold, crossings stay excluded: the same line search). 0 = plain
-    //! SLIM. 0.5 measured on the carotid phantoms and the 8 real trees (docs/benchmarks.md,
-    //! "SLIM momentum"); 0.6 and more let carotid-13k's SLIM reach its crossing, and its scaffold
-    //! phase then costs 4x the time.
+    //! SLIM. Larger values reach a crossing of the boundary sooner, after which the scaffold
+    //! phase costs far more than the momentum saves (docs/journal/benchmarks-2026-11.md, "SLIM
+    //! momentum").
     double momentum = 0.5;
     //! Soft pulls on vertex sets' centres (centre_pull.h), added to the energy SLIM minimizes
     //! and line searches (through a diagonal proxy in the global step: the solver's pattern

@@ -28,8 +28,9 @@ struct LookRetryOptions
     //! adaptive look"). CLI `--look-retry-pull`.
     double pull = 100.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
-    //! fraction of the outlet pairs (Glenn: 22 of 190 = 0.12; 10- and 30-outlet tree
-    //! phantoms: at most 0.02). CLI `--look-retry-inversions`.
+    //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
+    //! what the maps whose fan is visibly scrambled show (docs/overlaps.md, "The adaptive
+    //! look"). CLI `--look-retry-inversions`.
     double max_walk_inversion_fraction = 0.05;
     //! The pulled map is kept only if its mean |log area| (both FlatQuality measures) is at
     //! most this factor times that of the unconstrained map (`--overlaps keep`, computed for the

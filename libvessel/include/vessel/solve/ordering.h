@@ -10,12 +10,12 @@ namespace vessel {
 //! factorizations of matrices with the sparsity of its cotan Laplacian: the heat method's two,
 //! the harmonic coordinate's, LSCM's (two unknowns per vertex) and ARAP's.
 //!
-//! Ordering (AMD) is a large share of such a factorization's cost: at 300k triangles about
-//! 0.1 s of LSCM's 0.9 s, and each factorization used to compute its own. One ordering serves
+//! Ordering (AMD) is a large share of such a factorization's cost (docs/design.md,
+//! "Dependencies": CHOLMOD). One ordering serves
 //! every factorization on the same mesh: a system that drops pinned or fixed vertices takes the
 //! order of the rest (unknown_order()). The pipeline orders the uncut mesh once (heat method,
-//! harmonic coordinate) and the cut mesh once (LSCM, ARAP); carrying the uncut mesh's ordering
-//! over the cut measured more fill than a new one costs.
+//! harmonic coordinate) and the cut mesh once (LSCM, ARAP); the uncut mesh's ordering carried
+//! over the cut would cost more in fill than a new ordering costs to make.
 struct VertexOrdering
 {
     std::vector<int> vertices;  //!< every vertex index once, the first eliminated first
