@@ -327,7 +327,10 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
         if (options.newton)
         {
             if (!system || summary.scaffold)
+            {
+                system.reset();  // the last chunk's factor freed before the next is made
                 system = std::make_unique<NewtonSystem>(*energy);
+            }
             done = newton_steps(*energy, *system, options.area_weight,
                                 std::min(options.newton_chunk_iterations,
                                          options.newton_max_iterations - summary.iterations),
