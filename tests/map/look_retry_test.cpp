@@ -1,14 +1,20 @@
 #include <doctest/doctest.h>
 
+#include "detail/look_retry.h"
 #include "support/meshes.h"
+#include "vessel/map/arap.h"
+#include "vessel/map/area_polish.h"
 #include "vessel/map/embedding.h"
+#include "vessel/map/injective.h"
 #include "vessel/core/errors.h"
 #include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
 #include "vessel/check/validation.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <functional>
 #include <string>
 
 using namespace vessel;
@@ -130,4 +136,74 @@ TEST_SUITE("slow")
         }));
         MESSAGE("30 outlets, seed 32: " << r.look_retry.report);
     }
+}
+
+TEST_CASE("look retry: a solve made ahead stops at its next iteration once cancelled and runs "
+          "as given while not")
+{
+    // detail::cancellable(): the pulled map solved beside the restarted one, and the bound's
+    // reference, are stopped this way when their result is not wanted.
+    const Mesh mesh = test::cut_cylinder(1.0, 4.0, 24, 16);
+    const Eigen::MatrixX2d start = tutte_embedding(mesh);
+    std::atomic<bool> cancel{false};
+    int seen = 0;  // the caller's own callback: it cancels after its second call
+    FlattenOptions options;
+    options.injective.max_iterations = 20;
+    options.injective.tolerance = 1e-12;  // runs to the limit unless stopped
+    options.injective.on_iteration = [&](int, bool) {
+        if (++seen == 2)
+            cancel = true;
+    };
+    const FlattenOptions wired = detail::cancellable(options, &cancel);
+
+    // Not cancelled: the same map as without the wiring, and every call reaches the caller.
+    FlattenOptions plain = options;
+    plain.injective.on_iteration = nullptr;
+    Eigen::MatrixX2d unwired = start;
+    const InjectiveSummary reference = injective_refine(mesh, unwired, {}, plain.injective);
+    REQUIRE(reference.iterations > 3);
+    std::atomic<bool> never{false};
+    FlattenOptions counting = options;
+    int calls = 0;
+    counting.injective.on_iteration = [&](int, bool) { ++calls; };
+    Eigen::MatrixX2d uv = start;
+    const InjectiveSummary run =
+        injective_refine(mesh, uv, {}, detail::cancellable(counting, &never).injective);
+    CHECK(run.iterations == reference.iterations);
+    CHECK(calls == reference.iterations);
+    CHECK((uv - unwired).cwiseAbs().maxCoeff() == 0.0);
+
+    // Cancelled during the second iteration's callback: the third iteration stops by the
+    // cancellation (not by an error of the library's), before it reaches the caller.
+    const auto cancelled = [](const std::function<void()>& solve) {
+        try
+        {
+            solve();
+        }
+        catch (const std::exception&)
+        {
+            return false;  // an error, not the cancellation
+        }
+        catch (...)
+        {
+            return true;
+        }
+        return false;
+    };
+    uv = start;
+    CHECK(cancelled([&] { injective_refine(mesh, uv, {}, wired.injective); }));
+    CHECK(seen == 2);
+
+    // The area polish's steps and ARAP's local/global sweeps read the same flag; Ceres' ARAP is
+    // not wired (a call would cost it an energy evaluation).
+    uv = unwired;
+    CHECK(cancelled([&] { area_polish(mesh, uv, {}, wired.area_polish); }));
+    const auto corners = test::boundary_vertices(mesh);
+    const Pins pins{{corners[0], start.row(corners[0].idx()).transpose()},
+                    {corners[1], start.row(corners[1].idx()).transpose()}};
+    uv = start;
+    CHECK(cancelled([&] { arap(mesh, uv, pins, wired.arap); }));
+    FlattenOptions ceres = options;
+    ceres.arap.solver = ArapSolver::Ceres;
+    CHECK_FALSE(static_cast<bool>(detail::cancellable(ceres, &cancel).arap.on_iteration));
 }
