@@ -44,9 +44,9 @@ FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOption
                          const LayoutInput& layout, const LayoutResult& placed,
                          const std::atomic<bool>* cancel = nullptr);
 
-//! \brief The look retry's reference: the quality of the `keep` map (OverlapPolicy::Keep,
-//! refine_map() from \p initial holding \p pins, the area polish included). \p cancel as
-//! cancellable()'s.
+//! \brief The look retry's reference: the distortion (map_distortion(): no overlap search) of
+//! the `keep` map (OverlapPolicy::Keep, refine_map() from \p initial holding \p pins, the area
+//! polish included). \p cancel as cancellable()'s.
 FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                          const FlattenOptions& options, const LayoutInput& layout,
                          const LayoutResult& placed, const std::atomic<bool>* cancel = nullptr);

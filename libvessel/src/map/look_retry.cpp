@@ -1,5 +1,6 @@
 #include "detail/look_retry.h"
 
+#include "detail/map_distortion.h"
 #include "detail/refine_map.h"
 #include "vessel/map/embedding.h"
 #include "vessel/core/errors.h"
@@ -61,7 +62,7 @@ FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::Matrix
     FlattenResult unconstrained;
     unconstrained.uv = initial;
     refine_map(mesh, pins, keep, "", "", unconstrained, &layout, &placed);
-    return flat_quality(mesh, unconstrained.uv);
+    return map_distortion(mesh, unconstrained.uv);
 }
 
 bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
@@ -143,7 +144,7 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     summary.tried = true;
     if (on_try)
         on_try();
-    const FlatQuality before = flat_quality(mesh, result.uv);
+    const FlatQuality before = map_distortion(mesh, result.uv);
     summary.default_area = before.mean_abs_log_area_normalized;
 
     FlattenResult trial = ahead && ahead->valid()

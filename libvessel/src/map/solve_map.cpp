@@ -3,6 +3,7 @@
 #include "detail/solve_map.h"
 
 #include "detail/look_retry.h"
+#include "detail/map_distortion.h"
 #include "detail/boundary_guard.h"
 #include "detail/face_jacobian.h"
 #include "detail/segments.h"
@@ -500,7 +501,7 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
     const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
-        const FlatQuality q = flat_quality(mesh, uv);
+        const FlatQuality q = map_distortion(mesh, uv);
         const bool ok = within_area_bound(q, reference, options.look_retry);
         char line[200];
         std::snprintf(line, sizeof line,

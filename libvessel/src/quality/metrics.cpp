@@ -2,6 +2,7 @@
 
 #include "vessel/core/errors.h"
 #include "vessel/quality/overlap.h"
+#include "detail/map_distortion.h"
 #include "detail/uv_rows.h"
 
 #include <algorithm>
@@ -38,7 +39,7 @@ void scale_to_surface_area(const Mesh& mesh, Eigen::MatrixX2d& uv)
         uv *= std::sqrt(area3 / area2);
 }
 
-FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+FlatQuality detail::map_distortion(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
     detail::require_uv_rows(mesh, uv, "flat_quality");
     FlatQuality q;
@@ -93,6 +94,12 @@ FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
             normalized += a3 * std::abs(std::log(a2 / a3) - shift);
         q.mean_abs_log_area_normalized = normalized / weight;
     }
+    return q;
+}
+
+FlatQuality flat_quality(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    FlatQuality q = detail::map_distortion(mesh, uv);
     OverlapReport overlaps = find_overlaps(mesh, uv);
     q.overlapping_triangles = overlaps.overlapping_triangles();
     q.overlap_area = overlaps.overlap_area;
