@@ -132,7 +132,7 @@ private:
 // a scaffold the faces stay the same from chunk to chunk, and so does all of this.
 struct NewtonSystem
 {
-    NewtonSystem(const PolishEnergy& energy)
+    explicit NewtonSystem(const PolishEnergy& energy)
         : hessian(energy.faces(), energy.slot(), energy.NumParameters())
     {
     }

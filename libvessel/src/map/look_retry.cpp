@@ -7,6 +7,7 @@
 #include "vessel/quality/metrics.h"
 
 #include <cmath>
+#include <functional>
 #include <cstdio>
 
 namespace vessel {
@@ -86,6 +87,33 @@ struct Cancelled
 {
 };
 
+// \p caller (which may be empty) behind a check of \p cancel: it throws Cancelled once the
+// flag is set, else calls \p caller (returning \p otherwise where that is empty).
+template <class R, class... Args>
+std::function<R(Args...)> behind(const std::atomic<bool>* cancel,
+                                 std::function<R(Args...)> caller, R otherwise = R())
+{
+    return [cancel, caller = std::move(caller), otherwise](Args... args) -> R {
+        if (cancel->load())
+            throw Cancelled{};
+        if (caller)
+            return caller(args...);
+        return otherwise;
+    };
+}
+
+template <class... Args>
+std::function<void(Args...)> behind(const std::atomic<bool>* cancel,
+                                    std::function<void(Args...)> caller)
+{
+    return [cancel, caller = std::move(caller)](Args... args) {
+        if (cancel->load())
+            throw Cancelled{};
+        if (caller)
+            caller(args...);
+    };
+}
+
 }  // namespace
 
 FlattenOptions cancellable(const FlattenOptions& options, const std::atomic<bool>* cancel)
@@ -95,25 +123,9 @@ FlattenOptions cancellable(const FlattenOptions& options, const std::atomic<bool
     FlattenOptions wired = options;
     // Ceres' ARAP would pay an energy evaluation per call: it runs to its end.
     if (options.arap.solver == ArapSolver::LocalGlobal)
-        wired.arap.on_iteration = [cancel, caller = options.arap.on_iteration](int iteration,
-                                                                                double energy) {
-            if (cancel->load())
-                throw Cancelled{};
-            return caller ? caller(iteration, energy) : true;
-        };
-    wired.injective.on_iteration = [cancel, caller = options.injective.on_iteration](
-                                       int iteration, bool scaffold) {
-        if (cancel->load())
-            throw Cancelled{};
-        if (caller)
-            caller(iteration, scaffold);
-    };
-    wired.area_polish.on_step = [cancel, caller = options.area_polish.on_step](int done) {
-        if (cancel->load())
-            throw Cancelled{};
-        if (caller)
-            caller(done);
-    };
+        wired.arap.on_iteration = behind(cancel, options.arap.on_iteration, true);
+    wired.injective.on_iteration = behind(cancel, options.injective.on_iteration);
+    wired.area_polish.on_step = behind(cancel, options.area_polish.on_step);
     return wired;
 }
 

@@ -601,10 +601,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
 
     // The look retry's reference at full resolution (recheck_look_retry()), made on the second
     // core from when the retry starts on the coarse mesh, through the carry: it depends on the
-    // fine mesh alone. Where the retry does not keep its pulled map it is not used (the wait
-    // for it is then hidden behind the retry and the carry, as far as they take as long).
-    // Started ahead with the pulled map (solve_single_level()), it is stopped where the retry
-    // turns out not to be made or not to keep its map.
+    // fine mesh alone. Where the retry does not keep its pulled map it is not used: it is then
+    // stopped at its solvers' next iteration (cancellable()), not waited for to its end.
     std::atomic<bool> cancel_reference{false};
     std::future<FlatQuality> reference;
     const StopAhead stop_reference{[&] { cancel_reference = true; }};
