@@ -31,35 +31,39 @@ namespace {
 const std::string kFlatten = VESSEL_FLATTEN_EXE;
 const std::string kPhantom = VESSEL_PHANTOM_EXE;
 
-// Independent check with VTK's Python reader: OUT.pvd (the 3D cut mesh) and OUT-map.pvd (the
-// map) are separate collections of one part each; every step file holds WSS equal to the input
-// CSV's value at the cut vertex's InputVertex; the map has z = 0 and the distortion cell arrays.
-const char* kCheckSeries = R"(import sys, numpy as np, vtk, xml.etree.ElementTree as ET
+// Independent check with VTK's Python reader (ParaView's): OUT.case (the 3D cut mesh) and
+// OUT-map.case (the map) are separate datasets of one part each, with the CSV's times; at every
+// step WSS equals the input CSV's value (as a 32-bit float) at the cut vertex's InputVertex; the
+// map has z = 0, uv = its (x, y) and the distortion cell arrays; the geometry is written once.
+const char* kCheckSeries = R"(import sys, os, numpy as np, vtk
 from vtk.util.numpy_support import vtk_to_numpy as np_of
-pvd, csv = sys.argv[1], sys.argv[2]
+case, csv = sys.argv[1], sys.argv[2]
 table = np.loadtxt(csv, delimiter=",", skiprows=1)
 times = np.loadtxt(csv, delimiter=",", max_rows=1, dtype=str)[1:].astype(float)
-base = pvd.rsplit("/", 1)[0]
+folder = case[:-5]
+assert sorted(f for f in os.listdir(folder) if f.endswith(".geo")) == \
+    [os.path.basename(folder) + s + ".geo" for s in ("-map", "")]
 for suffix in ("", "-map"):
-    entries = ET.parse(pvd[:-4] + suffix + ".pvd").getroot().find("Collection").findall("DataSet")
-    assert len(entries) == len(times), (suffix, len(entries), len(times))
-    for k, e in enumerate(entries):
-        assert abs(float(e.get("timestep")) - times[k]) < 1e-12
-        assert int(e.get("part")) == 0
-        assert e.get("file").endswith("_%03d%s.vtp" % (k, suffix)), e.get("file")
-        r = vtk.vtkXMLPolyDataReader(); r.SetFileName(base + "/" + e.get("file")); r.Update()
-        o = r.GetOutput(); pd = o.GetPointData()
-        wss = np_of(pd.GetArray("WSS")); src = np_of(pd.GetArray("InputVertex"))
+    def reader():
+        r = vtk.vtkGenericEnSightReader(); r.SetCaseFileName(case[:-5] + suffix + ".case")
+        r.ReadAllVariablesOn(); r.UpdateInformation(); return r
+    steps = reader().GetOutputInformation(0).Get(vtk.vtkStreamingDemandDrivenPipeline.TIME_STEPS())
+    assert len(steps) == len(times), (suffix, len(steps), len(times))
+    assert np.allclose(steps, times, rtol=1e-7, atol=0), (steps, times)
+    for k, t in enumerate(steps):
+        r = reader(); r.UpdateTimeStep(t)
+        o = r.GetOutput(); assert o.GetNumberOfBlocks() == 1
+        o = o.GetBlock(0); pd = o.GetPointData()
+        wss = np_of(pd.GetArray("WSS")); src = np_of(pd.GetArray("InputVertex")).astype(int)
         rows = table[:, 0].astype(int)
         expected = np.empty(len(rows)); expected[rows] = table[:, k + 1]
-        assert np.array_equal(wss, expected[src]), k
+        assert np.array_equal(wss, expected[src].astype(np.float32)), k
         has_distortion = o.GetCellData().GetArray("LogAreaRatio") is not None
         assert has_distortion == (suffix == "-map")
         if suffix == "-map":
-            z = np_of(o.GetPoints().GetData())[:, 2]
-            assert np.all(z == 0)
-            uv = np_of(pd.GetTCoords()); xy = np_of(o.GetPoints().GetData())[:, :2]
-            assert np.array_equal(uv, xy)
+            xyz = np_of(o.GetPoints().GetData())
+            assert np.all(xyz[:, 2] == 0)
+            assert np.array_equal(np_of(pd.GetArray("uv"))[:, :2], xyz[:, :2])
 print(len(times), "steps checked")
 )";
 
@@ -89,12 +93,13 @@ TEST_CASE("cli: the phantom's 90-step pulse flattens from .pvd and from CSV to t
         CHECK(fs::exists(dir + "/" + out + ".vtp"));
         CHECK(fs::exists(dir + "/" + out + "-map.vtp"));
         std::ofstream(dir + "/check.py") << kCheckSeries;
-        CHECK(run("/usr/bin/python3 " + dir + "/check.py " + dir + "/" + out + ".pvd " + dir +
+        CHECK(run("/usr/bin/python3 " + dir + "/check.py " + dir + "/" + out + ".case " + dir +
                   "/pulse.csv > " + dir + "/check.txt") == 0);
         CHECK(read_bytes(dir + "/check.txt") == "90 steps checked\n");
     }
     // Same values out: the step files of both runs are identical byte for byte.
-    CHECK(read_bytes(dir + "/pvd/pvd_044.vtp") == read_bytes(dir + "/csv/csv_044.vtp"));
+    CHECK(read_bytes(dir + "/pvd/pvd.WSS.0044") == read_bytes(dir + "/csv/csv.WSS.0044"));
+    CHECK(read_bytes(dir + "/pvd/pvd-map.WSS.0044") == read_bytes(dir + "/csv/csv-map.WSS.0044"));
 }
 
 TEST_CASE("cli: --fields that do not fit, or a series with a non-VTP output, are refused")

@@ -189,7 +189,7 @@ TEST_CASE("outputs: a failure after the map was made removes every file the run 
                 "/pulse -q") == 0);
     const std::set<std::string> inputs = folder_names(dir);
     // --image-time outside the series is found only when the image is drawn, after the .vtp,
-    // its map, the .pvd and the series folder were written.
+    // its map, the EnSight cases and the series folder were written.
     const Outcome o = flatten(root, dir + "/carotid.ply -o " + dir + "/c.vtp --fields " + dir +
                                        "/pulse.pvd --field WSS --refine none --report " + dir +
                                        "/c.json --image " + dir + "/c.png --image-time 99 -q");

@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "support/ensight.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/core/errors.h"
 #include "vessel/fields/field_series.h"
@@ -10,6 +11,10 @@
 #include "vessel/core/properties.h"
 #include "vessel/fields/pulse_series.h"
 #include "vessel/check/validation.h"
+
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
 
 #include <cmath>
 #include <filesystem>
@@ -101,7 +106,8 @@ TEST_CASE("field_series: the 90-step pulse reads back the same from .pvd, number
     check_same_series(glob, p.series);
 }
 
-TEST_CASE("field_series: a series carried through the cut is written as .pvd with both parts")
+TEST_CASE("field_series: a series carried through the cut is written as two EnSight cases, the "
+          "3D cut mesh and the map, each with its geometry once")
 {
     const PulseFiles p = pulse_files("series_flat");
     const TreeSurface surface = make_tree_surface(p.base.mesh);
@@ -110,22 +116,43 @@ TEST_CASE("field_series: a series carried through the cut is written as .pvd wit
     const FlattenResult result = flatten(surface.mesh, options);
     const TimeSeries in = read_field_series(p.dir + "/pulse-long.csv", p.base);
     const TimeSeries cut = transfer_series(in, result.mesh);
-    const std::string pvd = p.dir + "/flat.pvd";
-    write_flat_series(pvd, result.mesh, result.uv, {}, cut);
+    write_flat_series(p.dir + "/flat.case", result.mesh, result.uv, {}, cut);
     const auto input_index = vessel::test::int_vertex_property(result.mesh, prop::input_index);
-    // Read it back as a series over the cut mesh (part 0) and compare with the input.
-    PolyData cut_base = flat_polydata(result.mesh, result.uv, {}, false);
-    const TimeSeries back = read_field_series(pvd, cut_base);
-    REQUIRE(back.size() == 90);
-    for (int k : {0, 17, 44, 89})
+    std::size_t geometry_files = 0;
+    for (const auto& e : std::filesystem::directory_iterator(p.dir + "/flat"))
+        geometry_files += e.path().extension() == ".geo";
+    CHECK(geometry_files == 2);  // flat.geo and flat-map.geo, not one per step
+    for (const std::string name : {"flat", "flat-map"})
     {
-        CHECK(back.times[k] == doctest::Approx(in.times[k]));
-        const Field& wss = find_field(back.steps[k], "WSS");
-        for (auto v : result.mesh.vertices())
-            REQUIRE(wss.values(v.idx(), 0) == in.steps[k][0].values(input_index[v.idx()], 0));
+        CAPTURE(name);
+        const vessel::test::EnSightCase read(p.dir + "/" + name + ".case");
+        REQUIRE(read.times().size() == 90);
+        for (int k : {0, 17, 44, 89})
+        {
+            CAPTURE(k);
+            CHECK(read.times()[k] == doctest::Approx(in.times[k]).epsilon(1e-7));
+            const auto grid = read.step(k);
+            REQUIRE(grid->GetNumberOfPoints() == static_cast<vtkIdType>(result.mesh.n_vertices()));
+            vtkDataArray* wss = grid->GetPointData()->GetArray("WSS");
+            REQUIRE(wss != nullptr);
+            for (auto v : result.mesh.vertices())
+            {
+                const double expected = in.steps[k][0].values(input_index[v.idx()], 0);
+                REQUIRE(wss->GetComponent(v.idx(), 0) == static_cast<float>(expected));
+                const double* x = grid->GetPoint(v.idx());
+                if (name == "flat-map")
+                {
+                    REQUIRE(x[0] == static_cast<float>(result.uv(v.idx(), 0)));
+                    REQUIRE(x[1] == static_cast<float>(result.uv(v.idx(), 1)));
+                    REQUIRE(x[2] == 0.0);
+                }
+                else
+                    REQUIRE(x[2] == static_cast<float>(result.mesh.point(v)[2]));
+            }
+            CHECK((grid->GetCellData()->GetArray("LogAreaRatio") != nullptr) ==
+                  (name == "flat-map"));
+        }
     }
-    const PolyData map = read_polydata(p.dir + "/flat/flat_044-map.vtp");
-    CHECK(find_field(map.point_data, "WSS").values == cut.steps[44][0].values);
 }
 
 TEST_CASE("field_series: a series that does not match the mesh says what differs")

@@ -95,5 +95,5 @@ def test_cohort_interrupted_and_resumed(tmp_path, flatten_exe):
         for name in ("map.vtp", "map-map.vtp", "map.png", "viewer.html"):
             assert (result / "cases" / case / name).stat().st_size > 0, (case, name)
     # The case with a field series has it over time.
-    assert (result / "cases" / "artery-coarse" / "map.pvd").exists()
+    assert (result / "cases" / "artery-coarse" / "map.case").exists()
     assert (result / "overview.png").stat().st_size > 10000

@@ -687,7 +687,7 @@ int main(int argc, char** argv)
         if (series.size() > 1 && out_ext != ".vtp")
             throw vessel::InvalidInputError(
                 "--fields gives " + std::to_string(series.size()) +
-                " time steps; write them with an OUT.vtp output (OUT.pvd series)");
+                " time steps; write them with an OUT.vtp output (OUT.case series)");
         if (batch.repair_options() && (!fields.empty() || series.size() > 0))
             throw vessel::InvalidInputError("--repair and --fill-holes may merge, drop or add "
                                             "vertices and faces; "
@@ -738,12 +738,13 @@ int main(int argc, char** argv)
                 vessel::write_flat_vtp(out, result.mesh, result.uv, all_fields);
                 if (cut_series.size() > 1)
                 {
-                    const std::string pvd =
-                        std::filesystem::path(out).replace_extension(".pvd").string();
-                    vessel::write_flat_series(pvd, result.mesh, result.uv, cut_fields, cut_series);
+                    const std::string series_case =
+                        std::filesystem::path(out).replace_extension(".case").string();
+                    vessel::write_flat_series(series_case, result.mesh, result.uv, cut_fields,
+                                              cut_series);
                     if (!quiet)
                         std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
-                                     pvd.c_str());
+                                     series_case.c_str());
                 }
             }
             else if (out_ext == ".ply")

@@ -1,6 +1,7 @@
 #include "output_plan.h"
 
 #include "vessel/core/errors.h"
+#include "vessel/io/ensight.h"
 #include "vessel/io/flat_vtk.h"
 
 #include <algorithm>
@@ -132,10 +133,11 @@ OutputPlan::OutputPlan(const OutputRequest& request) : uncaught_(std::uncaught_e
             add("-o", map_path(out));
             if (request.may_write_series)
             {
-                const fs::path pvd = fs::path(out).replace_extension(".pvd");
-                add("-o", pvd.string());
-                add("-o", map_path(pvd.string()));
-                folders_.push_back((pvd.parent_path() / pvd.stem()).string());
+                const fs::path series = fs::path(out).replace_extension(".case");
+                add("-o", series.string());
+                add("-o", map_path(series.string()));
+                folders_.push_back(
+                    (series.parent_path() / ensight_data_folder(series.string())).string());
             }
         }
         if (!request.report.empty())
@@ -151,7 +153,7 @@ OutputPlan::OutputPlan(const OutputRequest& request) : uncaught_(std::uncaught_e
     for (const auto& [option, path] : named)
     {
         if (option == "-o")
-            check_file(option, path, {".obj", ".vtp", ".ply", ".pvd"});
+            check_file(option, path, {".obj", ".vtp", ".ply", ".case"});
         else if (option == "--report")
             check_file(option, path, {".json"});
         else if (option == "--html")

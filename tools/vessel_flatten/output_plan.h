@@ -18,7 +18,7 @@ struct OutputRequest
     std::string html;                 //!< --html: .html or .htm
     std::vector<std::string> images;  //!< --image: .png, .svg or .pdf
     std::string frames;               //!< --frames: a folder (created if missing)
-    bool may_write_series = false;    //!< --fields with a .vtp output: OUT.pvd, OUT-map.pvd, OUT/
+    bool may_write_series = false;    //!< --fields with a .vtp output: OUT.case, OUT-map.case, OUT/
     int pieces = 0;                   //!< with --split-at: the number of pieces (0: no split)
     std::vector<std::string> inputs;  //!< files the run reads (the mesh, --fields files)
 };

@@ -88,7 +88,7 @@ int main(int argc, char** argv)
             fields.push_back(vessel::pulse_field(result, pulse));
         const std::filesystem::path path(input);
         view.title = title.empty() ? path.filename().string() : title;
-        // A series of several steps is written as OUT.vtp + OUT.pvd; other fields fit any output.
+        // A series of several steps is written as OUT.vtp + OUT.case; other fields fit any output.
         const bool series = in.series.size() > 1;
         std::vector<std::string> flatten = {"vessel-flatten", input, "-o",
                                             path.stem().string() + (series ? "-flat.vtp"

@@ -27,6 +27,7 @@
 #include "vessel/fields/fields.h"
 #include "vessel/fields/map_vectors.h"
 #include "vessel/fields/pulse_series.h"
+#include "vessel/io/ensight.h"
 #include "vessel/io/flat_io.h"
 #include "vessel/io/flat_vtk.h"
 #include "vessel/io/io.h"

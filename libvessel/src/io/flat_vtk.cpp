@@ -3,6 +3,7 @@
 #include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
 #include "vessel/fields/map_vectors.h"
+#include "vessel/io/ensight.h"
 #include "detail/uv_rows.h"
 
 #include <filesystem>
@@ -65,14 +66,16 @@ void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::Matr
     write_polydata(map_path(path), flat_polydata(mesh, uv, fields, true));
 }
 
-void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
+void write_flat_series(const std::string& case_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                        const std::vector<Field>& fields, const TimeSeries& series)
 {
-    const auto on_map = [&](const std::vector<Field>& step) { return map_fields(step, mesh, uv); };
-    write_pvd_series(pvd_path,
-                     {{"", flat_polydata(mesh, uv, fields, false), "", {}},
-                      {"-map", flat_polydata(mesh, uv, fields, true), map_path(pvd_path), on_map}},
-                     series);
+    EnSightOptions wall;
+    wall.folder = ensight_data_folder(case_path);
+    write_ensight_series(case_path, flat_polydata(mesh, uv, fields, false), series, wall);
+    EnSightOptions map = wall;
+    map.part_name = "map";
+    map.step_fields = [&](const std::vector<Field>& step) { return map_fields(step, mesh, uv); };
+    write_ensight_series(map_path(case_path), flat_polydata(mesh, uv, fields, true), series, map);
 }
 
 }  // namespace vessel

@@ -1,6 +1,5 @@
 #pragma once
 
-#include "vessel/fields/field_series.h"
 #include "vessel/fields/fields.h"
 #include "vessel/core/mesh.h"
 #include "vessel/io/vtk_io.h"
@@ -42,12 +41,14 @@ std::string map_path(const std::string& path);
 void write_flat_vtp(const std::string& path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                     const std::vector<Field>& fields);
 
-//! \brief Write a series on the cut mesh as two collections, the 3D cut mesh in \p pvd_path and
-//! the map in map_path(\p pvd_path) (`OUT.pvd`, `OUT-map.pvd`), each step file with \p fields
-//! and that step's fields (on the map as flat_polydata(..., true) has them). The step files go
-//! to `OUT/OUT_NNN.vtp` and `OUT/OUT_NNN-map.vtp`.
+//! \brief Write a series on the cut mesh as two EnSight Gold cases (write_ensight_series()):
+//! the 3D cut mesh in \p case_path and the map in map_path(\p case_path) (`OUT.case`,
+//! `OUT-map.case`), each with its geometry and the arrays of flat_polydata() once and each
+//! step's fields per step (on the map as flat_polydata(..., true) has them). Their data files
+//! share the folder ensight_data_folder(\p case_path) (`OUT/`).
 //! \param series rows indexed by the cut mesh (transfer_fields() on every step).
-void write_flat_series(const std::string& pvd_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
+//! \throw InvalidInputError as flat_polydata(); IoError if writing fails.
+void write_flat_series(const std::string& case_path, const Mesh& mesh, const Eigen::MatrixX2d& uv,
                        const std::vector<Field>& fields, const TimeSeries& series);
 
 //! \brief Write the cut mesh as binary PLY: vertex x y z (3D), u v (the map, the names MeshLab
