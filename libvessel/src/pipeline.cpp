@@ -48,7 +48,6 @@ void FlattenOptions::validate() const
     if (refinement == Refinement::Injective)
     {
         untangle.validate();
-        fan_start.validate();
         layout_circle.validate();
         if (!(look_pull >= 0.0 && std::isfinite(look_pull)))
             throw InvalidInputError("FlattenOptions: look_pull must be >= 0 and finite, got " +

@@ -234,7 +234,6 @@ const std::map<std::string, Setter>& setters()
                          [](CallOptions& o) -> vessel::OverlapPolicy& {
                              return o.flatten.overlaps;
                          })},
-        {"keep_look", flag([](CallOptions& o) -> bool& { return o.flatten.keep_layout_look; })},
         {"restart_circle",
          choice<bool>({{"layout", true}, {"tutte", false}},
                       [](CallOptions& o) -> bool& { return o.flatten.restart_on_layout_circle; })},

@@ -76,7 +76,6 @@ def flatten(
     crossing_patience: int = ...,
     refine: str = ...,
     overlaps: str = ...,
-    keep_look: bool = ...,
     restart_circle: str = ...,
     look_pull: float = ...,
     look_pull_form: str = ...,

@@ -516,11 +516,6 @@ int main(int argc, char** argv)
            "Skip the area polish (SLIM's map: less conformal distortion, more "
            "area distortion)")
         ->group(map_tuning);
-    app.add_flag("--keep-look", options.keep_layout_look,
-                 "With --overlaps prevent, when the map at the layout overlaps itself, go on "
-                 "from a one-to-one map with the layout's look (the map before ARAP, else the "
-                 "fan start) instead of a Tutte circle; slower, not less distortion")
-        ->group(map_tuning);
     add_choice(app, "--restart-circle", options.restart_on_layout_circle,
                {{"layout", true}, {"tutte", false}},
                "Where the map restarts from a circle: layout (the inlet at the "

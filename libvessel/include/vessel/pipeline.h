@@ -9,7 +9,6 @@
 #include "vessel/cut/cut_cost.h"
 #include "vessel/cut/cut_plan.h"
 #include "vessel/direction/direction.h"
-#include "vessel/map/fan_start.h"
 #include "vessel/direction/geodesic.h"
 #include "vessel/map/injective.h"
 #include "vessel/layout/layout.h"
@@ -137,19 +136,10 @@ struct FlattenOptions
     ArapOptions arap;            //!< ARAP of Refinement::Arap and Injective (0 iterations: skipped)
     UntangleOptions untangle;    //!< flip removal of Refinement::Injective
     InjectiveOptions injective;  //!< SLIM of Refinement::Injective (0 iterations: skipped)
-    //! With OverlapPolicy::Prevent, when the map at the layout crosses itself: keep the layout's
-    //! look (inlet at the bottom, branches fanned out in order) where a one-to-one start with it
-    //! exists, instead of restarting from Tutte's circle. First the initial map before ARAP, if
-    //! untangling leaves it one-to-one (ARAP made the crossing); else the fan start
-    //! (fan_start.h), if it is one-to-one; else Tutte. Off by default: measured, it does not
-    //! lower the area distortion in general (docs/overlaps.md: carotid phantom 0.0598 vs 0.0405
-    //! from Tutte; 3-outlet tree phantom 0.0778 vs 0.0814) and costs more time.
-    bool keep_layout_look = false;
-    FanStartOptions fan_start;  //!< the fan start of keep_layout_look
-    //! With Refinement::Injective, when the map restarts (and keep_layout_look found no start):
-    //! start from the layout circle (layout_circle.h: Tutte's circle walked so that the inlet is
-    //! at the bottom and each outlet near its layout bearing) instead of Tutte's constant-speed
-    //! circle. CLI `--restart-circle layout|tutte`.
+    //! With Refinement::Injective, when the map restarts: start from the layout circle
+    //! (layout_circle.h: Tutte's circle walked so that the inlet is at the bottom and each outlet
+    //! near its layout bearing) instead of Tutte's constant-speed circle. CLI `--restart-circle
+    //! layout|tutte`.
     bool restart_on_layout_circle = true;
     LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
     //! With Refinement::Injective, when the map restarts on a tree's layout: SLIM and the area

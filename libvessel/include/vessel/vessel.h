@@ -39,7 +39,6 @@
 #include "vessel/map/area_polish.h"
 #include "vessel/map/centre_pull.h"
 #include "vessel/map/embedding.h"
-#include "vessel/map/fan_start.h"
 #include "vessel/map/injective.h"
 #include "vessel/map/look_retry.h"
 #include "vessel/map/lscm.h"

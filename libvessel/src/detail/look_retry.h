@@ -36,8 +36,8 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
 //! already set, overlaps not OverlapPolicy::Keep.
 bool may_retry_look(const FlattenOptions& options);
 
-//! \brief The look retry's pulled map: refine_map() restarted (from the fan start or the layout
-//! circle, as the restarted default map) with FlattenOptions::look_pull = LookRetryOptions::pull.
+//! \brief The look retry's pulled map: refine_map() restarted (from the layout circle, as the
+//! restarted default map) with FlattenOptions::look_pull = LookRetryOptions::pull.
 //! It depends on the mesh, the layout and the options alone, not on the map it may replace, so it
 //! can be solved beside that map. \p cancel as cancellable()'s.
 FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOptions& options,

@@ -14,11 +14,10 @@ namespace vessel::detail {
 //! \param crossing how a crossing boundary is named in the note.
 //! \param restart non-empty: restart at once with this reason, skipping ARAP and untangling
 //! (the caller knows the initial map crosses itself).
-//! \param layout the tree's layout input: with OverlapPolicy::Prevent the restart starts from
-//! fan_start() (the layout's look) when that map is one-to-one, else from Tutte. Null: Tutte.
-//! \param placed the layout's pins: with FlattenOptions::restart_on_layout_circle the restart
-//! starts from layout_circle_start() instead of Tutte's circle. Null: Tutte's circle.
-//! \return true if the map restarted (from the fan start or Tutte; the pins were then dropped).
+//! \param layout, placed the tree's layout input and pins: with
+//! FlattenOptions::restart_on_layout_circle the restart starts from layout_circle_start()
+//! instead of Tutte's circle. Null: Tutte's circle.
+//! \return true if the map restarted (the pins were then dropped).
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
                 const std::string& crossing, std::string restart, FlattenResult& result,
                 const LayoutInput* layout = nullptr, const LayoutResult* placed = nullptr);

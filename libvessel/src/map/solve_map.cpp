@@ -158,7 +158,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
     const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
     // Where the map restarts at once on a tree of many outlets, the look retry's pulled map is
     // solved beside it on the second core, at the lowest priority: it starts from the layout
-    // circle (or the fan start) as the restarted map does and depends on nothing that map
+    // circle as the restarted map does and depends on nothing that map
     // gives, and a restart from the circle often loses the fan's order on such trees, so that
     // the retry follows. Where the look turns out whole, the pulled map is stopped at its next
     // iteration and dropped. Either way the maps are those of the retry made after the fact.
