@@ -492,7 +492,10 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         }
         if (admitted)
             budget.release(need);
-        row.peak_mb = exit.peak_mb;
+        // The kernel's high-water mark (ru_maxrss) and /proc/PID/statm, which the watchdog
+        // read, come from RSS counters synced at different moments and can differ by a few
+        // pages: a process stopped above the cap peaked at least at what the watchdog saw.
+        row.peak_mb = verdict.killed ? std::max(exit.peak_mb, verdict.resident_mb) : exit.peak_mb;
         if (verdict.killed)
         {
             char text[400];
