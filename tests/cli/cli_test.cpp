@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "common/error_text.h"
+#include "vessel_flatten/case_process.h"
 #include "vessel_flatten/memory_budget.h"
 
 #include "support/files.h"
@@ -1208,6 +1209,25 @@ TEST_CASE("cli: a batch's memory budget refuses a mesh above it and runs large o
     CHECK(summary.find("above the batch's memory cap") != std::string::npos);
     CHECK(fs::exists(dir + "/out/a.obj"));
     CHECK_FALSE(fs::exists(dir + "/out/b.obj"));
+}
+
+TEST_CASE("cli: a batch's mesh processes ask glibc's malloc for huge pages unless told otherwise")
+{
+    using vessel::cli::child_environment;
+    const auto env = [](std::vector<const char*> entries) {
+        entries.push_back(nullptr);
+        return child_environment(entries.data());
+    };
+    using Strings = std::vector<std::string>;
+    CHECK(env({"HOME=/root", "PATH=/bin"}) ==
+          Strings{"HOME=/root", "PATH=/bin", "GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
+    // Other tunables are kept, the user's own hugetlb setting (an opt-out) too.
+    CHECK(env({"GLIBC_TUNABLES=glibc.malloc.arena_max=2", "A=b"}) ==
+          Strings{"GLIBC_TUNABLES=glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1", "A=b"});
+    CHECK(env({"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"}) ==
+          Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"});
+    CHECK(env({"GLIBC_TUNABLES="}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
+    CHECK(env({}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
 }
 
 TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap, the others go on")

@@ -15,6 +15,27 @@ extern char** environ;
 
 namespace vessel::cli {
 
+std::vector<std::string> child_environment(const char* const* parent)
+{
+    static const std::string tunables = "GLIBC_TUNABLES=", huge = "glibc.malloc.hugetlb";
+    std::vector<std::string> out;
+    bool set = false;
+    for (const char* const* e = parent; e && *e; ++e)
+    {
+        std::string entry = *e;
+        if (entry.rfind(tunables, 0) == 0)
+        {
+            if (entry.find(huge) == std::string::npos)
+                entry += (entry.size() > tunables.size() ? ":" : "") + huge + "=1";
+            set = true;
+        }
+        out.push_back(std::move(entry));
+    }
+    if (!set)
+        out.push_back(tunables + huge + "=1");
+    return out;
+}
+
 namespace {
 
 [[noreturn]] void throw_errno(const char* what, int error)
@@ -65,7 +86,12 @@ ChildProcess::ChildProcess(const std::string& exe, const std::vector<std::string
     for (const auto& a : args)
         argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    const int error = ::posix_spawn(&pid_, exe.c_str(), &actions, &attr, argv.data(), environ);
+    std::vector<std::string> environment = child_environment(environ);
+    std::vector<char*> envp;
+    for (auto& e : environment)
+        envp.push_back(e.data());
+    envp.push_back(nullptr);
+    const int error = ::posix_spawn(&pid_, exe.c_str(), &actions, &attr, argv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attr);
     ::close(in[0]);

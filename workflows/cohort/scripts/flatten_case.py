@@ -63,8 +63,14 @@ if sm.params.field:
     command += ["--field", sm.params.field]
 command += sm.params.extra.split()
 
+# glibc's malloc with transparent huge pages, as vessel-flatten --batch gives its mesh processes
+# (fewer page faults; docs/benchmarks.md, "Machine and conditions"); a setting of the user's stays.
+env = dict(os.environ)
+tunables = env.get("GLIBC_TUNABLES", "")
+if "glibc.malloc.hugetlb" not in tunables:
+    env["GLIBC_TUNABLES"] = (tunables + ":" if tunables else "") + "glibc.malloc.hugetlb=1"
 start = time.monotonic()
-done = subprocess.run(command, capture_output=True, text=True)
+done = subprocess.run(command, capture_output=True, text=True, env=env)
 wall = time.monotonic() - start
 status = {"case": case_dir.name, "surface": str(surface), "fields": str(fields) if fields else None,
           "wall_s": wall, "command": command}
