@@ -186,4 +186,19 @@ TEST_CASE("ensight: what does not fit is refused before the case file is written
     TimeSeries short_rows = series;
     short_rows.steps[1][1].values.conservativeResize(2, 1);
     refused(data, short_rows, "field 'Q' of step 1 has 2 rows but the mesh has 6 triangles");
+    TimeSeries one_time_short = series;
+    one_time_short.times.pop_back();
+    refused(data, one_time_short, "the series has 1 times but 2 steps");
+    EnSightOptions spaced;
+    spaced.folder = "my data";
+    try
+    {
+        write_ensight_series(dir + "/bad.case", data, series, spaced);
+        FAIL("not refused");
+    }
+    catch (const InvalidInputError& e)
+    {
+        CHECK_MESSAGE(std::string(e.what()).find("has white space") != std::string::npos, e.what());
+    }
+    CHECK(!fs::exists(dir + "/my data"));
 }

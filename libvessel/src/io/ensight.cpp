@@ -124,6 +124,14 @@ void write_ensight_series(const std::string& case_path, const PolyData& data,
 {
     if (series.size() == 0)
         throw InvalidInputError(std::string(kWho) + ": the series has no steps");
+    if (series.steps.size() != series.times.size())
+        throw InvalidInputError(std::string(kWho) + ": the series has " +
+                                std::to_string(series.times.size()) + " times but " +
+                                std::to_string(series.steps.size()) + " steps");
+    if (options.folder.find_first_of(" \t\n") != std::string::npos)
+        throw InvalidInputError(std::string(kWho) + ": the data folder '" + options.folder +
+                                "' has white space, which the case file cannot hold; name it "
+                                "without");
     const auto rows = [&](const Field& f) {
         return static_cast<Eigen::Index>(f.location == FieldLocation::Point
                                               ? data.mesh.points.size()
@@ -168,7 +176,11 @@ void write_ensight_series(const std::string& case_path, const PolyData& data,
     const std::string folder =
         options.folder.empty() ? ensight_data_folder(case_path) : options.folder;
     const fs::path dir = case_file.parent_path() / folder;
-    fs::create_directories(dir);
+    std::error_code error;
+    fs::create_directories(dir, error);
+    if (error)
+        throw IoError(std::string(kWho) + ": cannot make the folder " + dir.string() + ": " +
+                      error.message());
     const std::string stem = ensight_data_folder(case_path);
     const auto relative = [&](const std::string& name) { return folder + "/" + stem + name; };
     const auto file = [&](const std::string& name) { return (dir / (stem + name)).string(); };

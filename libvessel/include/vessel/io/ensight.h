@@ -28,8 +28,8 @@ namespace vessel {
 //! How write_ensight_series() lays out its files.
 struct EnSightOptions
 {
-    //! Folder of the data files, relative to the case file's folder; empty: the default
-    //! ensight_data_folder() of the case file. Two cases may share a folder (their data files
+    //! Folder of the data files, relative to the case file's folder, without white space;
+    //! empty: the default ensight_data_folder() of the case file. Two cases may share a folder (their data files
     //! are named after their own case files), as the 3D mesh and its map do.
     std::string folder;
     //! What a step's fields become on this geometry (empty: written as they are), e.g.
@@ -51,8 +51,8 @@ std::string ensight_data_folder(const std::string& case_path);
 //! \param series at least one step; its times (seconds, increasing) become the case's time
 //! values; each step's fields (after EnSightOptions::step_fields) must have the same names, in
 //! the same order, and rows that fit \p data.
-//! \throw InvalidInputError if a polygon is not a triangle, the series is empty or a field does
-//! not fit; IoError if a file cannot be written.
+//! \throw InvalidInputError if a polygon is not a triangle, the series is empty, a field does not
+//! fit or EnSightOptions::folder has white space; IoError if a folder or file cannot be written.
 void write_ensight_series(const std::string& case_path, const PolyData& data,
                           const TimeSeries& series, const EnSightOptions& options = {});
 
