@@ -46,7 +46,7 @@ PulseFiles pulse_files(const std::string& name)
     p.base.mesh = to_raw_mesh(p.mesh);
     p.series = travelling_pulse(p.mesh);
     p.dir = temp_dir(name);
-    write_pvd_series(p.dir + "/pulse.pvd", {{"", p.base}}, p.series);
+    write_pvd_series(p.dir + "/pulse.pvd", p.base, p.series);
     write_csv_series(p.dir + "/pulse.csv", p.series, "WSS", CsvLayout::Wide);
     write_csv_series(p.dir + "/pulse-long.csv", p.series, "WSS", CsvLayout::Long);
     return p;
@@ -194,7 +194,7 @@ TEST_CASE("field_series: a series that does not match the mesh says what differs
     // VTK steps: another mesh, a moved point, a different id numbering, other arrays.
     PolyData other;
     other.mesh = to_raw_mesh(open_cylinder(1.0, 2.0, 8, 3));
-    write_pvd_series(p.dir + "/other.pvd", {{"", other}},
+    write_pvd_series(p.dir + "/other.pvd", other,
                      travelling_pulse(open_cylinder(1.0, 2.0, 8, 3)));
     e = error_of([&] { read_field_series(p.dir + "/other.pvd", p.base); });
     CHECK_MESSAGE(contains(e, "step 0 of " + p.dir + "/other.pvd"), e);

@@ -26,9 +26,9 @@ namespace vessel::cli {
 //! transparent huge pages (`glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
 //! set to it) unless \p parent already sets that tunable (a user's `glibc.malloc.hugetlb=0`
 //! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
-//! array faulted in by 4 kB pages (docs/benchmarks.md, "Machine and conditions": carotid-300k
-//! 219 k -> 26 k faults); glibc reads its tunables at start-up only, so the batch, which starts
-//! each process anyway, sets it. Other C libraries and glibc before 2.35 ignore it.
+//! array faulted in by 4 kB pages (figures in docs/benchmarks.md, "Machine and conditions");
+//! glibc reads its tunables at start-up only, so the batch, which starts each process anyway,
+//! sets it. Other C libraries and glibc before 2.35 ignore it.
 std::vector<std::string> child_environment(const char* const* parent);
 
 //! A child process started from \p exe with \p args (args[0] is its name), in a process group of

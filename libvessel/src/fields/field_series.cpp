@@ -521,48 +521,27 @@ TimeSeries transfer_series(const TimeSeries& series, const Mesh& mesh)
     return out;
 }
 
-void write_pvd_series(const std::string& pvd_path, const std::vector<PvdPart>& parts,
-                      const TimeSeries& series, const VtkWriteOptions& options)
+void write_pvd_series(const std::string& pvd_path, const PolyData& data, const TimeSeries& series,
+                      const VtkWriteOptions& options)
 {
     const fs::path pvd(pvd_path);
     const std::string stem = pvd.stem().string();
     const fs::path dir = pvd.parent_path() / stem;
     fs::create_directories(dir);
-    // Entries per collection, in the order of their first part; parts numbered within each.
-    std::vector<std::string> collections;
-    std::vector<std::vector<detail::PvdEntry>> entries;
-    std::vector<int> slot(parts.size()), number(parts.size());
-    for (std::size_t p = 0; p < parts.size(); ++p)
-    {
-        const std::string& c = parts[p].collection.empty() ? pvd_path : parts[p].collection;
-        const auto at = std::find(collections.begin(), collections.end(), c);
-        slot[p] = static_cast<int>(at - collections.begin());
-        if (at == collections.end())
-        {
-            collections.push_back(c);
-            entries.emplace_back();
-        }
-        number[p] = static_cast<int>(std::count(slot.begin(), slot.begin() + p, slot[p]));
-    }
+    std::vector<detail::PvdEntry> entries;
     for (int k = 0; k < series.size(); ++k)
     {
         char step[32];
         std::snprintf(step, sizeof step, "_%03d", k);
-        for (std::size_t p = 0; p < parts.size(); ++p)
-        {
-            PolyData data = parts[p].data;
-            const auto& fields =
-                parts[p].step_fields ? parts[p].step_fields(series.steps[k]) : series.steps[k];
-            for (const auto& f : fields)
-                (f.location == FieldLocation::Point ? data.point_data : data.cell_data)
-                    .push_back(f);
-            const std::string name = stem + step + parts[p].suffix + ".vtp";
-            write_polydata((dir / name).string(), data, options);
-            entries[slot[p]].push_back({series.times[k], number[p], stem + "/" + name});
-        }
+        PolyData with_step = data;
+        for (const auto& f : series.steps[k])
+            (f.location == FieldLocation::Point ? with_step.point_data : with_step.cell_data)
+                .push_back(f);
+        const std::string name = stem + step + ".vtp";
+        write_polydata((dir / name).string(), with_step, options);
+        entries.push_back({series.times[k], 0, stem + "/" + name});
     }
-    for (std::size_t c = 0; c < collections.size(); ++c)
-        detail::write_pvd(collections[c], entries[c]);
+    detail::write_pvd(pvd_path, entries);
 }
 
 }  // namespace vessel

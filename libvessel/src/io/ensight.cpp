@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <set>
 
@@ -40,15 +41,20 @@ void put_column(FILE* out, const Eigen::MatrixXd& values, int c)
     std::fwrite(column.data(), sizeof(float), column.size(), out);
 }
 
+// \p text with every character other than a letter, a digit, `_` or one of \p also replaced by
+// `_`; "_" if empty.
+std::string sanitized(std::string text, const char* also)
+{
+    for (char& c : text)
+        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && !std::strchr(also, c))
+            c = '_';
+    return text.empty() ? "_" : text;
+}
+
 std::string variable_name(const std::string& name)
 {
-    std::string out = name.empty() ? "_" : name;
-    for (char& c : out)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_')
-            c = '_';
-    if (std::isdigit(static_cast<unsigned char>(out[0])))
-        out = "_" + out;
-    return out;
+    const std::string out = sanitized(name, "");
+    return std::isdigit(static_cast<unsigned char>(out[0])) ? "_" + out : out;
 }
 
 // One EnSight variable: a field, or one component of a field of 4 or more components.
@@ -112,11 +118,7 @@ std::string case_line(const Variable& v, const std::string& file, bool per_step)
 
 std::string ensight_data_folder(const std::string& case_path)
 {
-    std::string stem = fs::path(case_path).stem().string();
-    for (char& c : stem)
-        if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.')
-            c = '_';
-    return stem.empty() ? "_" : stem;
+    return sanitized(fs::path(case_path).stem().string(), "-.");
 }
 
 void write_ensight_series(const std::string& case_path, const PolyData& data,

@@ -3,7 +3,6 @@
 #include "vessel/fields/fields.h"
 #include "vessel/io/vtk_io.h"
 
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -79,27 +78,13 @@ enum class CsvLayout
 void write_csv_series(const std::string& path, const TimeSeries& series, const std::string& name,
                       CsvLayout layout);
 
-//! One geometry of a written series (e.g. the 3D cut mesh, or its 2D map).
-struct PvdPart
-{
-    std::string suffix;  //!< appended to the step files' names ("" for the first part)
-    PolyData data;       //!< geometry and the fields every step carries
-    //! The `.pvd` that lists this part's files, in the same folder as the one given to
-    //! write_pvd_series() (empty: that one). Parts in separate collections open as separate
-    //! datasets in ParaView; parts of one collection are overlaid as blocks of one dataset.
-    std::string collection;
-    //! What a step's fields become on this part (empty: added as they are), e.g. map_fields()
-    //! for a map.
-    std::function<std::vector<Field>(const std::vector<Field>&)> step_fields;
-};
-
-//! \brief Write a `.pvd` collection: for every step k and part p, the file
-//! `<dir>/<stem>/<stem>_<k, 3 digits><suffix>.vtp` holds part p's data plus step k's fields
-//! (rows = the part's points / polygons); the `.pvd` (or the part's own collection) lists them
-//! with `timestep` and `part` (numbered within each collection). Every step file holds the whole
-//! geometry: ParaView's and VTK's readers need it.
-//! \throw InvalidInputError if a field does not fit a part; IoError if writing fails.
-void write_pvd_series(const std::string& pvd_path, const std::vector<PvdPart>& parts,
-                      const TimeSeries& series, const VtkWriteOptions& options = {});
+//! \brief Write a `.pvd` collection of \p data and each step's fields: for every step k the file
+//! `<dir>/<stem>/<stem>_<k, 3 digits>.vtp` holds \p data plus step k's fields (rows = its points
+//! / polygons), and the `.pvd` lists them with their `timestep`. Every step file holds the whole
+//! geometry, as ParaView's and VTK's `.vtp` readers need; for a series on a fixed mesh that
+//! should store it once see write_ensight_series() (vessel/io/ensight.h).
+//! \throw InvalidInputError if a field does not fit \p data; IoError if writing fails.
+void write_pvd_series(const std::string& pvd_path, const PolyData& data, const TimeSeries& series,
+                      const VtkWriteOptions& options = {});
 
 }  // namespace vessel
