@@ -1,5 +1,7 @@
 #include "vessel/pipeline.h"
 
+#include "vessel/cut/cut_route.h"
+
 #include "vessel/cut/cut.h"
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/direction/direction.h"
@@ -114,10 +116,16 @@ struct DirectionStage
     Eigen::MatrixX3d winding;  // winding_rate() of z, for the cut planner
     Eigen::VectorXd kmax;      // |k_max|
     // The field the streamline routes trace (CutPlanOptions::stream_field): the descent of H
-    // (empty on the ShortestPath route, or when it is z itself).
+    // (empty for a route that traces none, or when it is z itself).
     Eigen::MatrixX3d stream;
     double seconds = 0.0;
 };
+
+// Whether the cut route of \p cuts traces a stream field (CutRoutePolicy::needs_stream_field()).
+bool traces_stream(const CutPlanOptions& cuts)
+{
+    return (cuts.router ? cuts.router : route_policy(cuts.route))->needs_stream_field();
+}
 
 // Meshes from this many vertices get the stream field on the second core beside the vessel
 // direction and its winding rate; below it a thread's start (50-100 us here) costs more than
@@ -164,8 +172,8 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     stage.H = harmonic.get().solve(stage.G);
     // The streamline routes' field, an alignment field like z (it runs along every vessel
     // toward the root), made here beside z rather than in VC, on the otherwise idle core.
-    const bool harmonic_stream = options.cuts.route != CutRoute::ShortestPath &&
-                                 options.cuts.stream_field == StreamField::Harmonic;
+    const bool harmonic_stream =
+        traces_stream(options.cuts) && options.cuts.stream_field == StreamField::Harmonic;
     std::future<Eigen::MatrixX3d> stream;
     if (harmonic_stream && mesh.n_vertices() >= kStreamThreadVertices)
         stream = std::async(std::launch::async,
@@ -231,8 +239,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     result.timings.GC = clock.lap("GC");
 
     // VC: cut paths (the streamline routes also trace a field toward the root, made in Z).
-    const bool trace_z = options.cuts.route != CutRoute::ShortestPath &&
-                         options.cuts.stream_field == StreamField::Direction;
+    const bool trace_z =
+        traces_stream(options.cuts) && options.cuts.stream_field == StreamField::Direction;
     result.plan = forced_plan ? *forced_plan
                               : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
                                           trace_z ? z : zstage.stream, zstage.H);

@@ -1,7 +1,7 @@
 #pragma once
 
 // Multi-source Dijkstra along a mesh's edges (3D edge lengths): the cut planner's distance to
-// the cut tree (cut_plan.cpp, TreeDistance, on its CutGraph's arcs) and beside_length()
+// the cut tree (tree_distance.h, TreeDistance, on its CutGraph's arcs) and beside_length()
 // (cut_metrics.cpp, on the mesh's halfedges) both grow this one field. mesh_neighbours() and
 // graph_neighbours() give the neighbour walk over either (the winding meter's rings too).
 

@@ -10,7 +10,10 @@
 
 namespace vessel {
 
-//! How a cut runs from its outlet to its end.
+class CutRoutePolicy;  // cut_route.h
+class CutJoinPolicy;   // cut_join.h
+
+//! How a cut runs from its outlet to its end: the built-in route policies (cut_route.h).
 enum class CutRoute
 {
     ShortestPath,  //!< the paper's rule: the cheapest path in the cut graph
@@ -37,7 +40,7 @@ enum class StreamField
 };
 
 //! Where a later cut (every outlet but the largest) ends on the cuts made before it
-//! (docs/design.md, "Where later cuts join").
+//! (docs/design.md, "Where later cuts join"): the built-in join policies (cut_join.h).
 enum class CutJoin
 {
     //! On whichever cut vertex the cheapest path reaches first (the paper's rule, read
@@ -62,6 +65,8 @@ struct CutPlanOptions
     //! How each cut runs (default CutRoute::Aligned: no valid real mesh's seam less aligned
     //! than with either route alone; docs/design.md, "Per-cut route choice").
     CutRoute route = CutRoute::Aligned;
+    //! A researcher's own cut route (cut_route.h); when set it replaces `route`.
+    std::shared_ptr<const CutRoutePolicy> router;
     //! CutRoute::Streamline and Aligned: the field traced (the harmonic descent measured best).
     StreamField stream_field = StreamField::Harmonic;
     //! CutRoute::Streamline: half-width, in edge rings (>= 0), of the band around the faces the
@@ -73,9 +78,12 @@ struct CutPlanOptions
     //! this many mean edge lengths of its nearest approach to the cut tree; the cut joins there,
     //! over the shortest bridge, instead of running beside the earlier cut.
     int join_rings = 3;
-    //! Where the cheapest path of a later cut ends (CutRoute::ShortestPath, and the cheapest
-    //! candidate of CutRoute::Aligned); CutRoute::Streamline joins by join_rings.
+    //! Where the cheapest path of a later cut ends (CutStep::cheapest(): the route of
+    //! CutRoute::ShortestPath, the cheapest candidate of CutRoute::Aligned, the fallback of
+    //! CutRoute::Streamline); a traced cut joins by join_rings.
     CutJoin join = CutJoin::Approach;
+    //! A researcher's own join policy (cut_join.h); when set it replaces `join`.
+    std::shared_ptr<const CutJoinPolicy> joiner;
     //! CutJoin::Closest: the later cut may end on any cut vertex whose edge-path distance from
     //! the outlet is within (1 + join_slack) x the closest one's plus the outlet's perimeter
     //! (>= 0); the cheapest path among them is taken.
@@ -167,9 +175,10 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
                               const Eigen::VectorXd& k_max);
 
 //! \brief Plan the cuts of the method (step 4): the largest outlet to the inlet first, then every
-//! other outlet, largest to smallest, to the nearest (cheapest) interior vertex already on a cut.
-//! Paths never pass through other boundary loops and never cross earlier cuts, so every loop is
-//! opened at exactly one vertex.
+//! other outlet, largest to smallest, to an interior vertex already on a cut; each cut's route
+//! from the route policy (CutPlanOptions::route or ::router), where it joins from the join
+//! policy (::join or ::joiner). Paths never pass through other boundary loops and never cross
+//! earlier cuts, so every loop is opened at exactly one vertex.
 //! \param loops boundary_loops(mesh): loops[0] is the inlet.
 //! \param weights evaluate_cost() of the chosen travel cost.
 //! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
@@ -180,7 +189,9 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! \param longitudinal |V| harmonic_longitudinal() values: CutRoute::Aligned then chooses by
 //! winding (WindingMeter); empty = by alignment only.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
-//! reach the cut tree; if the route is Streamline and \p stream_field has not |V| rows.
+//! reach the cut tree; if the route needs a stream field (CutRoutePolicy::needs_stream_field())
+//! and \p stream_field has not |V| rows; if a policy returns a path or end that breaks its
+//! contract (the message names the policy).
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options = {},

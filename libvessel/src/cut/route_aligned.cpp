@@ -1,0 +1,280 @@
+#include "vessel/cut/cut_route.h"
+
+#include "detail/streamline_tracer.h"
+#include "vessel/core/errors.h"
+#include "vessel/cut/cut_metrics.h"
+#include "vessel/cut/cut_winding.h"
+#include "vessel/cut/winding_bound.h"
+
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace vessel {
+
+namespace {
+
+CutPath as_cut(const Mesh& mesh, const GraphPath& p)
+{
+    CutPath c;
+    c.halfedges = p.halfedges;
+    c.start = mesh.from_vertex_handle(p.halfedges.front());
+    return c;
+}
+
+// CutRoute::Aligned: whether the traced path replaces the cheapest one. With a winding meter,
+// when it winds clearly less and is not much worse aligned; otherwise (or without a meter)
+// when it follows the stream field clearly better. \p winding_meter returns the meter (built
+// at its first call) or null.
+bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& traced,
+                 const Eigen::MatrixX3d& stream_field,
+                 const std::function<const WindingMeter*()>& winding_meter,
+                 const CutPlanOptions& options)
+{
+    const CutPath a = as_cut(mesh, cheapest), b = as_cut(mesh, traced);
+    const double aligned_a = path_alignment(mesh, a, stream_field).mean;
+    const double aligned_b = path_alignment(mesh, b, stream_field).mean;
+    // Either test alone can keep it; the windings (the costly part) are measured only when
+    // the alignments leave the answer open.
+    if (aligned_b > aligned_a + options.aligned_min_gain)
+        return true;
+    if (!(aligned_b >= aligned_a - options.winding_max_alignment_loss))
+        return false;
+    const WindingMeter* meter = winding_meter();
+    return meter && std::abs(meter->measure(b).winding_deg) <
+                        std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
+}
+
+// The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
+// ring radius (WindingMeter::step()). With the meter's own restart at every such vertex the
+// search can turn where a band fails the spread test by noise alone, unseen by this meter and
+// seen by another whose bands differ by rounding (seamwinding.py; docs/design.md, "Natural
+// cuts"). A radius spans such noisy bands (one to four vertices) and stops short of junctions
+// and sacs.
+constexpr double kSearchBridge = 1.0;
+
+// CutRoute::Aligned: a cut that winds more than options.winding_target_deg around its vessel
+// end to end, or that is no natural cut (it winds more than options.winding_limit_deg, or with
+// options.natural_cuts its angle spans more than that: WindingMeter), is searched again.
+//
+// 1. Its signed winding priced into the arcs (PathQuery::steer_rate =
+//    WindingMeter::angular_rate(), a Lagrangian relaxation of "winds at most the target"): the
+//    multiplier opposes the way \p current winds; it doubles from 1/16 of the path's cost per
+//    half turn (up to 16) until the steered cut winds less than the target or the other way,
+//    then three bisections between the last two. A multiplier reaches only the routes on the
+//    convex hull of (winding, cost). A steered path replaces \p current if it winds less by
+//    more than options.winding_min_gain_deg and its alignment with the stream field is at most
+//    options.winding_max_alignment_loss lower.
+// 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
+//    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
+//    kSearchBridge ring radii) and the target as its bound (then, if that gives no natural
+//    cut, half the limit, bridged and then not): the cheapest route whose angle stays within
+//    +-bound at every vertex (span <= 2 x bound), inside the hull too (on the vmtk aorta every
+//    route on the hull winds about +-80 degrees). There a candidate must also keep a natural
+//    cut natural, and a cut that is not natural takes a natural candidate whatever its
+//    alignment (the bound is what natural means; the alignment's floor was fitted on cuts
+//    that wind less).
+// \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
+// more than its band); it is searched again only if it is no natural cut.
+// \p finish: the join policy's finish of a path found to the tree (CutStep::join(), e.g. the
+// cut back of CutJoin::Approach); a bounded route keeps its cut back only if it stays within
+// the bound.
+// Empty = keep \p current.
+template <class Finish>
+std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query,
+                                    const Eigen::MatrixX3d& winding_rate,
+                                    const WindingMeter& meter, const GraphPath& current,
+                                    bool traced, const Eigen::MatrixX3d& stream_field,
+                                    const CutPlanOptions& options, Finish finish)
+{
+    const Mesh& mesh = graph.mesh();
+    if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
+        return std::nullopt;
+    const bool strict = options.natural_cuts;
+    const auto natural = [&](const PathWinding& w) {
+        return std::abs(w.winding_deg) <= options.winding_limit_deg &&
+               (!strict || w.span_deg <= options.winding_limit_deg);
+    };
+    const PathWinding now = meter.measure(as_cut(mesh, current));
+    const double wound = std::abs(now.winding_deg);
+    const bool was_natural = natural(now);
+    if (was_natural && (traced || !(wound > options.winding_target_deg)))
+        return std::nullopt;
+    PathQuery query = step_query;  // steered below
+    const double floor_alignment =
+        path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
+        options.winding_max_alignment_loss;
+    std::optional<GraphPath> best;
+    bool best_natural = was_natural;
+    double best_wound = wound - options.winding_min_gain_deg;
+    // Whether \p p replaces the best so far (and becomes it).
+    const auto offer = [&](GraphPath& p) {
+        const CutPath cut = as_cut(mesh, p);
+        const PathWinding w = meter.measure(cut);
+        const bool is_natural = natural(w);
+        const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
+        const bool better =
+            strict ? (!best_natural && is_natural) ||
+                         (std::abs(w.winding_deg) < best_wound &&
+                          (is_natural || !best_natural) && aligned)
+                   : std::abs(w.winding_deg) < best_wound && aligned;
+        if (better)
+        {
+            best_wound = std::abs(w.winding_deg);
+            best_natural = is_natural;
+            best = std::move(p);
+        }
+        return w.winding_deg;
+    };
+    if (wound > options.winding_target_deg)
+    {
+        query.steer_rate = [&meter](int v) { return meter.angular_rate(VertexHandle(v)); };
+        const double sign = now.winding_deg > 0.0 ? 1.0 : -1.0;
+        const double unit = current.cost / M_PI;  // t = 1: a half turn costs the path's cost
+        // The signed winding of the steered path at multiplier t (0 = on target).
+        const auto steer = [&](double t) {
+            query.steer_weight = sign * t * unit;
+            GraphPath p = finish(graph.shortest_path(query, winding_rate));
+            const double w = offer(p);
+            return std::abs(w) <= options.winding_target_deg ? 0.0 : sign * w;
+        };
+        double low = 0.0, high = 0.0;
+        for (double t = 1.0 / 16; t <= 16.0; t *= 2.0)
+        {
+            const double left = steer(t);
+            if (left <= 0.0)
+            {
+                high = t;
+                break;
+            }
+            low = t;
+        }
+        if (high > 0.0 && low == 0.0)
+            low = high / 2.0;
+        if (high > 0.0 && best_wound > options.winding_target_deg)
+            for (int i = 0; i < 3 && best_wound > options.winding_target_deg; ++i)
+            {
+                const double t = std::sqrt(low * high);
+                (steer(t) > 0.0 ? low : high) = t;
+            }
+        query.steer_rate = nullptr;
+        query.steer_weight = 0.0;
+    }
+    // The target as the bound first; if no route keeps it (or none is taken), half the natural
+    // limit, which still bounds the span by the limit.
+    // Last, half the limit with the meter's own steps (no bridge): the bound then holds exactly
+    // as the meter reads it.
+    const std::pair<double, double> tries[] = {{options.winding_target_deg, kSearchBridge},
+                                               {0.5 * options.winding_limit_deg, kSearchBridge},
+                                               {0.5 * options.winding_limit_deg, 0.0}};
+    for (const auto& [limit, bridge] : tries)
+    {
+        if (!(strict && (best_wound > options.winding_target_deg || !best_natural)) ||
+            !(limit > 0.0 && limit < 180.0))
+            break;
+        WindingBoundOptions bound;
+        bound.limit_deg = limit;
+        const double carry = bridge;
+        std::optional<GraphPath> bounded = winding_bounded_path(
+            graph, query,
+            [&meter, carry](VertexHandle last, VertexHandle w, bool gap) {
+                return meter.step(last, w, gap, carry);
+            },
+            bound);
+        if (bounded)
+        {
+            // A later cut that would run beside the tree is cut back and bridged to it
+            // (CutJoin::Approach); the bridge may turn, so a bounded route keeps its cut back
+            // only if it stays within the bound (else it may run beside the tree).
+            GraphPath p = finish(*bounded);
+            if (std::abs(meter.measure(as_cut(mesh, p)).winding_deg) > bound.limit_deg)
+                p = std::move(*bounded);
+            offer(p);
+        }
+        if (best_natural)
+            break;
+    }
+    return best;
+}
+
+// CutRoute::Aligned for one plan: the cheapest path, the traced one if keep_traced() prefers
+// it, then steer_path() unless the join policy narrows the ends.
+class AlignedRouter : public CutRouter
+{
+public:
+    explicit AlignedRouter(const CutPlanContext& context) : tracer_(context)
+    {
+        const std::size_t nv = context.mesh().n_vertices();
+        const Eigen::VectorXd& longitudinal = *context.longitudinal;
+        if (longitudinal.size() != 0 && static_cast<std::size_t>(longitudinal.size()) != nv)
+            throw InvalidInputError(
+                "plan_cuts: " + std::to_string(longitudinal.size()) + " longitudinal values for " +
+                std::to_string(nv) +
+                " vertices; pass harmonic_longitudinal() of the same mesh, or none");
+    }
+
+    RoutedCut route(CutStep& step) override
+    {
+        const CutPlanContext& context = step.context();
+        const Mesh& mesh = context.mesh();
+        const CutPlanOptions& options = *context.options;
+        const Eigen::MatrixX3d& stream_field = *context.stream_field;
+        // Built at the first cut whose alignments leave the choice to the windings.
+        const auto winding_meter = [&]() -> const WindingMeter* {
+            const Eigen::VectorXd& longitudinal = *context.longitudinal;
+            if (longitudinal.size() == 0)
+                return nullptr;
+            // The harmonic stream field is the descent of `longitudinal`: minus it is the unit
+            // gradient the meter would otherwise compute at every vertex its rings reach.
+            if (!meter_)
+            {
+                if (options.stream_field == StreamField::Harmonic)
+                    meter_.emplace(*context.graph, longitudinal, tracer_.mean_edge(),
+                                   -stream_field);
+                else
+                    meter_.emplace(*context.graph, longitudinal, tracer_.mean_edge());
+            }
+            return &*meter_;
+        };
+
+        RoutedCut cut{step.cheapest(), false};
+        std::optional<GraphPath> along =
+            tracer_.trace(step, mesh.from_vertex_handle(cut.path.halfedges.front()));
+        if (along &&
+            keep_traced(mesh, cut.path, *along, stream_field, winding_meter, options))
+        {
+            cut.path = std::move(*along);
+            cut.traced = true;
+        }
+        if (!step.join_narrows_ends())
+            if (const WindingMeter* reader = winding_meter())
+            {
+                std::optional<GraphPath> held = steer_path(
+                    *context.graph, step.query(), *context.winding_rate, *reader, cut.path,
+                    cut.traced, stream_field, options,
+                    [&step](GraphPath p) { return step.join(std::move(p)); });
+                if (held)
+                {
+                    cut.path = std::move(*held);
+                    cut.traced = false;
+                }
+            }
+        return cut;
+    }
+
+    void added(const CutStep& step, const CutPath& cut) override { tracer_.added(step, cut); }
+
+private:
+    detail::StreamlineTracer tracer_;
+    std::optional<WindingMeter> meter_;
+};
+
+}  // namespace
+
+std::unique_ptr<CutRouter> AlignedRoute::start(const CutPlanContext& context) const
+{
+    return std::make_unique<AlignedRouter>(context);
+}
+
+}  // namespace vessel
