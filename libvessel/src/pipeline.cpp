@@ -51,15 +51,7 @@ void FlattenOptions::validate() const
     {
         untangle.validate();
         layout_circle.validate();
-        if (!(look_pull >= 0.0 && std::isfinite(look_pull)))
-            throw InvalidInputError("FlattenOptions: look_pull must be >= 0 and finite, got " +
-                                    std::to_string(look_pull));
-        if (!(look_hold >= 0.0 && std::isfinite(look_hold)))
-            throw InvalidInputError("FlattenOptions: look_hold must be >= 0 and finite, got " +
-                                    std::to_string(look_hold));
-        if (!(look_margin_deg >= 0.0 && look_margin_deg < 90.0))
-            throw InvalidInputError("FlattenOptions: look_margin_deg must be in [0, 90), got " +
-                                    std::to_string(look_margin_deg));
+        look_pull.validate();
         look_retry.validate();
         multilevel.validate();
         if (polish_area)
@@ -67,9 +59,7 @@ void FlattenOptions::validate() const
         if (injective.max_iterations > 0)
             injective.validate();
     }
-    if (!(blend >= 0.0 && blend <= 1.0))
-        throw InvalidInputError("FlattenOptions: blend must be in [0, 1], got " +
-                                std::to_string(blend));
+    cost.validate();
     if (!(alpha_deg >= 0.0 && alpha_deg < 90.0))
         throw InvalidInputError("FlattenOptions: alpha_deg must be in [0, 90), got " +
                                 std::to_string(alpha_deg));
@@ -199,11 +189,11 @@ HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
                                const FlattenOptions& options)
 {
     const Eigen::MatrixX3d& z = zstage.z;
-    if (options.custom_cost)
-        return evaluate_cost(mesh, options.custom_cost,
+    if (options.cost.custom)
+        return evaluate_cost(mesh, options.cost.custom,
                              {&z, &zstage.G, &zstage.H, &zstage.kmax, mean_edge_length(mesh)});
     const CurvatureCost curvature{&z};
-    switch (options.cost)
+    switch (options.cost.kind)
     {
         case CostKind::Curvature:
             return evaluate_cost(mesh, curvature);
@@ -211,7 +201,7 @@ HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
             return evaluate_cost(mesh, LengthCost{mean_edge_length(mesh)});
         case CostKind::Blend:
             return evaluate_cost(mesh, BlendCost{curvature, LengthCost{mean_edge_length(mesh)},
-                                                 options.blend});
+                                                 options.cost.blend});
     }
     throw InvalidInputError("flatten: unknown cost kind");
 }

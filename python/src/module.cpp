@@ -193,8 +193,8 @@ const std::map<std::string, Setter>& setters()
         {"cost", choice<CostKind>({{"curvature", CostKind::Curvature},
                                    {"geodesic", CostKind::Geodesic},
                                    {"blend", CostKind::Blend}},
-                                  [](CallOptions& o) -> CostKind& { return o.flatten.cost; })},
-        {"blend", number<double>([](CallOptions& o) -> double& { return o.flatten.blend; })},
+                                  [](CallOptions& o) -> CostKind& { return o.flatten.cost.kind; })},
+        {"blend", number<double>([](CallOptions& o) -> double& { return o.flatten.cost.blend; })},
         {"viewpoint",
          [](CallOptions& o, const std::string& name, py::handle value) {
              const auto p = option_value<std::vector<double>>(name, value, "3 numbers");
@@ -237,14 +237,14 @@ const std::map<std::string, Setter>& setters()
         {"restart_circle",
          choice<bool>({{"layout", true}, {"tutte", false}},
                       [](CallOptions& o) -> bool& { return o.flatten.restart_on_layout_circle; })},
-        {"look_pull", number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull; })},
+        {"look_pull", number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.weight; })},
         {"look_pull_form",
          choice<vessel::LookPullForm>(
              {{"hinges", vessel::LookPullForm::Hinges}, {"rays", vessel::LookPullForm::Rays}},
-             [](CallOptions& o) -> vessel::LookPullForm& { return o.flatten.look_pull_form; })},
-        {"look_hold", number<double>([](CallOptions& o) -> double& { return o.flatten.look_hold; })},
+             [](CallOptions& o) -> vessel::LookPullForm& { return o.flatten.look_pull.form; })},
+        {"look_hold", number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.hold; })},
         {"look_margin",
-         number<double>([](CallOptions& o) -> double& { return o.flatten.look_margin_deg; })},
+         number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.margin_deg; })},
         {"look_retry", choice<vessel::LookRetry>(
                            {{"auto", vessel::LookRetry::Auto},
                             {"off", vessel::LookRetry::Off},

@@ -127,7 +127,7 @@ bool coloured(const Eigen::Vector3d& rgb) { return rgb.maxCoeff() - rgb.minCoeff
 TEST_CASE("cli: the custom-cost example's cuts differ from the default's on a real artery")
 {
     // tools/examples/custom_cost.cpp: a direction term plus a penalty for crossing high
-    // curvature, given as FlattenOptions::custom_cost.
+    // curvature, given as FlattenOptions::cost.custom.
     // Its own printout counts the default seam edges it moved; here the two seams are read from
     // the written OBJs (the example's, and vessel-flatten's with default options) and compared.
     const std::string dir = temp_dir("custom_cost_example");

@@ -16,7 +16,7 @@ TEST_CASE("custom cost: E_c written on the typed fields makes the default's cuts
     FlattenOptions options;
     options.relief.max_cuts = 0;
     const FlattenResult builtin = flatten(tree, options);
-    options.custom_cost = [](const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& f) {
+    options.cost.custom = [](const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& f) {
         return CurvatureCost{f.direction}(mesh, h);
     };
     const FlattenResult custom = flatten(tree, options);
@@ -34,7 +34,7 @@ TEST_CASE("custom cost: the fields are stage Z's, row per vertex of the uncut me
     bool checked = false;
     FlattenOptions options;
     options.relief.max_cuts = 0;
-    options.custom_cost = [&](const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& f) {
+    options.cost.custom = [&](const Mesh& mesh, SmartHalfedgeHandle h, const VesselFields& f) {
         ++calls;
         if (!checked)
         {
@@ -82,7 +82,7 @@ TEST_CASE("custom cost: a cost without the fields is taken as before")
     int calls = 0;
     FlattenOptions options;
     options.relief.max_cuts = 0;
-    options.custom_cost = [&](const Mesh& mesh, SmartHalfedgeHandle h) {
+    options.cost.custom = [&](const Mesh& mesh, SmartHalfedgeHandle h) {
         ++calls;
         return mesh.calc_edge_length(h);
     };

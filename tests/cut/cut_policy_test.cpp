@@ -96,7 +96,8 @@ public:
                     if (query.is_target[v])
                     {
                         std::vector<HalfedgeHandle> path;
-                        for (int u = v; parent[u].is_valid(); u = mesh.from_vertex_handle(parent[u]).idx())
+                        for (int u = v; parent[u].is_valid();
+                             u = mesh.from_vertex_handle(parent[u]).idx())
                             path.insert(path.begin(), parent[u]);
                         return {step.context().graph->path_of(std::move(path)), false};
                     }

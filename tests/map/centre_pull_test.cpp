@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/checks.h"
 #include "support/meshes.h"
 #include "vessel/map/area_polish.h"
 #include "vessel/map/centre_pull.h"
@@ -226,17 +227,19 @@ TEST_CASE("centre pull: bad look options are refused by FlattenOptions")
 {
     FlattenOptions options;
     CHECK_NOTHROW(options.validate());
-    options.look_pull = -1.0;
+    options.look_pull.weight = -1.0;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options.look_pull = 10.0;
-    options.look_margin_deg = 90.0;
+    CHECK(test::error_of([&] { options.validate(); }).find("LookPullOptions: weight") !=
+          std::string::npos);
+    options.look_pull.weight = 10.0;
+    options.look_pull.margin_deg = 90.0;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options.look_margin_deg = 2.0;
-    options.look_hold = -1.0;
+    options.look_pull.margin_deg = 2.0;
+    options.look_pull.hold = -1.0;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options.look_hold = std::nan("");
+    options.look_pull.hold = std::nan("");
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options.look_hold = 1000.0;
+    options.look_pull.hold = 1000.0;
     CHECK_NOTHROW(options.validate());
 }
 
@@ -252,8 +255,8 @@ TEST_CASE("overlaps with a look pull: the pulmonary Glenn tree keeps its outlets
     off.look_retry.mode = LookRetry::Off;  // the default map before the look retry
     const FlattenResult plain = flatten(surface.mesh, off);
     FlattenOptions options;
-    options.look_pull = 100.0;
-    REQUIRE(options.look_pull_form == LookPullForm::Hinges);
+    options.look_pull.weight = 100.0;
+    REQUIRE(options.look_pull.form == LookPullForm::Hinges);
     const FlattenResult pulled = flatten(surface.mesh, options);
     FlattenOptions keep;
     keep.overlaps = OverlapPolicy::Keep;

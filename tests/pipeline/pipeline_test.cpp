@@ -229,7 +229,7 @@ TEST_CASE("pipeline: a carotid with both outlets capped (one open end) flattens 
 TEST_CASE("pipeline: invalid options are refused before any work")
 {
     FlattenOptions options;
-    options.blend = 1.5;
+    options.cost.blend = 1.5;
     CHECK_THROWS_AS(flatten(open_cylinder(1, 4, 16, 8), options), InvalidInputError);
     CHECK_THROWS_AS(make_layout("nonexistent"), InvalidInputError);
 }

@@ -57,7 +57,7 @@ int main(int argc, char** argv)
             surface = vessel::make_tree_surface(raw);
         }
         vessel::FlattenOptions options;
-        options.custom_cost = AvoidFoldsCost{};
+        options.cost.custom = AvoidFoldsCost{};
         const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
         for (const auto& cut : result.plan.paths)
             std::printf("cut from outlet %d: %zu edges, cost %.3f\n", cut.outlet,

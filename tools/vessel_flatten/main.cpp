@@ -307,7 +307,7 @@ int main(int argc, char** argv)
         ->group(image_tuning);
 
     // Cut.
-    add_choice(app, "--cost", options.cost,
+    add_choice(app, "--cost", options.cost.kind,
                {{"curvature", vessel::CostKind::Curvature},
                 {"geodesic", vessel::CostKind::Geodesic},
                 {"blend", vessel::CostKind::Blend}},
@@ -339,7 +339,7 @@ int main(int argc, char** argv)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(cut_tuning);
-    app.add_option("--blend", options.blend, "Weight a of E_c in E_cg = a E_c + (1 - a) E_g")
+    app.add_option("--blend", options.cost.blend, "Weight a of E_c in E_cg = a E_c + (1 - a) E_g")
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str()
         ->group(cut_tuning);
@@ -522,26 +522,26 @@ int main(int argc, char** argv)
                "bottom, each outlet at its layout bearing; layout_circle.h) or "
                "tutte (constant speed)")
         ->group(map_tuning);
-    app.add_option("--look-pull", options.look_pull,
+    app.add_option("--look-pull", options.look_pull.weight,
                    "When the map restarts, SLIM and the area polish also keep the start's look "
                    "(each outlet above the inlet and in walk order, or on its start ray: "
                    "--look-pull-form; centre_pull.h); the weight, 0 = off")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);
-    add_choice(app, "--look-pull-form", options.look_pull_form,
+    add_choice(app, "--look-pull-form", options.look_pull.form,
                {{"hinges", vessel::LookPullForm::Hinges}, {"rays", vessel::LookPullForm::Rays}},
                "The look pull's outlet terms: hinges (zero cost while each outlet "
                "stays above the inlet and in walk order) or rays (each outlet held "
                "on its start ray)")
         ->group(map_tuning);
-    app.add_option("--look-hold", options.look_hold,
+    app.add_option("--look-hold", options.look_pull.hold,
                    "The look pull's inlet hold weight with hinges, if larger than --look-pull "
                    "(a rigid motion: costs no area)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);
-    app.add_option("--look-margin", options.look_margin_deg,
+    app.add_option("--look-margin", options.look_pull.margin_deg,
                    "The look pull's hinge margin, degrees (between consecutive outlets' "
                    "bearings and above the inlet's line)")
         ->check(CLI::Range(0.0, 89.9))

@@ -59,7 +59,7 @@ int main(int argc, char** argv)
     {
         if (std::filesystem::path(output).extension() != ".html")
             throw vessel::InvalidInputError("the output must be an .html file, got " + output);
-        options.cost = cost == "geodesic" ? vessel::CostKind::Geodesic
+        options.cost.kind = cost == "geodesic" ? vessel::CostKind::Geodesic
                        : cost == "blend"  ? vessel::CostKind::Blend
                                           : vessel::CostKind::Curvature;
         vessel::ViewerOptions view;

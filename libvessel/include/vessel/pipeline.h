@@ -25,14 +25,6 @@
 
 namespace vessel {
 
-//! The built-in travel costs (step 4).
-enum class CostKind
-{
-    Curvature,  //!< E_c = 1 - <unit edge, z>
-    Geodesic,   //!< E_g = edge length (in mean edge lengths)
-    Blend,      //!< E_cg = a E_c + (1 - a) E_g
-};
-
 //! How the map is started before ARAP (step 7).
 enum class Initialization
 {
@@ -102,13 +94,8 @@ struct FlattenOptions
     //! step 3: where the curvature direction is trusted; elsewhere z leans to the harmonic
     //! longitudinal descent (`direction.confident_anisotropy = 0`: the paper's pure field)
     DirectionOptions direction;
-    CostKind cost = CostKind::Curvature;
-    double blend = 0.5;  //!< `a` of E_cg, used with CostKind::Blend
-    //! A researcher's own travel cost (cut_cost.h); when set it replaces `cost`. Called with
-    //! the uncut mesh, each halfedge and stage Z's VesselFields (z, geodesic distance,
-    //! harmonic coordinate, |k_max|, mean edge); the same fields are also the mesh's
-    //! `prop::direction`, `prop::geodesic`, `prop::longitudinal` and `prop::kmax` properties.
-    CustomCost custom_cost;
+    //! step 4: the travel cost (E_c by default; E_g, E_cg, or a researcher's `cost.custom`)
+    CostOptions cost;
     CutPlanOptions cuts;  //!< endpoint policy (imaginary node / viewpoint), winding control
     //! Relief cuts (relief_cut.h): when the map's mean |log area ratio| stays above the target,
     //! a slit from the most compressed point to the seam, and the map is made again. Default:
@@ -129,7 +116,7 @@ struct FlattenOptions
     Refinement refinement = Refinement::Injective;
     //! A researcher's own refinement (refiner.h); when set it replaces `refinement` (and with it
     //! `overlaps`, ARAP, untangling, SLIM, the area polish, the look retry and coarse-to-fine):
-    //! it gets the initial map and the inlet pins and returns the map. Like custom_cost for
+    //! it gets the initial map and the inlet pins and returns the map. Like cost.custom for
     //! the travel cost.
     std::shared_ptr<const MapRefiner> refiner;
     OverlapPolicy overlaps = OverlapPolicy::Prevent;
@@ -144,24 +131,11 @@ struct FlattenOptions
     LayoutCircleOptions layout_circle;  //!< the start of restart_on_layout_circle
     //! With Refinement::Injective, when the map restarts on a tree's layout: SLIM and the area
     //! polish also keep the start's look with soft terms on the loops' centres (centre_pull.h,
-    //! look_pulls(); look_pull_form: hinges, or look2's rays), holding the inlet; the weight
-    //! multiplies squared lengths (SLIM's energy is >= 4 x the area); >= 0. 0 = off (default:
-    //! no fixed weight keeps every tree's area distortion within 1.5x of the map without the
-    //! pull, docs/overlaps.md "The look hinges"); the default gets it adaptively instead
-    //! (look_retry). CLI `--look-pull W`.
-    double look_pull = 0.0;
-    //! The form of look_pull's outlet terms (centre_pull.h): LookPullForm::Hinges (zero cost
-    //! while each outlet stays above the inlet and in walk order; default) or LookPullForm::Rays
-    //! (each outlet held on its start ray). CLI `--look-pull-form hinges|rays`.
-    LookPullForm look_pull_form = LookPullForm::Hinges;
-    //! The hinges' margin (look_pull_form Hinges), degrees: the least angle kept between two
-    //! consecutive outlets' bearings and between an outlet and the inlet's line (less where the
-    //! start has less). CLI `--look-margin DEG`.
-    double look_margin_deg = 2.0;
-    //! The inlet hold's weight with look_pull_form Hinges, if larger than look_pull (look_pulls():
-    //! a rigid motion, no area cost). 0 = look_pull's. CLI `--look-hold W`.
-    double look_hold = 0.0;
-    //! With look_pull 0: after a restarted map whose look is broken (an outlet below the inlet,
+    //! LookPullOptions). `look_pull.weight` 0 = off (default: no fixed weight keeps every
+    //! tree's area distortion within 1.5x of the map without the pull, docs/overlaps.md "The
+    //! look hinges"); the default gets it adaptively instead (look_retry).
+    LookPullOptions look_pull;
+    //! With `look_pull.weight` 0: after a restarted map whose look is broken (an outlet below the inlet,
     //! or many walk inversions), redo it with the hinge pull and keep that map if it is
     //! one-to-one and within the area bound (look_retry.h; on by default, LookRetry::Auto).
     //! CLI `--look-retry auto|off|force`.

@@ -6,6 +6,13 @@
 
 namespace vessel {
 
+void CostOptions::validate() const
+{
+    if (!(blend >= 0.0 && blend <= 1.0))
+        throw InvalidInputError("CostOptions: blend must be in [0, 1], got " +
+                                std::to_string(blend));
+}
+
 void check_weight(double w, int halfedge)
 {
     if (!(w >= 0.0) || !std::isfinite(w))

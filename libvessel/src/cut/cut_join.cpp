@@ -11,9 +11,12 @@ std::shared_ptr<const CutJoinPolicy> join_policy(CutJoin join)
 {
     switch (join)
     {
-    case CutJoin::Cheapest: return std::make_shared<CheapestJoin>();
-    case CutJoin::Closest: return std::make_shared<ClosestJoin>();
-    case CutJoin::Approach: break;
+        case CutJoin::Cheapest:
+            return std::make_shared<CheapestJoin>();
+        case CutJoin::Closest:
+            return std::make_shared<ClosestJoin>();
+        case CutJoin::Approach:
+            break;
     }
     return std::make_shared<ApproachJoin>();
 }

@@ -36,8 +36,7 @@ void CutPlanOptions::validate() const
     if (!(winding_target_deg >= 0.0) || !std::isfinite(winding_target_deg))
         throw InvalidInputError("CutPlanOptions: winding_target_deg must be finite and >= 0");
     if (!(winding_limit_deg >= 0.0) || !std::isfinite(winding_limit_deg))
-        throw InvalidInputError(
-            "CutPlanOptions: winding_limit_deg must be finite and >= 0");
+        throw InvalidInputError("CutPlanOptions: winding_limit_deg must be finite and >= 0");
 }
 
 std::vector<EdgeHandle> CutPlan::seam_edges(const Mesh& mesh) const
@@ -101,8 +100,7 @@ public:
     PlanStep(const CutPlanContext& context, PathQuery& query, const CutPlan& plan,
              CutJoiner& joiner, const CutJoinPolicy& join)
         : context_(context), query_(query), plan_(plan), joiner_(joiner), join_(join)
-    {
-    }
+    {}
 
     void begin(std::size_t outlet)
     {
@@ -126,7 +124,8 @@ public:
             return cheapest_.emplace(graph.shortest_path(query_, winding_rate));
         const std::vector<VertexHandle> ends = joiner_.ends(*this);
         if (ends.empty())
-            return cheapest_.emplace(joiner_.finish(*this, graph.shortest_path(query_, winding_rate)));
+            return cheapest_.emplace(
+                joiner_.finish(*this, graph.shortest_path(query_, winding_rate)));
         // The tree vertices not allowed as ends are blocked, or the path could cross the tree
         // there (then the cut mesh is no disk); restored after the search.
         const std::size_t nv = query_.is_target.size();
@@ -294,7 +293,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         query.is_blocked[v.idx()] = 0;
     }
 
-    const CutPlanContext context{&graph,         &loops,         &loop_of,    &options,
+    const CutPlanContext context{&graph,        &loops,        &loop_of,     &options,
                                  &winding_rate, &stream_field, &longitudinal};
     const std::unique_ptr<CutRouter> router = route->start(context);
     const std::unique_ptr<CutJoiner> joiner = join->start(context);

@@ -143,8 +143,8 @@ public:
         const CutPlanContext& context = step.context();
         const CutPlanOptions& options = *context.options;
         const double radius = (*context.loops)[step.outlet()].arc_length / (2.0 * M_PI);
-        return cut_back(*context.graph, path, tree_, *context.loop_of,
-                        options.join_reach * radius, options.join_excess * radius);
+        return cut_back(*context.graph, path, tree_, *context.loop_of, options.join_reach * radius,
+                        options.join_excess * radius);
     }
 
     void added(const CutStep& step, const CutPath& cut) override

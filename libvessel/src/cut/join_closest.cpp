@@ -17,8 +17,8 @@ namespace {
 // passes the tree.
 std::vector<VertexHandle> near_tree_vertices(const Mesh& mesh, const std::vector<char>& on_tree,
                                              const std::vector<int>& loop_of, int loop,
-                                             const std::vector<VertexHandle>& sources,
-                                             double slack, double extra)
+                                             const std::vector<VertexHandle>& sources, double slack,
+                                             double extra)
 {
     using Item = std::pair<double, int>;
     std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
@@ -71,8 +71,8 @@ public:
         const std::size_t l = step.outlet();
         const BoundaryLoop& loop = (*context.loops)[l];
         return near_tree_vertices(context.mesh(), step.query().is_target, *context.loop_of,
-                                  static_cast<int>(l), loop.vertices,
-                                  context.options->join_slack, loop.arc_length);
+                                  static_cast<int>(l), loop.vertices, context.options->join_slack,
+                                  loop.arc_length);
     }
 };
 

@@ -83,9 +83,9 @@ constexpr double kSearchBridge = 1.0;
 // Empty = keep \p current.
 template <class Finish>
 std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query,
-                                    const Eigen::MatrixX3d& winding_rate,
-                                    const WindingMeter& meter, const GraphPath& current,
-                                    bool traced, const Eigen::MatrixX3d& stream_field,
+                                    const Eigen::MatrixX3d& winding_rate, const WindingMeter& meter,
+                                    const GraphPath& current, bool traced,
+                                    const Eigen::MatrixX3d& stream_field,
                                     const CutPlanOptions& options, Finish finish)
 {
     const Mesh& mesh = graph.mesh();
@@ -102,9 +102,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
     if (was_natural && (traced || !(wound > options.winding_target_deg)))
         return std::nullopt;
     PathQuery query = step_query;  // steered below
-    const double floor_alignment =
-        path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
-        options.winding_max_alignment_loss;
+    const double floor_alignment = path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
+                                   options.winding_max_alignment_loss;
     std::optional<GraphPath> best;
     bool best_natural = was_natural;
     double best_wound = wound - options.winding_min_gain_deg;
@@ -115,9 +114,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         const bool is_natural = natural(w);
         const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
         const bool better =
-            strict ? (!best_natural && is_natural) ||
-                         (std::abs(w.winding_deg) < best_wound &&
-                          (is_natural || !best_natural) && aligned)
+            strict ? (!best_natural && is_natural) || (std::abs(w.winding_deg) < best_wound &&
+                                                       (is_natural || !best_natural) && aligned)
                    : std::abs(w.winding_deg) < best_wound && aligned;
         if (better)
         {
@@ -241,8 +239,7 @@ public:
         RoutedCut cut{step.cheapest(), false};
         std::optional<GraphPath> along =
             tracer_.trace(step, mesh.from_vertex_handle(cut.path.halfedges.front()));
-        if (along &&
-            keep_traced(mesh, cut.path, *along, stream_field, winding_meter, options))
+        if (along && keep_traced(mesh, cut.path, *along, stream_field, winding_meter, options))
         {
             cut.path = std::move(*along);
             cut.traced = true;
@@ -250,10 +247,10 @@ public:
         if (!step.join_narrows_ends())
             if (const WindingMeter* reader = winding_meter())
             {
-                std::optional<GraphPath> held = steer_path(
-                    *context.graph, step.query(), *context.winding_rate, *reader, cut.path,
-                    cut.traced, stream_field, options,
-                    [&step](GraphPath p) { return step.join(std::move(p)); });
+                std::optional<GraphPath> held =
+                    steer_path(*context.graph, step.query(), *context.winding_rate, *reader,
+                               cut.path, cut.traced, stream_field, options,
+                               [&step](GraphPath p) { return step.join(std::move(p)); });
                 if (held)
                 {
                     cut.path = std::move(*held);

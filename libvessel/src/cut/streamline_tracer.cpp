@@ -13,9 +13,10 @@ StreamlineTracer::StreamlineTracer(const CutPlanContext& context)
     const Mesh& mesh = context.mesh();
     const std::size_t nv = mesh.n_vertices();
     if (static_cast<std::size_t>(context.stream_field->rows()) != nv)
-        throw InvalidInputError("plan_cuts: the streamline route needs a stream field with one "
-                                "row per vertex (" + std::to_string(nv) + "), got " +
-                                std::to_string(context.stream_field->rows()));
+        throw InvalidInputError(
+            "plan_cuts: the streamline route needs a stream field with one "
+            "row per vertex (" +
+            std::to_string(nv) + "), got " + std::to_string(context.stream_field->rows()));
     mean_edge_ = mean_edge_length(mesh);
     join_.assign(nv, -1);
     stop_at_.assign(nv, 0);
@@ -109,8 +110,8 @@ std::optional<GraphPath> StreamlineTracer::trace(const CutStep& step, VertexHand
         for (auto v : mesh.fv_range(line.faces[i]))
             seeds.push_back(v);
     in_band_.clear();
-    grow_rings(graph, seeds, context.options->band_rings, [](int) { return false; }, ring_,
-               &in_band_);
+    grow_rings(
+        graph, seeds, context.options->band_rings, [](int) { return false; }, ring_, &in_band_);
 
     // The band's query: the outlet's targets, every vertex outside the band blocked, and the
     // loop's other vertices: the cut opens its loop at `start` only, with no step along the rim

@@ -18,8 +18,7 @@ void TreeDistance::defer(const Mesh& mesh, const std::vector<VertexHandle>& seed
             points_.push_back(to_eigen(mesh.point(s)));
 }
 
-const EdgeDistance& TreeDistance::near_zones(const CutGraph& graph,
-                                             const std::vector<int>& loop_of,
+const EdgeDistance& TreeDistance::near_zones(const CutGraph& graph, const std::vector<int>& loop_of,
                                              const std::vector<ReadZone>& zones, double tolerance)
 {
     const Mesh& mesh = graph.mesh();

@@ -10,10 +10,10 @@ namespace vessel::detail {
 
 //! \brief FlattenOptions::look_retry after a restarted map: measure the look of result.uv; if it
 //! is broken (or LookRetry::Force), redo the restart, SLIM and the polish with the hinge pull
-//! (refine_map() with FlattenOptions::look_pull = LookRetryOptions::pull) and keep that map only
-//! if it has no flipped or overlapping triangle, a simple boundary, a better look (fewer outlets
-//! below the inlet, or as many and fewer walk inversions), and a mean |log area| within
-//! LookRetryOptions::max_area_over_keep of the `keep` map's (OverlapPolicy::Keep from
+//! (refine_map() with FlattenOptions::look_pull's weight = LookRetryOptions::pull) and keep
+//! that map only if it has no flipped or overlapping triangle, a simple boundary, a better look
+//! (fewer outlets below the inlet, or as many and fewer walk inversions), and a mean
+//! |log area| within LookRetryOptions::max_area_over_keep of the `keep` map's (OverlapPolicy::Keep from
 //! \p initial and \p pins; computed only when the pulled map's area is above the default's).
 //! Fills result.look_retry, and on keeping result.uv and .injective; one line in result.notes.
 //! Does nothing with LookRetry::Off, a look_pull already set, OverlapPolicy::Keep, or no
@@ -37,7 +37,7 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
 bool may_retry_look(const FlattenOptions& options);
 
 //! \brief The look retry's pulled map: refine_map() restarted (from the layout circle, as the
-//! restarted default map) with FlattenOptions::look_pull = LookRetryOptions::pull.
+//! restarted default map) with FlattenOptions::look_pull's weight = LookRetryOptions::pull.
 //! It depends on the mesh, the layout and the options alone, not on the map it may replace, so it
 //! can be solved beside that map. \p cancel as cancellable()'s.
 FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOptions& options,

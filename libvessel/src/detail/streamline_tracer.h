@@ -37,12 +37,12 @@ public:
 
 private:
     double mean_edge_ = 0.0;
-    std::vector<int> join_;        // edge rings to the nearest interior cut vertex, -1 beyond
-    std::vector<char> stop_at_;    // where a trace stops
-    std::vector<int> joined_;      // vertices given a join value since the last trace
-    std::vector<int> ring_;        // the band's rings: -1 everywhere between calls
-    std::vector<int> in_band_;     // the vertices with ring_ >= 0 during a call
-    PathQuery band_;               // is_blocked 1 everywhere between calls
+    std::vector<int> join_;      // edge rings to the nearest interior cut vertex, -1 beyond
+    std::vector<char> stop_at_;  // where a trace stops
+    std::vector<int> joined_;    // vertices given a join value since the last trace
+    std::vector<int> ring_;      // the band's rings: -1 everywhere between calls
+    std::vector<int> in_band_;   // the vertices with ring_ >= 0 during a call
+    PathQuery band_;             // is_blocked 1 everywhere between calls
     TreeDistance tree_;
 };
 

@@ -118,9 +118,9 @@ public:
     const std::vector<Eigen::Vector3d>& points() const { return points_; }
 
 private:
-    EdgeDistance scratch_;        // near_zones()
-    std::vector<double> memo_;    // near_zones(): each vertex's bound
-    std::vector<int> memoised_;   // the vertices with a bound in memo_
+    EdgeDistance scratch_;       // near_zones()
+    std::vector<double> memo_;   // near_zones(): each vertex's bound
+    std::vector<int> memoised_;  // the vertices with a bound in memo_
     std::size_t nv_ = 0;
     std::vector<std::vector<VertexHandle>> grown_;  // the seeds of each grow, in order
     std::vector<Eigen::Vector3d> points_;           // see points()

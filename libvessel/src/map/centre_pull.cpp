@@ -90,6 +90,19 @@ void for_each_active_vertex(const std::vector<CentrePull>& pulls, const Eigen::V
 
 }  // namespace
 
+void LookPullOptions::validate() const
+{
+    if (!(weight >= 0.0 && std::isfinite(weight)))
+        throw InvalidInputError("LookPullOptions: weight must be >= 0 and finite, got " +
+                                std::to_string(weight));
+    if (!(hold >= 0.0 && std::isfinite(hold)))
+        throw InvalidInputError("LookPullOptions: hold must be >= 0 and finite, got " +
+                                std::to_string(hold));
+    if (!(margin_deg >= 0.0 && margin_deg < 90.0))
+        throw InvalidInputError("LookPullOptions: margin_deg must be in [0, 90), got " +
+                                std::to_string(margin_deg));
+}
+
 void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::string& who)
 {
     for (std::size_t i = 0; i < pulls.size(); ++i)

@@ -76,7 +76,7 @@ bool within_area_bound(const FlatQuality& map, const FlatQuality& keep,
 
 bool may_retry_look(const FlattenOptions& options)
 {
-    return options.look_retry.mode != LookRetry::Off && options.look_pull == 0.0 &&
+    return options.look_retry.mode != LookRetry::Off && options.look_pull.weight == 0.0 &&
            options.overlaps != OverlapPolicy::Keep;  // `keep` is the retry's own reference
 }
 
@@ -134,7 +134,7 @@ FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOption
                          const std::atomic<bool>* cancel)
 {
     FlattenOptions pulled = cancellable(options, cancel);
-    pulled.look_pull = options.look_retry.pull;
+    pulled.look_pull.weight = options.look_retry.pull;
     FlattenResult trial;
     refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
     return trial;

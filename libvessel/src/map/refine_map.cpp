@@ -46,10 +46,10 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         result.uv = from_circle ? layout_circle_start(*layout, *placed, options.layout_circle)
                                 : tutte_embedding(mesh);
         pins.clear();  // neither start can hold the pins where they were
-        if (layout && options.look_pull > 0.0)
-            slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull,
-                                           options.look_pull_form, options.look_margin_deg,
-                                           options.look_hold);
+        if (layout && options.look_pull.weight > 0.0)
+            slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull.weight,
+                                           options.look_pull.form, options.look_pull.margin_deg,
+                                           options.look_pull.hold);
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }
     if (slim.max_iterations > 0)

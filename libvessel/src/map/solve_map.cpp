@@ -467,8 +467,8 @@ void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOpt
     polish.keep_boundary_simple = true;
     if (pulled)
         polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
-                                         options.look_pull_form, options.look_margin_deg,
-                                         options.look_hold);
+                                         options.look_pull.form, options.look_pull.margin_deg,
+                                         options.look_pull.hold);
     result.notes.push_back("coarse-to-fine: " + area_polish(mesh, uv, {}, polish).report);
 }
 

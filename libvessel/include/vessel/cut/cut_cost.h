@@ -53,7 +53,7 @@ struct VesselFields
     double mean_edge = 1.0;                 //!< mean edge length, mesh units
 };
 
-//! \brief A researcher's travel cost for FlattenOptions::custom_cost: any callable
+//! \brief A researcher's travel cost for CostOptions::custom (FlattenOptions::cost): any callable
 //! `double(const Mesh&, SmartHalfedgeHandle, const VesselFields&) const`, or one without the
 //! fields, `double(const Mesh&, SmartHalfedgeHandle) const` (as the built-in costs). It must
 //! return a finite value >= 0; it is evaluated once per halfedge before the cuts are planned.
@@ -87,6 +87,28 @@ public:
 
 private:
     std::function<double(const Mesh&, SmartHalfedgeHandle, const VesselFields&)> cost_;
+};
+
+//! The built-in travel costs (step 4).
+enum class CostKind
+{
+    Curvature,  //!< E_c = 1 - <unit edge, z>
+    Geodesic,   //!< E_g = edge length (in mean edge lengths)
+    Blend,      //!< E_cg = a E_c + (1 - a) E_g
+};
+
+//! The travel cost flatten() puts on the cut graph's arcs (step 4).
+struct CostOptions
+{
+    CostKind kind = CostKind::Curvature;  //!< the built-in cost (E_c: the paper's default)
+    double blend = 0.5;  //!< `a` of E_cg with CostKind::Blend, in [0, 1]
+    //! A researcher's own travel cost; when set it replaces `kind`. Called with the uncut mesh,
+    //! each halfedge and stage Z's VesselFields (z, geodesic distance, harmonic coordinate,
+    //! |k_max|, mean edge); the same fields are also the mesh's `prop::direction`,
+    //! `prop::geodesic`, `prop::longitudinal` and `prop::kmax` properties.
+    CustomCost custom;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
 };
 
 //! \brief Evaluate a researcher's \p cost with stage Z's \p fields on every halfedge.

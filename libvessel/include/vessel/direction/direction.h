@@ -21,8 +21,8 @@ Eigen::MatrixX3d align_to_root(const Mesh& mesh, const Eigen::MatrixX3d& min_dir
 //! from the area-weighted face gradients (vertex_gradient()). With f = G (distance from the
 //! inlet) or a harmonic longitudinal coordinate it points along the vessel toward the root.
 //! It is not the cut direction of the method: tried as E_c's z, the geodesic descent leans to
-//! the inner side of bends, and the cut wound 405 degrees around a 1.5-turn helical tube
-//! (the minimal curvature direction: under 20; docs/results.md).
+//! the inner side of bends, and its cut follows the turns of a helical tube where the minimal
+//! curvature direction's stays on one side (docs/results.md has the figures).
 //! \param f |V| values indexed by `v.idx()`.
 //! \return |V| x 3; rows where the gradient vanishes or is undefined (e.g. infinite distances)
 //! are zero.

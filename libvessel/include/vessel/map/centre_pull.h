@@ -51,6 +51,28 @@ enum class LookPullForm
     Hinges,
 };
 
+//! The soft look terms that keep a restarted map's look while SLIM and the area polish run
+//! (FlattenOptions::look_pull; look_pulls() below).
+struct LookPullOptions
+{
+    //! The terms' weight, >= 0; it multiplies squared lengths (SLIM's energy is >= 4 x the
+    //! area). 0 = no look terms. CLI `--look-pull W`.
+    double weight = 0.0;
+    //! The outlet terms' form: Hinges (zero cost while each outlet stays above the inlet and in
+    //! walk order; default) or Rays (each outlet held on its start ray). CLI
+    //! `--look-pull-form hinges|rays`.
+    LookPullForm form = LookPullForm::Hinges;
+    //! The hinges' margin, degrees in [0, 90): the least angle kept between two consecutive
+    //! outlets' bearings and between an outlet and the inlet's line (less where the start has
+    //! less). CLI `--look-margin DEG`.
+    double margin_deg = 2.0;
+    //! The inlet hold's weight with Hinges, if larger than `weight` (a rigid motion, no area
+    //! cost), >= 0. 0 = `weight`'s. CLI `--look-hold W`.
+    double hold = 0.0;
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
 //! \brief Check every pull: vertices, a weight >= 0, a finite origin and a unit normal.
 //! \param who the options' name for the message.
 //! \throw InvalidInputError naming the bad pull.

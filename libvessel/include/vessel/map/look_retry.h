@@ -14,16 +14,17 @@ enum class LookRetry
     Force  //!< whenever the map restarted, broken or not (the acceptance test still applies)
 };
 
-//! \brief The adaptive look of issue 7: after a restarted map (FlattenOptions::look_pull 0), if
-//! its look is broken, redo the restart, SLIM and the polish with the hinge pull and keep that
-//! map only if it is one-to-one, its look is better (fewer outlets below the inlet, or as many
-//! and fewer walk inversions) and its area distortion is within the bound; trees whose look
-//! holds are untouched (docs/overlaps.md, "The adaptive look").
+//! \brief The adaptive look of issue 7: after a restarted map (no fixed look pull:
+//! `FlattenOptions::look_pull.weight` 0), if its look is broken, redo the restart, SLIM and the
+//! polish with the hinge pull and keep that map only if it is one-to-one, its look is better (fewer
+//! outlets below the inlet, or as many and fewer walk inversions) and its area distortion is within
+//! the bound; trees whose look holds are untouched (docs/overlaps.md, "The adaptive look").
 struct LookRetryOptions
 {
     //! CLI `--look-retry auto|off|force`.
     LookRetry mode = LookRetry::Auto;
-    //! The redo's hinge weight (FlattenOptions::look_pull; the other look_* options apply).
+    //! The redo's hinge weight (LookPullOptions::weight; the other fields of
+    //! FlattenOptions::look_pull apply).
     //! 100 restores the Glenn tree's look within the area bound (docs/overlaps.md, "The
     //! adaptive look"). CLI `--look-retry-pull`.
     double pull = 100.0;
