@@ -62,7 +62,7 @@ FlatQuality keep_quality(const Mesh& mesh, const Pins& pins, const Eigen::Matrix
     keep.overlaps = OverlapPolicy::Keep;
     FlattenResult unconstrained;
     unconstrained.uv = initial;
-    refine_map(mesh, pins, keep, "", "", unconstrained, &layout, &placed);
+    refine_map(mesh, pins, keep, "", std::nullopt, unconstrained, &layout, &placed);
     return map_distortion(mesh, unconstrained.uv);
 }
 

@@ -10,15 +10,15 @@
 namespace vessel::detail {
 
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
-                const std::string& crossing, std::string restart, FlattenResult& result,
-                const LayoutInput* layout, const LayoutResult* placed)
+                const std::string& crossing, std::optional<std::string> restart,
+                FlattenResult& result, const LayoutInput* layout, const LayoutResult* placed)
 {
-    if (restart.empty() && options.refinement != Refinement::None &&
+    if (!restart && options.refinement != Refinement::None &&
         options.arap.max_iterations > 0)
         result.arap = arap(mesh, result.uv, pins, options.arap);
     if (options.refinement != Refinement::Injective)
         return false;
-    if (restart.empty())
+    if (!restart)
     {
         result.untangle = untangle(mesh, result.uv, pins, options.untangle);
         if (result.untangle.flipped_before > 0)
@@ -33,7 +33,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
     InjectiveOptions slim = options.injective;
     if (options.polish_area && slim.scaffold_tolerance == 0.0)
         slim.scaffold_tolerance = InjectiveOptions::kPolishedScaffoldTolerance;  // the polish goes on
-    if (!restart.empty())
+    if (restart)
     {
         // A one-to-one start: the layout circle (layout_circle.h: Tutte's circle walked so that
         // the inlet is at the bottom and each outlet near its layout bearing), or Tutte's
@@ -41,7 +41,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         // (from the start, or from the first contact of the boundary with itself) never lets
         // its boundary cross.
         const bool from_circle = layout && placed && options.restart_on_layout_circle;
-        result.notes.push_back(restart + (from_circle ? "; restarted from the layout circle"
+        result.notes.push_back(*restart + (from_circle ? "; restarted from the layout circle"
                                                       : "; restarted from the Tutte embedding"));
         result.uv = from_circle ? layout_circle_start(*layout, *placed, options.layout_circle)
                                 : tutte_embedding(mesh);
@@ -66,7 +66,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             result.notes.push_back(area_polish(mesh, result.uv, pins, polish).report);
         }
     }
-    return !restart.empty();
+    return restart.has_value();
 }
 
 }  // namespace vessel::detail

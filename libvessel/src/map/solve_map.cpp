@@ -173,7 +173,8 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
         });
     }
     if (refine_map(mesh, pins, refine_options, crossing,
-                           crosses_at_once ? crossing : "", result, &input, &placed))
+                   crosses_at_once ? std::optional<std::string>(crossing) : std::nullopt, result,
+                   &input, &placed))
     {
         at_layout = false;
         retry_look(mesh, pins, initial, options, result, input, placed, unpulled, on_retry,
