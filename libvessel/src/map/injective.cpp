@@ -505,335 +505,429 @@ private:
     std::vector<int> inside_face_;
 };
 
+// Where a line search ends along a direction (Slim::line_search()).
+struct LineStep
+{
+    double step = 0.0;         // the step taken along the direction
+    double bound = 0.0;        // the largest step that flips no triangle
+    double energy = 0.0;       // the energy minimized (faces and centre pulls) there
+    bool by_scaffold = false;  // it stopped at the bound, and the bound is a scaffold triangle's
+};
+
+// One run of injective_refine(): SLIM (Rabinovich et al. 2017) with its state across
+// iterations. Each iteration fits, per face, the rotation R and weights W of a quadratic proxy
+// ||W (J - R)||^2 whose gradient matches the symmetric Dirichlet energy's, solves the proxy
+// globally, and line-searches toward its minimizer without letting a triangle (of the surface or
+// of the scaffold) flip. Pins are soft constraints with a large weight; a small proximal term
+// removes the free translation. Without a scaffold (and with scaffold_on_contact) a first phase
+// runs until the boundary crosses itself; the second goes on from the last iterate whose
+// boundary was simple, with a scaffold.
+class Slim
+{
+public:
+    // The arguments are checked by injective_refine().
+    Slim(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& pins,
+         const InjectiveOptions& options);
+
+    // Both phases; \p uv receives the map.
+    InjectiveSummary run(Eigen::MatrixX2d& uv);
+
+private:
+    void start_scaffold();
+    bool crosses(const Eigen::VectorXd& y);
+    void analyse();  // the global step's pattern and its symbolic factorization
+    double total_energy(const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) const;
+    // The largest step along \p dir that flips no triangle, halved until the energy does not
+    // grow above \p e0.
+    LineStep line_search(const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
+                         const Eigen::VectorXd& dir, double e0);
+    // ops_: the surface's faces and the scaffold's, reshaped or (every scaffold_rebuild_every
+    // iterations, or after a blocked step) triangulated anew.
+    void place_scaffold();
+    // The proxy's minimizer: assembled on threads_, factored (damped if it must be), solved.
+    Eigen::VectorXd global_target();
+    // After a step \p t along \p d that a scaffold triangle stopped: a new triangulation, and the
+    // rest of \p d line-searched again (scaffold_passes).
+    void continue_past_scaffold(const Eigen::VectorXd& d, double t);
+    // One iteration (the it-th of this phase, after \p done of earlier phases); false = the
+    // phase ends.
+    bool iterate(int it, int done);
+    std::string report() const;
+
+    const Mesh& mesh_;
+    const InjectiveOptions& options_;
+    const int n_;  // the surface's vertices
+    const double scaffold_tolerance_;
+    const std::vector<FaceOperator> surface_;
+    const double total_area_;
+    const int threads_;
+    int n_all_;  // with the scaffold's vertices after each rebuild
+    Eigen::VectorXd x_;
+    std::vector<int> pinned_;  // soft pins: the given ones, and the scaffold's box corners
+    std::optional<Scaffold> scaffold_;
+    Eigen::MatrixX2d probe_;  // crosses()'s map
+    // With scaffold_on_contact, the boundary of each step is checked; the scaffold can only
+    // start from a map whose boundary is simple.
+    bool watch_ = false;
+    InjectiveSummary summary_;
+    double pin_weight_ = 0.0, proximal_ = 0.0;
+    std::vector<FaceOperator> ops_;
+    NormalMatrix M_;
+    detail::PairedCholmod solver_;
+    std::vector<std::vector<double>> partial_values_;
+    Eigen::VectorXd line_trial_;  // the line search's trial point, kept (no 2|V|-vector per try)
+    std::vector<Eigen::VectorXd> partial_rhs_;
+    double e_surface_ = 0.0;
+    int slow_ = 0;  // consecutive iterations below the tolerance
+    // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
+    Eigen::VectorXd last_simple_;
+    int last_simple_it_ = 0;
+    int since_rebuild_ = 0;  // scaffold iterations since its last triangulation
+    // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
+    // continued step triangulated anew), and whether the last step stopped at a collapsing
+    // scaffold triangle (then a new triangulation is due).
+    bool pattern_stale_ = false;
+    bool blocked_by_scaffold_ = true;
+    Eigen::VectorXd momentum_;  // the last iteration's motion of the surface's vertices
+};
+
+Slim::Slim(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& pins,
+           const InjectiveOptions& options)
+    : mesh_(mesh),
+      options_(options),
+      n_(static_cast<int>(mesh.n_vertices())),
+      scaffold_tolerance_(options.scaffold_tolerance > 0.0 ? options.scaffold_tolerance
+                                                           : InjectiveOptions::kScaffoldTolerance),
+      surface_(face_operators(mesh)),
+      total_area_(std::accumulate(surface_.begin(), surface_.end(), 0.0,
+                                  [](double s, const FaceOperator& op) { return s + op.area; })),
+      threads_(face_threads(surface_.size())),
+      n_all_(n_),
+      x_(detail::interleaved(uv)),
+      probe_(uv)
+{
+    for (const auto& pin : pins)
+        x_.segment<2>(2 * pin.vertex.idx()) = pin.uv;
+    for (const auto& pin : pins)
+        pinned_.push_back(pin.vertex.idx());
+    if (options_.scaffold)
+        start_scaffold();
+    watch_ = !scaffold_ && options_.scaffold_on_contact && !crosses(x_);
+    summary_.initial_energy = energy(surface_, x_, threads_);
+    if (!std::isfinite(summary_.initial_energy))
+        throw InvalidInputError("injective_refine: the start map has a flipped or collapsed "
+                                "triangle; start from a map without flips (e.g. tutte_embedding)");
+    pin_weight_ = 1e6 * total_area_ / n_;
+    proximal_ = 1e-8 * total_area_ / n_;
+    ops_ = surface_;
+    if (!scaffold_)
+        analyse();  // the pattern never changes
+    partial_values_.resize(threads_ - 1);
+    partial_rhs_.resize(threads_);
+    e_surface_ = summary_.initial_energy;
+    last_simple_ = x_;
+}
+
+void Slim::start_scaffold()
+{
+    scaffold_.emplace(mesh_, n_, options_.scaffold_weight * total_area_);
+    for (int v : scaffold_->box())
+        pinned_.push_back(v);
+}
+
+bool Slim::crosses(const Eigen::VectorXd& y)
+{
+    detail::deinterleave(y, probe_);
+    return boundary_self_intersection(mesh_, probe_).first >= 0;
+}
+
+void Slim::analyse()
+{
+    M_ = normal_matrix_pattern(ops_, n_all_);
+    const detail::SerialOpenMp serial;
+    solver_.analyze_pairs(M_.A);
+    if (solver_.info() != Eigen::Success)
+        throw SolverError("injective_refine: CHOLMOD could not analyse the global step");
+}
+
+double Slim::total_energy(const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) const
+{
+    const double e = energy(faces, y, threads_);
+    return options_.centre_pulls.empty() ? e
+                                         : e + detail::centre_pull_energy(options_.centre_pulls, y);
+}
+
+LineStep Slim::line_search(const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
+                           const Eigen::VectorXd& dir, double e0)
+{
+    const double bound = max_injective_step(faces, y, dir, threads_);
+    double step = bound;
+    line_trial_ = y + step * dir;
+    double e1 = total_energy(faces, line_trial_);
+    while (!(e1 <= e0) && step > 1e-12)
+    {
+        step *= 0.5;
+        line_trial_ = y + step * dir;
+        e1 = total_energy(faces, line_trial_);
+    }
+    const bool at_bound = step < 1.0 && step == bound;
+    const bool by_scaffold =
+        at_bound && faces.size() > surface_.size() &&
+        (options_.scaffold_continue_surface_blocked ||
+         max_injective_step(faces, y, dir, threads_, surface_.size()) <= bound);
+    return {step, bound, e1, by_scaffold};
+}
+
+void Slim::place_scaffold()
+{
+    // A new triangulation (and symbolic factorization) only every few iterations; in between
+    // the same scaffold triangles, reshaped to where the steps took them.
+    std::optional<std::vector<FaceOperator>> extra;
+    if (since_rebuild_ + 1 < options_.scaffold_rebuild_every ||
+        (options_.scaffold_keep_unblocked && !blocked_by_scaffold_))
+        extra = scaffold_->reshape(x_);
+    ops_ = surface_;
+    if (extra)
+        ++since_rebuild_;
+    else
+    {
+        extra = scaffold_->rebuild(x_);
+        since_rebuild_ = 0;
+        ++summary_.scaffold_rebuilds;
+    }
+    ops_.insert(ops_.end(), extra->begin(), extra->end());
+    if (since_rebuild_ == 0 || pattern_stale_)
+    {
+        pattern_stale_ = false;
+        n_all_ = static_cast<int>(x_.size() / 2);
+        analyse();
+    }
+}
+
+Eigen::VectorXd Slim::global_target()
+{
+    for (auto& r : partial_rhs_)
+        r.resize(2 * n_all_);
+    const Eigen::Index nnz = M_.A.nonZeros();
+    for (auto& values : partial_values_)
+        values.resize(nnz);
+    double* values = M_.A.valuePtr();
+    parallel_chunks(ops_.size(), threads_, [&](std::size_t begin, std::size_t end, int t) {
+        double* v = t == 0 ? values : partial_values_[t - 1].data();
+        std::fill(v, v + nnz, 0.0);
+        partial_rhs_[t].setZero();
+        double* r = partial_rhs_[t].data();
+        for (std::size_t f = begin; f < end; ++f)
+            add_face(ops_[f], M_.blocks[f], x_, v, r);
+    });
+    Eigen::VectorXd rhs = partial_rhs_[0];
+    for (int t = 1; t < threads_; ++t)
+    {
+        const double* v = partial_values_[t - 1].data();
+        for (Eigen::Index i = 0; i < nnz; ++i)
+            values[i] += v[i];
+        rhs += partial_rhs_[t];
+    }
+    for (int i = 0; i < 2 * n_all_; ++i)
+    {
+        values[M_.diagonal[i]] += proximal_;
+        rhs[i] += proximal_ * x_[i];
+    }
+    for (int v : pinned_)
+        for (int k = 0; k < 2; ++k)
+        {
+            const int i = 2 * v + k;
+            values[M_.diagonal[i]] += pin_weight_;
+            rhs[i] += pin_weight_ * x_[i];
+        }
+    detail::add_centre_pulls(options_.centre_pulls, x_, M_.diagonal, values, rhs);
+    // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal term (a
+    // Levenberg-style damping: the line search still uses the true energy) fixes it.
+    for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
+    {
+        if (damping > 0.0)
+        {
+            double largest = 0.0;
+            for (int i = 0; i < 2 * n_all_; ++i)
+                largest = std::max(largest, values[M_.diagonal[i]]);
+            for (int i = 0; i < 2 * n_all_; ++i)
+                values[M_.diagonal[i]] += damping * largest;
+        }
+        const detail::SerialOpenMp serial;
+        solver_.factorize(M_.A);
+        if (solver_.info() == Eigen::Success || damping > 1e-3)
+            break;
+    }
+    if (solver_.info() != Eigen::Success)
+        throw SolverError("injective_refine: CHOLMOD could not factor the global step");
+    Eigen::VectorXd target = solver_.solve(rhs);
+    if (solver_.info() != Eigen::Success || !target.allFinite())
+        throw SolverError("injective_refine: CHOLMOD solve failed");
+    return target;
+}
+
+void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
+{
+    // The step stopped where a scaffold triangle would collapse. A new triangulation of the
+    // free space there usually lets the same direction go further: line search the rest of it
+    // again (no new factorization, only the CGAL mesher), a few times. The Steiner vertices
+    // are new: their motion is the boundary's, extended.
+    bool blocked = blocked_by_scaffold_;
+    double left = 1.0 - t;
+    for (int pass = 1; pass < options_.scaffold_passes && blocked && left > 0.05; ++pass)
+    {
+        const std::vector<FaceOperator> extra = scaffold_->rebuild(x_);
+        ++summary_.scaffold_rebuilds;
+        // The next iteration triangulates anew unless this one stays unblocked
+        // (scaffold_keep_unblocked); its pattern is new either way.
+        since_rebuild_ = options_.scaffold_rebuild_every;
+        pattern_stale_ = true;
+        blocked_by_scaffold_ = false;  // a new triangulation at x
+        ops_ = surface_;
+        ops_.insert(ops_.end(), extra.begin(), extra.end());
+        Eigen::VectorXd rest = Eigen::VectorXd::Zero(x_.size());  // box corners stay
+        rest.head(2 * n_) = left * d.head(2 * n_);
+        scaffold_->extend(rest);
+        const double e_pass = total_energy(ops_, x_);
+        const LineStep s = line_search(ops_, x_, rest, e_pass);
+        if (!(s.energy < e_pass))
+            break;
+        x_ += s.step * rest;
+        ++summary_.scaffold_passes;
+        blocked = s.by_scaffold;
+        blocked_by_scaffold_ = blocked;
+        left *= 1.0 - s.step;
+    }
+}
+
+bool Slim::iterate(int it, int done)
+{
+    if (scaffold_)
+        place_scaffold();
+    Eigen::VectorXd d = global_target() - x_;
+    if (scaffold_)
+        for (int v : scaffold_->box())
+            d.segment<2>(2 * v).setZero();  // the box stays put
+    const double e = total_energy(ops_, x_);
+    LineStep step = line_search(ops_, x_, d, e);
+    if (options_.momentum > 0.0 && momentum_.size() == 2 * n_)
+    {
+        // Heavy ball: the proxy's direction plus a share of the last iteration's motion (the
+        // scaffold's Steiner vertices follow it, extended), kept when its line search ends
+        // lower. SLIM's slow tail is a smooth drift of area along the branches that every step
+        // repeats; the momentum carries it on.
+        Eigen::VectorXd m = Eigen::VectorXd::Zero(x_.size());
+        m.head(2 * n_) = options_.momentum * momentum_;
+        if (scaffold_)
+            scaffold_->extend(m);
+        Eigen::VectorXd dm = d + m;
+        const LineStep with_momentum = line_search(ops_, x_, dm, e);
+        if (with_momentum.energy < step.energy)
+        {
+            d = dm;
+            step = with_momentum;
+            ++summary_.accelerated;
+        }
+    }
+    const Eigen::VectorXd x_before = x_.head(2 * n_);
+    summary_.iterations = done + it + 1;
+    if (options_.on_iteration)
+        options_.on_iteration(it + 1, static_cast<bool>(scaffold_));
+    if (!(step.energy <= e))
+    {
+        summary_.converged = true;  // no descent left along the proxy's direction
+        return false;
+    }
+    x_ += step.step * d;
+    // Only a step that a scaffold triangle stopped gets a new triangulation (here and at the
+    // next iteration): where a surface triangle stops it, the new scaffold would not let it go
+    // further.
+    blocked_by_scaffold_ = step.by_scaffold;
+    if (scaffold_ && options_.scaffold_passes > 1)
+        continue_past_scaffold(d, step.step);
+    momentum_ = x_.head(2 * n_) - x_before;
+    if (watch_ && !crosses(x_))
+    {
+        last_simple_ = x_;
+        last_simple_it_ = summary_.iterations;
+    }
+    else if (watch_ && summary_.iterations - last_simple_it_ >= options_.crossing_patience)
+        return false;  // crossed for that long: it will not come apart by itself
+    const double e_surface_new = scaffold_ || !options_.centre_pulls.empty()
+                                     ? energy(surface_, x_, threads_)
+                                     : step.energy;
+    const double decrease = (e_surface_ - e_surface_new) / e_surface_;
+    e_surface_ = e_surface_new;
+    // One small step can come from a short line search (a nearly collapsed triangle in the
+    // way), not from convergence; three in a row cannot.
+    slow_ = decrease < (scaffold_ ? scaffold_tolerance_ : options_.tolerance) ? slow_ + 1 : 0;
+    if (slow_ == 3)
+    {
+        summary_.converged = true;
+        return false;
+    }
+    return true;
+}
+
+InjectiveSummary Slim::run(Eigen::MatrixX2d& uv)
+{
+    for (int phase = 0; phase < 2; ++phase)
+    {
+        const int done = summary_.iterations;
+        for (int it = 0; it < options_.max_iterations; ++it)
+            if (!iterate(it, done))
+                break;
+        // Unconstrained SLIM may move the boundary across itself (branches relaxing into each
+        // other). Then go back to the last iterate without that and go on with a scaffold,
+        // which keeps the free space between the boundary's parts open: the end map is
+        // one-to-one.
+        if (!watch_ || !crosses(x_))
+            break;
+        watch_ = false;
+        x_ = last_simple_;
+        summary_.scaffold_from = last_simple_it_;
+        summary_.converged = false;
+        e_surface_ = energy(surface_, x_, threads_);
+        slow_ = 0;
+        start_scaffold();
+        momentum_.resize(0);
+    }
+    detail::deinterleave(x_, uv);
+    summary_.final_energy = e_surface_;
+    summary_.report = report();
+    return summary_;
+}
+
+std::string Slim::report() const
+{
+    const InjectiveSummary& s = summary_;
+    return std::string(!scaffold_ ? "SLIM"
+                       : s.scaffold_from >= 0
+                           ? "SLIM (boundary crossed; scaffold from iterate " +
+                                 std::to_string(s.scaffold_from) + ")"
+                           : "SLIM with scaffold") +
+           " symmetric Dirichlet: " + std::to_string(s.iterations) + " iterations, energy " +
+           std::to_string(s.initial_energy) + " -> " + std::to_string(s.final_energy) +
+           (s.converged ? " (converged)" : " (iteration limit)") +
+           (scaffold_ ? ", " + std::to_string(s.scaffold_rebuilds) +
+                            " scaffold triangulations, " + std::to_string(s.scaffold_passes) +
+                            " continued steps"
+                      : std::string()) +
+           (s.accelerated > 0 ? ", " + std::to_string(s.accelerated) + " steps with momentum"
+                              : std::string());
+}
+
 }  // namespace
 
 InjectiveSummary injective_refine(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                                   const InjectiveOptions& options)
 {
     options.validate();
-    const int n = static_cast<int>(mesh.n_vertices());
     detail::require_uv_rows(mesh, uv, "injective_refine");
     pin_index(mesh, pins, "injective_refine");
-    detail::require_centre_pull_vertices(options.centre_pulls, n, "injective_refine");
-    const double scaffold_tolerance = options.scaffold_tolerance > 0.0
-                                          ? options.scaffold_tolerance
-                                          : InjectiveOptions::kScaffoldTolerance;
-
-    const std::vector<FaceOperator> surface = face_operators(mesh);
-    const double total_area = std::accumulate(surface.begin(), surface.end(), 0.0,
-                                              [](double s, const FaceOperator& op) { return s + op.area; });
-    int n_all = n;  // with the scaffold's vertices after each rebuild
-    Eigen::VectorXd x = detail::interleaved(uv);
-    for (const auto& pin : pins)
-        x.segment<2>(2 * pin.vertex.idx()) = pin.uv;
-    // Soft pins: the given ones, and the scaffold's box corners where they are.
-    std::vector<int> pinned;
-    for (const auto& pin : pins)
-        pinned.push_back(pin.vertex.idx());
-    std::optional<Scaffold> scaffold;
-    const auto start_scaffold = [&] {
-        scaffold.emplace(mesh, n, options.scaffold_weight * total_area);
-        for (int v : scaffold->box())
-            pinned.push_back(v);
-    };
-    if (options.scaffold)
-        start_scaffold();
-    // With scaffold_on_contact, the boundary of each step is checked; the scaffold can only
-    // start from a map whose boundary is simple.
-    Eigen::MatrixX2d probe = uv;
-    const auto crosses = [&](const Eigen::VectorXd& y) {
-        detail::deinterleave(y, probe);
-        return boundary_self_intersection(mesh, probe).first >= 0;
-    };
-    bool watch = !scaffold && options.scaffold_on_contact && !crosses(x);
-
-    InjectiveSummary summary;
-    const int threads = face_threads(surface.size());
-    summary.initial_energy = energy(surface, x, threads);
-    if (!std::isfinite(summary.initial_energy))
-        throw InvalidInputError("injective_refine: the start map has a flipped or collapsed "
-                                "triangle; start from a map without flips (e.g. tutte_embedding)");
-
-    // SLIM (Rabinovich et al. 2017): each iteration fits, per face, the rotation R and weights
-    // W of a quadratic proxy ||W (J - R)||^2 whose gradient matches the symmetric Dirichlet
-    // energy's, solves the proxy globally, and line-searches toward its minimizer without
-    // letting a triangle (of the surface or of the scaffold) flip. Pins are soft constraints
-    // with a large weight; a small proximal term removes the free translation.
-    const double pin_weight = 1e6 * total_area / n;
-    const double proximal = 1e-8 * total_area / n;
-    std::vector<FaceOperator> ops = surface;
-    NormalMatrix M;
-    detail::PairedCholmod solver;
-    const auto analyse = [&] {
-        M = normal_matrix_pattern(ops, n_all);
-        const detail::SerialOpenMp serial;
-        solver.analyze_pairs(M.A);
-        if (solver.info() != Eigen::Success)
-            throw SolverError("injective_refine: CHOLMOD could not analyse the global step");
-    };
-    if (!scaffold)
-        analyse();  // the pattern never changes
-    std::vector<std::vector<double>> partial_values(threads - 1);
-    Eigen::VectorXd line_trial;  // the line search's trial point, kept (no 2|V|-vector per try)
-    std::vector<Eigen::VectorXd> partial_rhs(threads);
-
-    // Largest step along d that flips no triangle, halved until the energy does not grow:
-    // (step, the flip bound, energy there, and 1 if the step stopped at that bound and the
-    // bound is a scaffold triangle's (faces past the surface's), else 0).
-    // The energy minimized: the faces' and the centre pulls'.
-    const auto total_energy = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y) {
-        const double e = energy(faces, y, threads);
-        return options.centre_pulls.empty() ? e
-                                            : e + detail::centre_pull_energy(options.centre_pulls, y);
-    };
-    const auto line_search = [&](const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
-                                 const Eigen::VectorXd& dir, double e0) {
-        const double bound = max_injective_step(faces, y, dir, threads);
-        double step = bound;
-        line_trial = y + step * dir;
-        double e1 = total_energy(faces, line_trial);
-        while (!(e1 <= e0) && step > 1e-12)
-        {
-            step *= 0.5;
-            line_trial = y + step * dir;
-            e1 = total_energy(faces, line_trial);
-        }
-        const bool at_bound = step < 1.0 && step == bound;
-        const bool by_scaffold =
-            at_bound && faces.size() > surface.size() &&
-            (options.scaffold_continue_surface_blocked ||
-             max_injective_step(faces, y, dir, threads, surface.size()) <= bound);
-        return std::array<double, 4>{step, bound, e1, by_scaffold ? 1.0 : 0.0};
-    };
-    double e_surface = summary.initial_energy;
-    int slow = 0;  // consecutive iterations below the tolerance
-    // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
-    Eigen::VectorXd last_simple = x;
-    int last_simple_it = 0;
-    int since_rebuild = 0;  // scaffold iterations since its last triangulation
-    // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
-    // continued step triangulated anew), and whether the last step stopped at a collapsing
-    // scaffold triangle (then a new triangulation is due).
-    bool pattern_stale = false;
-    bool blocked_by_scaffold = true;
-    Eigen::VectorXd momentum;  // the last iteration's motion of the surface's vertices
-    for (int phase = 0; phase < 2; ++phase)
-    {
-    const int done = summary.iterations;
-    for (int it = 0; it < options.max_iterations; ++it)
-    {
-        if (scaffold)
-        {
-            // A new triangulation (and symbolic factorization) only every few iterations; in
-            // between the same scaffold triangles, reshaped to where the steps took them.
-            std::optional<std::vector<FaceOperator>> extra;
-            if (since_rebuild + 1 < options.scaffold_rebuild_every ||
-                (options.scaffold_keep_unblocked && !blocked_by_scaffold))
-                extra = scaffold->reshape(x);
-            ops = surface;
-            if (extra)
-                ++since_rebuild;
-            else
-            {
-                extra = scaffold->rebuild(x);
-                since_rebuild = 0;
-                ++summary.scaffold_rebuilds;
-            }
-            ops.insert(ops.end(), extra->begin(), extra->end());
-            if (since_rebuild == 0 || pattern_stale)
-            {
-                pattern_stale = false;
-                n_all = static_cast<int>(x.size() / 2);
-                analyse();
-            }
-        }
-        for (auto& r : partial_rhs)
-            r.resize(2 * n_all);
-        const Eigen::Index nnz = M.A.nonZeros();
-        for (auto& values : partial_values)
-            values.resize(nnz);
-        double* values = M.A.valuePtr();
-        parallel_chunks(ops.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
-            double* v = t == 0 ? values : partial_values[t - 1].data();
-            std::fill(v, v + nnz, 0.0);
-            partial_rhs[t].setZero();
-            double* r = partial_rhs[t].data();
-            for (std::size_t f = begin; f < end; ++f)
-                add_face(ops[f], M.blocks[f], x, v, r);
-        });
-        Eigen::VectorXd rhs = partial_rhs[0];
-        for (int t = 1; t < threads; ++t)
-        {
-            const double* v = partial_values[t - 1].data();
-            for (Eigen::Index i = 0; i < nnz; ++i)
-                values[i] += v[i];
-            rhs += partial_rhs[t];
-        }
-        for (int i = 0; i < 2 * n_all; ++i)
-        {
-            values[M.diagonal[i]] += proximal;
-            rhs[i] += proximal * x[i];
-        }
-        for (int v : pinned)
-            for (int k = 0; k < 2; ++k)
-            {
-                const int i = 2 * v + k;
-                values[M.diagonal[i]] += pin_weight;
-                rhs[i] += pin_weight * x[i];
-            }
-        detail::add_centre_pulls(options.centre_pulls, x, M.diagonal, values, rhs);
-        // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal
-        // term (a Levenberg-style damping: the line search still uses the true energy) fixes it.
-        for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
-        {
-            if (damping > 0.0)
-            {
-                double largest = 0.0;
-                for (int i = 0; i < 2 * n_all; ++i)
-                    largest = std::max(largest, values[M.diagonal[i]]);
-                for (int i = 0; i < 2 * n_all; ++i)
-                    values[M.diagonal[i]] += damping * largest;
-            }
-            const detail::SerialOpenMp serial;
-            solver.factorize(M.A);
-            if (solver.info() == Eigen::Success || damping > 1e-3)
-                break;
-        }
-        if (solver.info() != Eigen::Success)
-            throw SolverError("injective_refine: CHOLMOD could not factor the global step");
-        const Eigen::VectorXd target = solver.solve(rhs);
-        if (solver.info() != Eigen::Success || !target.allFinite())
-            throw SolverError("injective_refine: CHOLMOD solve failed");
-
-        Eigen::VectorXd d = target - x;
-        if (scaffold)
-            for (int v : scaffold->box())
-                d.segment<2>(2 * v).setZero();  // the box stays put
-        const double e = total_energy(ops, x);
-        auto [t, t_bound, e_new, t_scaffold] = line_search(ops, x, d, e);
-        if (options.momentum > 0.0 && momentum.size() == 2 * n)
-        {
-            // Heavy ball: the proxy's direction plus a share of the last iteration's motion
-            // (the scaffold's Steiner vertices follow it, extended), kept when its line
-            // search ends lower. SLIM's slow tail is a smooth drift of area along the
-            // branches that every step repeats; the momentum carries it on.
-            Eigen::VectorXd m = Eigen::VectorXd::Zero(x.size());
-            m.head(2 * n) = options.momentum * momentum;
-            if (scaffold)
-                scaffold->extend(m);
-            Eigen::VectorXd dm = d + m;
-            const auto [tm, tm_bound, em, tm_scaffold] = line_search(ops, x, dm, e);
-            if (em < e_new)
-            {
-                d = dm;
-                t = tm;
-                t_bound = tm_bound;
-                e_new = em;
-                t_scaffold = tm_scaffold;
-                ++summary.accelerated;
-            }
-        }
-        const Eigen::VectorXd x_before = x.head(2 * n);
-        summary.iterations = done + it + 1;
-        if (options.on_iteration)
-            options.on_iteration(it + 1, static_cast<bool>(scaffold));
-        if (!(e_new <= e))
-        {
-            summary.converged = true;  // no descent left along the proxy's direction
-            break;
-        }
-        x += t * d;
-        // Only a step that a scaffold triangle stopped gets a new triangulation (here and at
-        // the next iteration): where a surface triangle stops it, the new scaffold would not
-        // let it go further.
-        blocked_by_scaffold = t_scaffold > 0.0;
-        if (scaffold && options.scaffold_passes > 1)
-        {
-            // The step stopped where a scaffold triangle would collapse. A new triangulation
-            // of the free space there usually lets the same direction go further: line search
-            // the rest of it again (no new factorization, only the CGAL mesher), a few times.
-            // The Steiner vertices are new: their motion is the boundary's, extended.
-            bool blocked = blocked_by_scaffold;
-            double left = 1.0 - t;
-            for (int pass = 1; pass < options.scaffold_passes && blocked && left > 0.05; ++pass)
-            {
-                const std::vector<FaceOperator> extra = scaffold->rebuild(x);
-                ++summary.scaffold_rebuilds;
-                // The next iteration triangulates anew unless this one stays unblocked
-                // (scaffold_keep_unblocked); its pattern is new either way.
-                since_rebuild = options.scaffold_rebuild_every;
-                pattern_stale = true;
-                blocked_by_scaffold = false;  // a new triangulation at x
-                ops = surface;
-                ops.insert(ops.end(), extra.begin(), extra.end());
-                Eigen::VectorXd rest = Eigen::VectorXd::Zero(x.size());  // box corners stay
-                rest.head(2 * n) = left * d.head(2 * n);
-                scaffold->extend(rest);
-                const double e_pass = total_energy(ops, x);
-                const auto [s, s_bound, e_pass_new, s_scaffold] = line_search(ops, x, rest, e_pass);
-                if (!(e_pass_new < e_pass))
-                    break;
-                x += s * rest;
-                ++summary.scaffold_passes;
-                blocked = s_scaffold > 0.0;
-                blocked_by_scaffold = blocked;
-                left *= 1.0 - s;
-            }
-        }
-        momentum = x.head(2 * n) - x_before;
-        if (watch && !crosses(x))
-        {
-            last_simple = x;
-            last_simple_it = summary.iterations;
-        }
-        else if (watch && summary.iterations - last_simple_it >= options.crossing_patience)
-            break;  // crossed for that long: it will not come apart by itself
-        const double e_surface_new =
-            scaffold || !options.centre_pulls.empty() ? energy(surface, x, threads) : e_new;
-        const double decrease = (e_surface - e_surface_new) / e_surface;
-        e_surface = e_surface_new;
-        // One small step can come from a short line search (a nearly collapsed triangle in
-        // the way), not from convergence; three in a row cannot.
-        slow = decrease < (scaffold ? scaffold_tolerance : options.tolerance) ? slow + 1 : 0;
-        if (slow == 3)
-        {
-            summary.converged = true;
-            break;
-        }
-    }
-    // Unconstrained SLIM may move the boundary across itself (branches relaxing into each
-    // other). Then go back to the last iterate without that and go on with a scaffold, which
-    // keeps the free space between the boundary's parts open: the end map is one-to-one.
-    if (!watch || !crosses(x))
-        break;
-    watch = false;
-    x = last_simple;
-    summary.scaffold_from = last_simple_it;
-    summary.converged = false;
-    e_surface = energy(surface, x, threads);
-    slow = 0;
-    start_scaffold();
-    momentum.resize(0);
-    }
-    detail::deinterleave(x, uv);
-    summary.final_energy = e_surface;
-    summary.report = std::string(!scaffold ? "SLIM"
-                                 : summary.scaffold_from >= 0
-                                     ? "SLIM (boundary crossed; scaffold from iterate " +
-                                           std::to_string(summary.scaffold_from) + ")"
-                                     : "SLIM with scaffold") +
-                     " symmetric Dirichlet: " + std::to_string(summary.iterations) +
-                     " iterations, energy " + std::to_string(summary.initial_energy) + " -> " +
-                     std::to_string(summary.final_energy) +
-                     (summary.converged ? " (converged)" : " (iteration limit)") +
-                     (scaffold ? ", " + std::to_string(summary.scaffold_rebuilds) +
-                                     " scaffold triangulations, " +
-                                     std::to_string(summary.scaffold_passes) + " continued steps"
-                               : std::string()) +
-                     (summary.accelerated > 0
-                          ? ", " + std::to_string(summary.accelerated) + " steps with momentum"
-                          : std::string());
-    return summary;
+    detail::require_centre_pull_vertices(options.centre_pulls,
+                                         static_cast<int>(mesh.n_vertices()), "injective_refine");
+    return Slim(mesh, uv, pins, options).run(uv);
 }
 
 }  // namespace vessel

@@ -127,8 +127,9 @@ struct InjectiveSummary
 //! with SLIM \cite rabinovich_2017_scalable (reweighted local/global steps on a CHOLMOD
 //! factorization whose pattern is analysed once) and a line search that never lets a triangle
 //! flip \cite smith_2015_bijective: the energy grows without bound as a triangle collapses and
-//! each step stops short of the first collapse, so a flip-free start stays flip-free. Its minimum is an isometry, like ARAP's, but it penalizes
-//! shrinking as much as stretching, so area stays close to the 3D area.
+//! each step stops short of the first collapse, so a flip-free start stays flip-free. Its
+//! minimum is an isometry, like ARAP's, but it penalizes shrinking as much as stretching, so
+//! area stays close to the 3D area.
 //! \param uv |V| x 2 start, row `v.idx()`, with no flipped triangle; updated in place.
 //! \param pins vertices held fixed (may be empty).
 //! \throw InvalidInputError if \p uv has a flipped triangle or the sizes disagree.
