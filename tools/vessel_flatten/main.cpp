@@ -127,34 +127,9 @@ auto naming_input(const std::string& input, const std::string& context, const st
     }
 }
 
-}  // namespace
-
-int main(int argc, char** argv)
+// What the command line sets: every option writes into one of these.
+struct Args
 {
-    CLI::App app{
-        "Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
-        "2D map (README.md; every option: --help-all).",
-        "vessel-flatten"};
-    const auto formatter = std::make_shared<HelpFormatter>();
-    app.formatter(formatter);
-    app.get_formatter()->column_width(35);
-    app.set_help_all_flag("--help-all", "Also list the tuning options");
-    app.set_version_flag("--version", std::string("vessel-flatten ") + VESSEL_VERSION);
-    // The tuning options are listed by --help-all only. (Not by putting them in CLI11's hidden
-    // group "": its errors then name no option, ": jet not in {...}".)
-    const bool help_all = std::any_of(
-        argv + 1, argv + argc, [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
-    const auto tuning = [&](const std::string& group) {
-        if (!help_all)
-            formatter->hidden.insert(group);
-        return group;
-    };
-    const std::string io_group = "Input and output", fields_group = "Fields and images",
-                      cut_group = "Cut", map_group = "Map";
-    const std::string input_tuning = tuning("Input checks"),
-                      image_tuning = tuning("Fields and images, more"),
-                      cut_tuning = tuning("Cut, tuning"), map_tuning = tuning("Map, tuning");
-
     std::string input, output, report_path, html, layout = "fan", preset = "default";
     std::vector<double> viewpoint;
     std::vector<std::vector<int>> split_at;
@@ -162,8 +137,32 @@ int main(int argc, char** argv)
     bool quiet = false;
     vessel::FlattenOptions options;
     vessel::cli::BatchOptions batch;
+    std::vector<std::string> batch_case;  // FILE NAME: one mesh of --batch (run_batch_case())
+    vessel::cli::FieldArgs field_args;
+    bool refuse_polygons = false;
+};
 
-    // Input and output.
+// The groups of --help; the tuning groups are listed by --help-all only.
+struct Groups
+{
+    std::string io, fields, cut, map;
+    std::string input_tuning, image_tuning, cut_tuning, map_tuning;
+};
+
+// Input and output, and the input checks; returns --batch (which --fields excludes).
+CLI::Option* add_io_options(CLI::App& app, Args& a, const Groups& g)
+{
+    std::string& input = a.input;
+    std::string& output = a.output;
+    std::string& report_path = a.report_path;
+    std::string& html = a.html;
+    bool& quiet = a.quiet;
+    vessel::cli::BatchOptions& batch = a.batch;
+    std::vector<std::string>& batch_case = a.batch_case;
+    bool& refuse_polygons = a.refuse_polygons;
+    vessel::TreeSurfaceOptions& surface_options = a.batch.surface;
+    const std::string& io_group = g.io;
+    const std::string& input_tuning = g.input_tuning;
     auto* input_option = app.add_option("input", input,
                                         "Vessel surface (.obj .off .ply .stl .vtp .vtk), open at "
                                         "inlet and outlets")
@@ -181,7 +180,6 @@ int main(int argc, char** argv)
                              ->excludes(input_option)
                              ->option_text("DIR|LIST")
                              ->group(io_group);
-    std::vector<std::string> batch_case;  // FILE NAME: one mesh of --batch (run_batch_case())
     app.add_option("--batch-case", batch_case)->expected(2)->needs(batch_option)->group("");
     app.add_option("--jobs", batch.jobs, "With --batch: meshes flattened at the same time")
         ->check(CLI::PositiveNumber)
@@ -211,7 +209,6 @@ int main(int argc, char** argv)
         ->check(CLI::PositiveNumber)
         ->option_text("MB")
         ->group(input_tuning);
-    vessel::TreeSurfaceOptions& surface_options = batch.surface;
     app.add_flag("--largest-component", surface_options.keep_largest_component,
                  "Keep only the largest connected component of the input (noted) instead of "
                  "refusing a surface in several pieces")
@@ -234,13 +231,19 @@ int main(int argc, char** argv)
         ->capture_default_str()
         ->check(CLI::NonNegativeNumber)
         ->group(input_tuning);
-    bool refuse_polygons = false;
     app.add_flag("--refuse-polygons", refuse_polygons,
                  "Refuse faces with more than 3 corners instead of triangulating them (noted)")
         ->group(input_tuning);
+    return batch_option;
+}
 
-    // Fields and images.
-    vessel::cli::FieldArgs field_args;
+// Fields and images.
+void add_field_options(CLI::App& app, Args& a, const Groups& g, CLI::Option* batch_option)
+{
+    vessel::cli::ImageRequest& images = a.images;
+    vessel::cli::FieldArgs& field_args = a.field_args;
+    const std::string& fields_group = g.fields;
+    const std::string& image_tuning = g.image_tuning;
     auto* fields_option = vessel::cli::add_field_options(app, field_args, "to carry to the output");
     fields_option
         ->description(
@@ -305,8 +308,16 @@ int main(int argc, char** argv)
                    "this time (s), interpolated between steps")
         ->excludes(image_step)
         ->group(image_tuning);
+}
 
-    // Cut.
+// Cut: cost, viewpoint, pieces, relief cuts, and the cut planner's tuning.
+void add_cut_options(CLI::App& app, Args& a, const Groups& g)
+{
+    std::vector<double>& viewpoint = a.viewpoint;
+    std::vector<std::vector<int>>& split_at = a.split_at;
+    vessel::FlattenOptions& options = a.options;
+    const std::string& cut_group = g.cut;
+    const std::string& cut_tuning = g.cut_tuning;
     add_choice(app, "--cost", options.cost.kind,
                {{"curvature", vessel::CostKind::Curvature},
                 {"geodesic", vessel::CostKind::Geodesic},
@@ -421,8 +432,16 @@ int main(int argc, char** argv)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(cut_tuning);
+}
 
-    // Map.
+// Map: preset, layout, refinement, and the solvers' tuning.
+void add_map_options(CLI::App& app, Args& a, const Groups& g)
+{
+    std::string& layout = a.layout;
+    std::string& preset = a.preset;
+    vessel::FlattenOptions& options = a.options;
+    const std::string& map_group = g.map;
+    const std::string& map_tuning = g.map_tuning;
     app.add_option("--preset", preset,
                    "Method to start from: default (one-to-one map) or paper "
                    "(the paper's LSCM + ARAP)")
@@ -571,33 +590,230 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1.0, 1e9))
         ->capture_default_str()
         ->group(map_tuning);
-    app.config_formatter(std::make_shared<vessel::cli::JsonConfig>());
-    app.allow_config_extras(CLI::config_extras_mode::error);
-    try
-    {
-        // Twice: the first parse finds the preset (on the command line or in --config), the
-        // second writes the options given over it.
-        app.parse(argc, argv);
-        options = preset == "paper" ? vessel::FlattenOptions::paper() : vessel::FlattenOptions{};
-        app.clear();
-        app.parse(argc, argv);
-    }
-    catch (const CLI::ConfigError& e)
-    {
-        std::string what = e.what();
-        const std::string unknown = "INI was not able to parse ";  // CLI11's words
-        if (what.rfind(unknown, 0) == 0)
-            what = "no option --" + what.substr(unknown.size()) +
-                   "; the keys are long option names without the dashes (see --help-all)";
-        std::fprintf(stderr, "vessel-flatten: --config: %s\n", what.c_str());
-        return 1;
-    }
-    catch (const CLI::ParseError& e)
-    {
-        // CLI11 prints the message (or the help); every usage error exits 1, as documented.
-        return app.exit(e) == 0 ? 0 : 1;
-    }
+}
 
+// Stage lines on stderr and, on a terminal, stage F's progress line (none with --quiet).
+void show_progress(vessel::FlattenOptions& options, bool quiet)
+{
+    static const std::map<std::string, std::string> stage_names = {
+        {"Z", "curvature, geodesic distance, alignment"},
+        {"GC", "cut graph costs"},
+        {"VC", "cut paths"},
+        {"AC", "applying the cuts"},
+        {"L", "layout"},
+        {"F", "initial map + refinement"}};
+    // On a terminal, stage F's solvers draw one line, redrawn in place (carriage return,
+    // erase to the end of the line) until the stage's own line replaces it; off a terminal
+    // (a log) only the stage lines.
+    const bool live = !quiet && isatty(fileno(stderr));
+    const char* erase = live ? "\r\033[K" : "";
+    if (!quiet)
+        options.on_stage = [erase](const std::string& stage, double s) {
+            std::fprintf(stderr, "%s[%-2s] %-42s %8.3f s\n", erase, stage.c_str(),
+                         stage_names.at(stage).c_str(), s);
+        };
+    if (live)
+    {
+        auto stage_start = std::make_shared<Clock::time_point>(Clock::now());
+        options.on_progress = [stage_start](const vessel::Progress& p) {
+            if (p.stage_done)
+            {
+                *stage_start = Clock::now();
+                return;
+            }
+            std::fprintf(stderr, "\r\033[K[%-2s] %s: %s %d/%d %.1f s", p.stage.c_str(),
+                         stage_names.at(p.stage).c_str(), p.phase.c_str(), p.iteration,
+                         p.max_iterations, seconds_since(*stage_start));
+            std::fflush(stderr);
+        };
+    }
+}
+
+// One INPUT (not --batch): read and check it, flatten it (or each --split-at piece) and write
+// every output. \p out_ext: the output's extension; \p view: --viewpoint.
+int flatten_input(Args& a, const std::string& out_ext, const std::optional<Eigen::Vector3d>& view,
+                  int argc, char** argv)
+{
+    std::string& input = a.input;
+    std::string& output = a.output;
+    std::string& report_path = a.report_path;
+    std::string& html = a.html;
+    std::vector<double>& viewpoint = a.viewpoint;
+    std::vector<std::vector<int>>& split_at = a.split_at;
+    vessel::cli::ImageRequest& images = a.images;
+    bool& quiet = a.quiet;
+    vessel::FlattenOptions& options = a.options;
+    vessel::cli::BatchOptions& batch = a.batch;
+    vessel::cli::FieldArgs& field_args = a.field_args;
+    vessel::TreeSurfaceOptions& surface_options = a.batch.surface;
+    // Every output checked before any work; all of them removed if the run fails.
+    const vessel::cli::OutputPlan outputs(
+        {output, report_path, html, images.images, images.frames,
+         !field_args.spec.empty() && out_ext == ".vtp",
+         split_at.empty() ? 0 : static_cast<int>(split_at.size()) + 1, {input, field_args.spec}});
+    auto start = Clock::now();
+    const vessel::cli::FieldInput field_input =
+        vessel::cli::read_field_input(input, field_args);
+    images.field = field_args.name;
+    vessel::cli::check_images(images, field_input.fields, field_input.series);
+    // The validation's messages name the defect, not the file: say which file it is.
+    const vessel::cli::PreparedInput in = naming_input(input, "", "", [&] {
+        return vessel::cli::prepare_input(field_input.data.mesh, surface_options,
+                                          batch.repair_options());
+    });
+    const vessel::TreeSurface& surface = in.surface;
+    const std::vector<vessel::Field>& fields = field_input.fields;
+    const vessel::TimeSeries& series = field_input.series;
+    if (series.size() > 1 && out_ext != ".vtp")
+        throw vessel::InvalidInputError(
+            "--fields gives " + std::to_string(series.size()) +
+            " time steps; write them with an OUT.vtp output (OUT.case series)");
+    if (batch.repair_options() && (!fields.empty() || series.size() > 0))
+        throw vessel::InvalidInputError("--repair and --fill-holes may merge, drop or add "
+                                        "vertices and faces; "
+                                        "fields cannot be carried through it (repair the "
+                                        "mesh first, then compute the fields on it)");
+    if (!split_at.empty() && (!fields.empty() || series.size() > 0))
+        throw vessel::InvalidInputError("--split-at renumbers the vertices of each piece; "
+                                        "fields cannot be carried to the pieces");
+    const double read_s = seconds_since(start);
+    if (!quiet)
+    {
+        std::fprintf(stderr, "[  ] read %zu vertices, %zu faces %24.3f s\n",
+                     surface.mesh.n_vertices(), surface.mesh.n_faces(), read_s);
+        for (const auto& note : surface.notes)
+            std::fprintf(stderr, "note: %s\n", note.c_str());
+        for (const auto& note : series.notes)
+            std::fprintf(stderr, "note: %s\n", note.c_str());
+    }
+    if (surface.reoriented_faces > 0)  // shown even with --quiet: the input had a defect
+        std::fprintf(stderr,
+                     "warning: the input's faces were not wound consistently; %d %s "
+                     "re-oriented to agree with their neighbours (fix the source if this "
+                     "is unexpected)\n",
+                     surface.reoriented_faces,
+                     surface.reoriented_faces == 1 ? "face was" : "faces were");
+    // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
+    const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
+                                   const std::string& out, const std::string& report) {
+        const vessel::FlattenResult result = vessel::flatten(piece.surface.mesh, options);
+        if (!quiet)
+            for (const auto& note : result.notes)
+                std::fprintf(stderr, "note: %s\n", note.c_str());
+        // Shown even with --quiet, like the orientation warning: the map is of little use.
+        const std::string distortion = vessel::distortion_warning(result.quality);
+        if (!distortion.empty())
+            std::fprintf(stderr, "warning: %s: %s\n", input.c_str(), distortion.c_str());
+
+        start = Clock::now();
+        const std::vector<vessel::Field> cut_fields =
+            vessel::transfer_fields(fields, result.mesh);
+        const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
+        std::vector<vessel::Field> all_fields = cut_fields;
+        if (cut_series.size() == 1)
+            all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),
+                              cut_series.steps[0].end());
+        if (out_ext == ".vtp")
+        {
+            vessel::write_flat_vtp(out, result.mesh, result.uv, all_fields);
+            if (cut_series.size() > 1)
+            {
+                const std::string series_case =
+                    std::filesystem::path(out).replace_extension(".case").string();
+                vessel::write_flat_series(series_case, result.mesh, result.uv, cut_fields,
+                                          cut_series);
+                if (!quiet)
+                    std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
+                                 series_case.c_str());
+            }
+        }
+        else if (out_ext == ".ply")
+            vessel::write_flat_ply(out, result.mesh, result.uv, all_fields);
+        else
+        {
+            if (!all_fields.empty() && !quiet)
+                std::fprintf(stderr, "note: OBJ carries no data arrays (%zu not written); "
+                                     "use an .vtp or .ply output to keep them\n",
+                             all_fields.size());
+            vessel::write_flat_obj(out, piece.raw.points, result.mesh, result.uv);
+        }
+        if (!html.empty())
+        {
+            vessel::ViewerOptions view;
+            view.title = std::filesystem::path(input).filename().string();
+            view.flatten_command =
+                vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
+            view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
+            if (!viewpoint.empty())
+                view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+            std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
+            for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
+                shown.push_back(std::move(f));
+            vessel::write_viewer_html(html, result, shown, view);
+        }
+        images.field = field_args.name;
+        images.quiet = quiet;
+        vessel::cli::render_images(images, result, cut_fields, cut_series);
+        const double write_s = seconds_since(start);
+        if (!report.empty())
+            vessel::write_text_file(
+                report,
+                vessel::cli::report_json(input, piece, result, read_s, write_s, view)
+                    .dump(2) +
+                "\n");
+        if (!quiet)
+        {
+            const auto& q = result.quality;
+            std::fprintf(stderr,
+                         "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
+                         "%.3f, total %.3f s -> %s\n",
+                         q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
+                         q.mean_conformal, result.timings.total(), out.c_str());
+        }
+    };
+    if (split_at.empty())
+    {
+        flatten_piece(in, output, report_path);
+        return 0;
+    }
+    if (!html.empty())
+        throw vessel::InvalidInputError("--html shows one map; it cannot be used with --split-at");
+    // split_tree()'s refusals name the library function; say which file and option instead.
+    const auto pieces = naming_input(input, "--split-at: ", "split_tree: ",
+                                     [&] { return vessel::split_tree(surface.mesh, split_at); });
+    for (std::size_t i = 0; i < pieces.size(); ++i)
+    {
+        const auto named = [&](const std::string& path) {
+            if (path.empty())
+                return path;
+            std::filesystem::path p(path);
+            return (p.parent_path() / p.stem()).string() + ".piece" + std::to_string(i) +
+                   p.extension().string();
+        };
+        if (!quiet)
+            std::fprintf(stderr, "piece %zu: %zu faces\n", i, pieces[i].mesh.faces.size());
+        vessel::cli::PreparedInput part;
+        part.raw = pieces[i].mesh;
+        part.surface = vessel::make_tree_surface(part.raw, surface_options);
+        flatten_piece(part, named(output), named(report_path));
+    }
+    return 0;
+}
+
+// After parsing: the checks, then --batch or one INPUT; a refusal prints one line, exit 1.
+int run(Args& a, int argc, char** argv)
+{
+    std::string& input = a.input;
+    std::string& output = a.output;
+    std::string& layout = a.layout;
+    std::vector<double>& viewpoint = a.viewpoint;
+    std::vector<std::vector<int>>& split_at = a.split_at;
+    bool& quiet = a.quiet;
+    vessel::FlattenOptions& options = a.options;
+    vessel::cli::BatchOptions& batch = a.batch;
+    std::vector<std::string>& batch_case = a.batch_case;
+    bool& refuse_polygons = a.refuse_polygons;
+    vessel::TreeSurfaceOptions& surface_options = a.batch.surface;
     if (input.empty() && batch.inputs.empty())
     {
         std::fprintf(stderr, "vessel-flatten: give an INPUT mesh, or --batch DIR_OR_LIST\n");
@@ -628,191 +844,8 @@ int main(int argc, char** argv)
             batch.command.assign(argv, argv + argc);
             return vessel::cli::run_batch(batch, options);
         }
-        static const std::map<std::string, std::string> stage_names = {
-            {"Z", "curvature, geodesic distance, alignment"},
-            {"GC", "cut graph costs"},
-            {"VC", "cut paths"},
-            {"AC", "applying the cuts"},
-            {"L", "layout"},
-            {"F", "initial map + refinement"}};
-        // On a terminal, stage F's solvers draw one line, redrawn in place (carriage return,
-        // erase to the end of the line) until the stage's own line replaces it; off a terminal
-        // (a log) only the stage lines.
-        const bool live = !quiet && isatty(fileno(stderr));
-        const char* erase = live ? "\r\033[K" : "";
-        if (!quiet)
-            options.on_stage = [erase](const std::string& stage, double s) {
-                std::fprintf(stderr, "%s[%-2s] %-42s %8.3f s\n", erase, stage.c_str(),
-                             stage_names.at(stage).c_str(), s);
-            };
-        if (live)
-        {
-            auto stage_start = std::make_shared<Clock::time_point>(Clock::now());
-            options.on_progress = [stage_start](const vessel::Progress& p) {
-                if (p.stage_done)
-                {
-                    *stage_start = Clock::now();
-                    return;
-                }
-                std::fprintf(stderr, "\r\033[K[%-2s] %s: %s %d/%d %.1f s", p.stage.c_str(),
-                             stage_names.at(p.stage).c_str(), p.phase.c_str(), p.iteration,
-                             p.max_iterations, seconds_since(*stage_start));
-                std::fflush(stderr);
-            };
-        }
-
-        // Every output checked before any work; all of them removed if the run fails.
-        const vessel::cli::OutputPlan outputs(
-            {output, report_path, html, images.images, images.frames,
-             !field_args.spec.empty() && out_ext == ".vtp",
-             split_at.empty() ? 0 : static_cast<int>(split_at.size()) + 1, {input, field_args.spec}});
-        auto start = Clock::now();
-        const vessel::cli::FieldInput field_input =
-            vessel::cli::read_field_input(input, field_args);
-        images.field = field_args.name;
-        vessel::cli::check_images(images, field_input.fields, field_input.series);
-        // The validation's messages name the defect, not the file: say which file it is.
-        const vessel::cli::PreparedInput in = naming_input(input, "", "", [&] {
-            return vessel::cli::prepare_input(field_input.data.mesh, surface_options,
-                                              batch.repair_options());
-        });
-        const vessel::TreeSurface& surface = in.surface;
-        const std::vector<vessel::Field>& fields = field_input.fields;
-        const vessel::TimeSeries& series = field_input.series;
-        if (series.size() > 1 && out_ext != ".vtp")
-            throw vessel::InvalidInputError(
-                "--fields gives " + std::to_string(series.size()) +
-                " time steps; write them with an OUT.vtp output (OUT.case series)");
-        if (batch.repair_options() && (!fields.empty() || series.size() > 0))
-            throw vessel::InvalidInputError("--repair and --fill-holes may merge, drop or add "
-                                            "vertices and faces; "
-                                            "fields cannot be carried through it (repair the "
-                                            "mesh first, then compute the fields on it)");
-        if (!split_at.empty() && (!fields.empty() || series.size() > 0))
-            throw vessel::InvalidInputError("--split-at renumbers the vertices of each piece; "
-                                            "fields cannot be carried to the pieces");
-        const double read_s = seconds_since(start);
-        if (!quiet)
-        {
-            std::fprintf(stderr, "[  ] read %zu vertices, %zu faces %24.3f s\n",
-                         surface.mesh.n_vertices(), surface.mesh.n_faces(), read_s);
-            for (const auto& note : surface.notes)
-                std::fprintf(stderr, "note: %s\n", note.c_str());
-            for (const auto& note : series.notes)
-                std::fprintf(stderr, "note: %s\n", note.c_str());
-        }
-        if (surface.reoriented_faces > 0)  // shown even with --quiet: the input had a defect
-            std::fprintf(stderr,
-                         "warning: the input's faces were not wound consistently; %d %s "
-                         "re-oriented to agree with their neighbours (fix the source if this "
-                         "is unexpected)\n",
-                         surface.reoriented_faces,
-                         surface.reoriented_faces == 1 ? "face was" : "faces were");
-        // One map per piece: the whole tree, or with --split-at each cut-off subtree and the rest.
-        const auto flatten_piece = [&](const vessel::cli::PreparedInput& piece,
-                                       const std::string& out, const std::string& report) {
-            const vessel::FlattenResult result = vessel::flatten(piece.surface.mesh, options);
-            if (!quiet)
-                for (const auto& note : result.notes)
-                    std::fprintf(stderr, "note: %s\n", note.c_str());
-            // Shown even with --quiet, like the orientation warning: the map is of little use.
-            const std::string distortion = vessel::distortion_warning(result.quality);
-            if (!distortion.empty())
-                std::fprintf(stderr, "warning: %s: %s\n", input.c_str(), distortion.c_str());
-
-            start = Clock::now();
-            const std::vector<vessel::Field> cut_fields =
-                vessel::transfer_fields(fields, result.mesh);
-            const vessel::TimeSeries cut_series = vessel::transfer_series(series, result.mesh);
-            std::vector<vessel::Field> all_fields = cut_fields;
-            if (cut_series.size() == 1)
-                all_fields.insert(all_fields.end(), cut_series.steps[0].begin(),
-                                  cut_series.steps[0].end());
-            if (out_ext == ".vtp")
-            {
-                vessel::write_flat_vtp(out, result.mesh, result.uv, all_fields);
-                if (cut_series.size() > 1)
-                {
-                    const std::string series_case =
-                        std::filesystem::path(out).replace_extension(".case").string();
-                    vessel::write_flat_series(series_case, result.mesh, result.uv, cut_fields,
-                                              cut_series);
-                    if (!quiet)
-                        std::fprintf(stderr, "[  ] series: %d steps -> %s\n", cut_series.size(),
-                                     series_case.c_str());
-                }
-            }
-            else if (out_ext == ".ply")
-                vessel::write_flat_ply(out, result.mesh, result.uv, all_fields);
-            else
-            {
-                if (!all_fields.empty() && !quiet)
-                    std::fprintf(stderr, "note: OBJ carries no data arrays (%zu not written); "
-                                         "use an .vtp or .ply output to keep them\n",
-                                 all_fields.size());
-                vessel::write_flat_obj(out, piece.raw.points, result.mesh, result.uv);
-            }
-            if (!html.empty())
-            {
-                vessel::ViewerOptions view;
-                view.title = std::filesystem::path(input).filename().string();
-                view.flatten_command =
-                    vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
-                view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
-                if (!viewpoint.empty())
-                    view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
-                std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
-                for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
-                    shown.push_back(std::move(f));
-                vessel::write_viewer_html(html, result, shown, view);
-            }
-            images.field = field_args.name;
-            images.quiet = quiet;
-            vessel::cli::render_images(images, result, cut_fields, cut_series);
-            const double write_s = seconds_since(start);
-            if (!report.empty())
-                vessel::write_text_file(
-                    report,
-                    vessel::cli::report_json(input, piece, result, read_s, write_s, view)
-                        .dump(2) +
-                    "\n");
-            if (!quiet)
-            {
-                const auto& q = result.quality;
-                std::fprintf(stderr,
-                             "done: %d flipped, area ratio %.4f, mean |log area| %.4f, conformal "
-                             "%.3f, total %.3f s -> %s\n",
-                             q.flipped_triangles, q.area_ratio, q.mean_abs_log_area,
-                             q.mean_conformal, result.timings.total(), out.c_str());
-            }
-        };
-        if (split_at.empty())
-        {
-            flatten_piece(in, output, report_path);
-            return 0;
-        }
-        if (!html.empty())
-            throw vessel::InvalidInputError("--html shows one map; it cannot be used with --split-at");
-        // split_tree()'s refusals name the library function; say which file and option instead.
-        const auto pieces = naming_input(input, "--split-at: ", "split_tree: ",
-                                         [&] { return vessel::split_tree(surface.mesh, split_at); });
-        for (std::size_t i = 0; i < pieces.size(); ++i)
-        {
-            const auto named = [&](const std::string& path) {
-                if (path.empty())
-                    return path;
-                std::filesystem::path p(path);
-                return (p.parent_path() / p.stem()).string() + ".piece" + std::to_string(i) +
-                       p.extension().string();
-            };
-            if (!quiet)
-                std::fprintf(stderr, "piece %zu: %zu faces\n", i, pieces[i].mesh.faces.size());
-            vessel::cli::PreparedInput part;
-            part.raw = pieces[i].mesh;
-            part.surface = vessel::make_tree_surface(part.raw, surface_options);
-            flatten_piece(part, named(output), named(report_path));
-        }
-        return 0;
+        show_progress(options, quiet);
+        return flatten_input(a, out_ext, view, argc, argv);
     }
     catch (const std::exception& e)
     {
@@ -820,4 +853,70 @@ int main(int argc, char** argv)
                      vessel::cli::error_text(e, input.empty() ? batch.inputs : input).c_str());
         return 1;
     }
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{
+        "Cut a vessel tree surface open along natural vessel cuts and flatten it into one "
+        "2D map (README.md; every option: --help-all).",
+        "vessel-flatten"};
+    const auto formatter = std::make_shared<HelpFormatter>();
+    app.formatter(formatter);
+    app.get_formatter()->column_width(35);
+    app.set_help_all_flag("--help-all", "Also list the tuning options");
+    app.set_version_flag("--version", std::string("vessel-flatten ") + VESSEL_VERSION);
+    // The tuning options are listed by --help-all only. (Not by putting them in CLI11's hidden
+    // group "": its errors then name no option, ": jet not in {...}".)
+    const bool help_all = std::any_of(
+        argv + 1, argv + argc, [](const char* a) { return std::strcmp(a, "--help-all") == 0; });
+    const auto tuning = [&](const std::string& group) {
+        if (!help_all)
+            formatter->hidden.insert(group);
+        return group;
+    };
+    const Groups groups{"Input and output",
+                        "Fields and images",
+                        "Cut",
+                        "Map",
+                        tuning("Input checks"),
+                        tuning("Fields and images, more"),
+                        tuning("Cut, tuning"),
+                        tuning("Map, tuning")};
+
+    Args a;
+    CLI::Option* batch_option = add_io_options(app, a, groups);
+    add_field_options(app, a, groups, batch_option);
+    add_cut_options(app, a, groups);
+    add_map_options(app, a, groups);
+    app.config_formatter(std::make_shared<vessel::cli::JsonConfig>());
+    app.allow_config_extras(CLI::config_extras_mode::error);
+    try
+    {
+        // Twice: the first parse finds the preset (on the command line or in --config), the
+        // second writes the options given over it.
+        app.parse(argc, argv);
+        a.options =
+            a.preset == "paper" ? vessel::FlattenOptions::paper() : vessel::FlattenOptions{};
+        app.clear();
+        app.parse(argc, argv);
+    }
+    catch (const CLI::ConfigError& e)
+    {
+        std::string what = e.what();
+        const std::string unknown = "INI was not able to parse ";  // CLI11's words
+        if (what.rfind(unknown, 0) == 0)
+            what = "no option --" + what.substr(unknown.size()) +
+                   "; the keys are long option names without the dashes (see --help-all)";
+        std::fprintf(stderr, "vessel-flatten: --config: %s\n", what.c_str());
+        return 1;
+    }
+    catch (const CLI::ParseError& e)
+    {
+        // CLI11 prints the message (or the help); every usage error exits 1, as documented.
+        return app.exit(e) == 0 ? 0 : 1;
+    }
+    return run(a, argc, argv);
 }
