@@ -2,11 +2,13 @@
 
 #include "support/checks.h"
 
+#include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_cost.h"
 #include "vessel/cut/cut_join.h"
 #include "vessel/cut/cut_route.h"
+#include "vessel/cut/endpoints.h"
 #include "vessel/direction/curvature.h"
 #include "vessel/direction/direction.h"
 #include "vessel/direction/geodesic.h"
@@ -212,6 +214,40 @@ public:
     }
 };
 
+// One vertex per loop: the farthest along the loop centre's offset from the mesh's vertex mean,
+// perpendicular to the loop's plane (the outer side of each vessel).
+class OuterSideEndpoints : public EndpointPolicy
+{
+public:
+    std::string name() const override { return "outer-side"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t) const override
+    {
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (auto v : mesh.vertices())
+            mean += to_eigen(mesh.point(v));
+        mean /= static_cast<double>(mesh.n_vertices());
+        Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+        for (auto v : loop.vertices)
+            centre += to_eigen(mesh.point(v));
+        centre /= static_cast<double>(loop.vertices.size());
+        Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+        for (std::size_t i = 0; i < loop.vertices.size(); ++i)
+            normal += (to_eigen(mesh.point(loop.vertices[i])) - centre)
+                          .cross(to_eigen(mesh.point(loop.vertices[(i + 1) % loop.vertices.size()])) -
+                                 centre);
+        normal.normalize();
+        Eigen::Vector3d outward = centre - mean;
+        outward -= outward.dot(normal) * normal;
+        VertexHandle best = loop.vertices.front();
+        for (auto v : loop.vertices)
+            if ((to_eigen(mesh.point(v)) - centre).dot(outward) >
+                (to_eigen(mesh.point(best)) - centre).dot(outward))
+                best = v;
+        return {best};
+    }
+};
+
 bool same_plan(const CutPlan& a, const CutPlan& b)
 {
     if (a.paths.size() != b.paths.size())
@@ -327,4 +363,38 @@ TEST_CASE("cut_policy: a route or join that breaks its contract is refused, nami
     message = test::error_of(plan);
     CHECK_MESSAGE(message.find("join policy 'off-tree' allowed vertex") != std::string::npos,
                   message);
+}
+
+TEST_CASE("cut_policy: a cut leaves its loop at the endpoint policy's vertex only")
+{
+    // With one allowed vertex per loop the cheapest path from it may come back to its own loop
+    // at another vertex (through interior edges) before it leaves: the loop would be opened twice
+    // and the cut mesh would fall apart. On the coarse VaMPy artery the outer-side start did so
+    // (a cut mesh of two pieces, refused by the layout circle) until the planner blocked the
+    // loop's other vertices.
+    const TreeSurface surface =
+        load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply");
+    FlattenOptions options;
+    options.cuts.endpoints = std::make_shared<OuterSideEndpoints>();
+    const FlattenResult r = flatten(surface.mesh, options);
+    REQUIRE(r.plan.paths.size() == 2);
+    std::vector<int> loop_of(surface.mesh.n_vertices(), -1);
+    for (std::size_t l = 0; l < r.loops.size(); ++l)
+        for (auto v : r.loops[l].vertices)
+            loop_of[v.idx()] = static_cast<int>(l);
+    for (const CutPath& cut : r.plan.paths)
+    {
+        CAPTURE(cut.outlet);
+        CHECK(loop_of[cut.start.idx()] == cut.outlet);
+        // No vertex after the start lies on a loop, but the first cut's end on the inlet.
+        for (std::size_t i = 0; i < cut.halfedges.size(); ++i)
+        {
+            const int w = surface.mesh.to_vertex_handle(cut.halfedges[i]).idx();
+            const bool inlet_end = cut.parent < 0 && i + 1 == cut.halfedges.size();
+            CHECK(loop_of[w] == (inlet_end ? 0 : -1));
+        }
+    }
+    // The cut mesh is one disk and the default map one-to-one.
+    CHECK(boundary_loops(r.mesh).size() == 1);
+    CHECK(r.quality.flipped_triangles == 0);
 }

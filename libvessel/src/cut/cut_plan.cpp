@@ -274,7 +274,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
 
     // One graph and one query for all outlets; the flags change only on loops and new cuts.
     // Query l: targets are the inlet (l = 1) or the interior vertices of earlier cuts (l > 1);
-    // blocked are the vertices of every loop but l that are not targets.
+    // blocked are the loops' vertices but the sources (on loop l) and the targets.
     PathQuery query;
     // The |V| x 3 winding field is passed to each search by reference, not copied in.
     query.tie_tolerance = options.tie_tolerance;
@@ -313,8 +313,12 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         }
         if (l >= 2)
             set_blocked(l - 1, 1);
-        set_blocked(l, 0);
+        // The cut leaves its loop at one of the policy's vertices and passes no other vertex of
+        // the loop (it would open the loop twice: no disk); with the whole loop allowed the
+        // cheapest path never comes back to it anyway.
         query.sources = ends_on(l);
+        for (auto v : query.sources)
+            query.is_blocked[v.idx()] = 0;
 
         step.begin(l);
         RoutedCut routed = router->route(step);

@@ -13,7 +13,8 @@ namespace vessel {
 //! \brief A boundary-point policy: the vertices of a boundary loop at which a cut may leave its
 //! outlet (or, for the inlet, end). plan_cuts() joins the returned vertices to an imaginary
 //! zero-cost node, as the paper joins the whole loop \cite eulzer_2021_automatic, so the cut
-//! starts at the cheapest of them; a policy that returns one vertex fixes the cut's end there.
+//! starts at the cheapest of them and passes no other vertex of its loop; a policy that returns
+//! one vertex fixes the cut's end there.
 //! Later cuts end on earlier cuts, not on a loop, so only the inlet and the outlets are asked.
 //! Chosen like Layout: CutPlanOptions::endpoints holds any subclass.
 class EndpointPolicy
