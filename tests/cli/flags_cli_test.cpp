@@ -171,16 +171,23 @@ TEST_CASE("cli: --join, --join-reach, --join-excess and --join-slack move where 
 {
     // The aorta's iliac cut: the default (approach) cuts it back where it starts to run down
     // the other iliac's cut; cheapest keeps the whole cheapest path; closest ends it on the cut
-    // vertex nearest its outlet, within --join-slack of the nearest one's distance.
+    // vertex nearest its outlet, within --join-slack of the nearest one's distance. On the
+    // aligned route's cuts (--no-natural-cuts): a winding-bounded route is joined by its own
+    // excess (join_held_excess), and the closest join, which narrows the ends, bounds no cut.
     const std::string dir = temp_dir("flags_join");
-    const auto approach = flatten_report(dir, "approach", kAorta, "--refine none");
-    const auto cheapest = flatten_report(dir, "cheapest", kAorta, "--refine none --join cheapest");
-    const auto no_reach = flatten_report(dir, "reach0", kAorta, "--refine none --join-reach 0");
+    const auto approach = 
+        flatten_report(dir, "approach", kAorta, "--refine none --no-natural-cuts");
+    const auto cheapest = 
+        flatten_report(dir, "cheapest", kAorta, "--refine none --no-natural-cuts --join cheapest");
+    const auto no_reach = 
+        flatten_report(dir, "reach0", kAorta, "--refine none --no-natural-cuts --join-reach 0");
     const auto no_excess =
-        flatten_report(dir, "excess", kAorta, "--refine none --join-excess 1000");
-    const auto closest = flatten_report(dir, "closest", kAorta, "--refine none --join closest");
+        flatten_report(dir, "excess", kAorta, "--refine none --no-natural-cuts --join-excess 1000");
+    const auto closest = 
+        flatten_report(dir, "closest", kAorta, "--refine none --no-natural-cuts --join closest");
     const auto tight =
-        flatten_report(dir, "slack0", kAorta, "--refine none --join closest --join-slack 0");
+        flatten_report(dir, "slack0", kAorta,
+                       "--refine none --no-natural-cuts --join closest --join-slack 0");
     for (const auto* r : {&approach, &cheapest, &no_reach, &no_excess, &closest, &tight})
     {
         REQUIRE((*r)["cuts"].size() == 2);
@@ -393,7 +400,7 @@ TEST_CASE("cli: --look-retry force redoes a restarted map with --look-retry-pull
     CHECK(by_default["look_retry"]["tried"] == false);
     CHECK(!has_note(by_default, "look retry"));
     CHECK(forced["look_retry"]["tried"] == true);
-    CHECK(has_note(forced, "look retry (pull 100)"));
+    CHECK(has_note(forced, "look retry (pull 300)"));
     CHECK(weak["look_retry"]["tried"] == true);
     CHECK(has_note(weak, "look retry (pull 10)"));
     // Another hinge weight, another pulled map (its mean |log area| is reported).
@@ -405,14 +412,17 @@ TEST_CASE("cli: --look-retry-inversions sets how many walk inversions make a loo
 {
     // The 10-outlet tree phantom (seed 11)'s restarted map has no outlet below the inlet and 1
     // walk inversion in 45 outlet pairs (2%): under the default fraction (0.05) its look holds
-    // and is not retried; with 0 that one inversion breaks it, with 1 none can.
+    // and is not retried; with 0 that one inversion breaks it, with 1 none can. The aligned
+    // route's cuts (--no-natural-cuts), whose map has that one inversion.
     const std::string dir = temp_dir("flags_look_inversions");
     const std::string tree = dir + "/tree10.ply";
     REQUIRE(run(std::string(VESSEL_PHANTOM_EXE) + " tree --outlets 10 --seed 11 --edge-length 0.75 -o " +
                 tree) == 0);
-    const auto by_default = flatten_report(dir, "default", tree, "");
-    const auto strict = flatten_report(dir, "strict", tree, "--look-retry-inversions 0");
-    const auto lenient = flatten_report(dir, "lenient", tree, "--look-retry-inversions 1");
+    const auto by_default = flatten_report(dir, "default", tree, "--no-natural-cuts");
+    const auto strict = 
+        flatten_report(dir, "strict", tree, "--no-natural-cuts --look-retry-inversions 0");
+    const auto lenient = 
+        flatten_report(dir, "lenient", tree, "--no-natural-cuts --look-retry-inversions 1");
     for (const auto* report : {&by_default, &strict, &lenient})
     {
         REQUIRE((*report)["look_retry"]["default_outlets_below_inlet"] == 0);
@@ -460,7 +470,8 @@ TEST_CASE("cli: --look-retry off and --look-retry-area on the pulmonary Glenn tr
 {
     // Glenn's restarted map has an outlet below the inlet, so the default (auto) redoes it with
     // the hinge pull and keeps the pulled map where its mean |log area| is within
-    // --look-retry-area (1.45) times the `keep` map's.
+    // --look-retry-area (1.45) times the `keep` map's: on the coarse mesh, then at full
+    // resolution (the report's figures, both at full resolution).
     const std::string glenn = kData + "/svfsi-tests/pulmonary-glenn-wall.ply";
     const std::string dir = temp_dir("flags_look_retry_glenn");
     const auto by_default = flatten_report(dir, "default", glenn, "");
@@ -479,21 +490,33 @@ TEST_CASE("cli: --look-retry off and --look-retry-area on the pulmonary Glenn tr
     // A bound under the measured ratio: the pulled map is refused, the first map kept.
     char bound[32];
     std::snprintf(bound, sizeof bound, "%.4f", 0.5 * (1.0 + ratio));
-    const auto strict = flatten_report(dir, "strict", glenn, std::string("--look-retry-area ") + bound);
+    const auto strict = 
+        flatten_report(dir, "strict", glenn, std::string("--look-retry-area ") + bound);
     CHECK(strict["look_retry"]["tried"] == true);
     CHECK(strict["look_retry"]["kept"] == false);
     CHECK(has_note(strict, "area above the bound, kept the default map"));
-    CHECK(strict["look_retry"]["pulled_area"] == retry["pulled_area"]);
+    // The same pulled map on the coarse mesh, refused there this time.
+    const auto coarse_retry = [](const nlohmann::json& report) {
+        for (const auto& note : report["notes"])
+        {
+            const std::string line = note;
+            if (line.rfind("coarse: look retry", 0) == 0)
+                return line.substr(0, line.find("(keep"));
+        }
+        return std::string();
+    };
+    CHECK(!coarse_retry(by_default).empty());
+    CHECK(coarse_retry(strict) == coarse_retry(by_default));
 }
 
 TEST_CASE("cli: --coarse-vertices: the default maps AneuRisk coarse-to-fine, 0 at full resolution")
 {
-    // 14 142 cut vertices, more than twice the default 4000.
+    // 14 123 cut vertices, more than twice the default 4000.
     const std::string aneurisk = kData + "/vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply";
     const std::string dir = temp_dir("flags_coarse_vertices");
     const auto by_default = flatten_report(dir, "default", aneurisk, "");
     const auto full = flatten_report(dir, "full", aneurisk, "--coarse-vertices 0");
-    CHECK(has_note(by_default, "coarse-to-fine: the map solved on 4000 of 14142 vertices"));
+    CHECK(has_note(by_default, "coarse-to-fine: the map solved on 4000 of 14123 vertices"));
     CHECK(!has_note(by_default, "solved again at full resolution"));
     CHECK(!has_note(full, "coarse-to-fine"));
     for (const auto* r : {&by_default, &full})
@@ -526,18 +549,22 @@ int slim_iterations(const nlohmann::json& report) { return report["slim"]["itera
 TEST_CASE("cli: --scaffold-tolerance and --crossing-patience steer SLIM's scaffold phase")
 {
     // The vmtk aorta's restarted map crosses its boundary in SLIM, which goes back to its last
-    // simple iterate and on with a scaffold (full resolution: 6 220 cut vertices).
+    // simple iterate and on with a scaffold (full resolution: 6 220 cut vertices). The aligned
+    // route's cuts (--no-natural-cuts): the natural cuts' map crosses at the same iterate
+    // whatever the patience.
     const std::string dir = temp_dir("flags_scaffold");
-    const auto by_default = flatten_report(dir, "default", kAorta, "");
+    const auto by_default = flatten_report(dir, "default", kAorta, "--no-natural-cuts");
     REQUIRE(scaffold_from(by_default) > 1);
     const int iterations = slim_iterations(by_default);
     // With the polish after SLIM (default), SLIM stops by --scaffold-tolerance too.
-    const auto polished = flatten_report(dir, "polished", kAorta, "--scaffold-tolerance 0.05");
+    const auto polished = 
+        flatten_report(dir, "polished", kAorta, "--no-natural-cuts --scaffold-tolerance 0.05");
     CHECK(slim_iterations(polished) < iterations);
     // Without the polish, by its default there (tighter: more iterations), or as given.
-    const auto plain = flatten_report(dir, "plain", kAorta, "--no-area-polish");
+    const auto plain = flatten_report(dir, "plain", kAorta, "--no-natural-cuts --no-area-polish");
     const auto loose =
-        flatten_report(dir, "loose", kAorta, "--no-area-polish --scaffold-tolerance 0.05");
+        flatten_report(dir, "loose", kAorta,
+                       "--no-natural-cuts --no-area-polish --scaffold-tolerance 0.05");
     CHECK(slim_iterations(plain) > iterations);
     CHECK(slim_iterations(loose) < slim_iterations(plain));
     MESSAGE("SLIM iterations: default " << iterations << ", polished tolerance 0.05 "
@@ -547,8 +574,10 @@ TEST_CASE("cli: --scaffold-tolerance and --crossing-patience steer SLIM's scaffo
     // --crossing-patience: iterations the boundary may stay crossed before SLIM goes back. At 1
     // the scaffold starts from an earlier iterate; at 20 SLIM goes on crossed for longer before
     // going back to the same iterate.
-    const auto impatient = flatten_report(dir, "impatient", kAorta, "--crossing-patience 1");
-    const auto patient = flatten_report(dir, "patient", kAorta, "--crossing-patience 20");
+    const auto impatient = 
+        flatten_report(dir, "impatient", kAorta, "--no-natural-cuts --crossing-patience 1");
+    const auto patient = 
+        flatten_report(dir, "patient", kAorta, "--no-natural-cuts --crossing-patience 20");
     MESSAGE("scaffold from iterate: default " << scaffold_from(by_default) << ", patience 1 "
                                               << scaffold_from(impatient) << ", patience 20 "
                                               << scaffold_from(patient) << " ("

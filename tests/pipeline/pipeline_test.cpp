@@ -273,10 +273,11 @@ TEST_CASE("cli: pulmonary Glenn tree (21 loops) flattens")
 {
     // Its unconstrained map overlaps itself; by default the scaffold keeps it one-to-one.
     const std::string mesh = "svfsi-tests/pulmonary-glenn-wall.ply";
-    // Issue 2: the default (aligned) route's seam follows the vessels. Measured 0.907 (flatcheck
-    // smoothed 0.922), against 0.865 (0.881) with the paper's cheapest paths (docs/results.md).
+    // The default's natural cuts (winding-bounded routes where the aligned route winds past
+    // 45 degrees) align less with the vessels than the aligned route alone (below): measured
+    // 0.877 (flatcheck smoothed 0.894), against 0.865 (0.881) with the paper's cheapest paths.
     // Issue 7: with the area polish (default) 0.0096 mean |log area| vs keep 0.0111 (0.87x).
-    check_against_keep(mesh, check_real_mesh(mesh, 21, "", 0.9));
+    check_against_keep(mesh, check_real_mesh(mesh, 21, "", 0.87));
 }
 namespace {
 
@@ -291,11 +292,24 @@ nlohmann::json glenn_cuts_report(const std::string& name, const std::string& fla
 
 }  // namespace
 
+TEST_CASE("cli: pulmonary Glenn tree, the aligned route alone (--no-natural-cuts)")
+{
+    // Issue 2: the aligned route's seam follows the vessels. The cuts only (`--refine none`).
+    // Measured 0.905 (flatcheck smoothed 0.922), against 0.865 (0.881) with the paper's
+    // cheapest paths (docs/results.md); its cuts wind up to 66 degrees around their vessels.
+    const auto report = glenn_cuts_report("glenn_aligned", "--no-natural-cuts");
+    const double seam = report["quality"]["seam_alignment"];
+    MESSAGE("Glenn tree, --no-natural-cuts: seam alignment " << seam);
+    CHECK(seam >= 0.9);
+    CHECK(report["cuts"].size() == 20u);
+}
 TEST_CASE("cli: pulmonary Glenn tree, guided cut direction (--direction-confidence 0.6)")
 {
-    // The cuts only: `--refine none` (the cuts do not depend on the map). Measured 0.900
-    // (flatcheck smoothed 0.905) against 0.865 with the paper's pure curvature field.
-    const auto report = glenn_cuts_report("glenn_guided", "--direction-confidence 0.6");
+    // The cuts only: `--refine none` (the cuts do not depend on the map), on the aligned route
+    // alone (--no-natural-cuts). Measured 0.900 (flatcheck smoothed 0.905) against 0.865 with
+    // the paper's pure curvature field.
+    const auto report =
+        glenn_cuts_report("glenn_guided", "--no-natural-cuts --direction-confidence 0.6");
     const double seam = report["quality"]["seam_alignment"];
     MESSAGE("Glenn tree, --direction-confidence 0.6: seam alignment " << seam);
     CHECK(seam >= 0.89);

@@ -422,9 +422,10 @@ void add_cut_options(CLI::App& app, Args& a, const Groups& g)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(cut_tuning);
-    app.add_flag("--natural-cuts", options.cuts.natural_cuts,
-                 "Hold every cut to 45 degrees around its vessel, end to end and in span (a "
-                 "winding-bounded route where needed; may change the branch layout)")
+    app.add_flag("--natural-cuts,!--no-natural-cuts", options.cuts.natural_cuts,
+                 "Hold every cut to 45 degrees around its vessel, end to end and in span, with a "
+                 "winding-bounded route where needed (the default); --no-natural-cuts: the "
+                 "aligned route alone, whose cuts may wind further around their vessels")
         ->group(cut_tuning);
     app.add_option("--tie-tolerance", options.cuts.tie_tolerance,
                    "Slack (fraction of the mean arc cost) within which cut routes tie; the "

@@ -24,6 +24,8 @@ void CutPlanOptions::validate() const
         throw InvalidInputError("CutPlanOptions: join_reach must be finite and >= 0");
     if (!(join_excess >= 0.0) || !std::isfinite(join_excess))
         throw InvalidInputError("CutPlanOptions: join_excess must be finite and >= 0");
+    if (!(join_held_excess >= 0.0) || !std::isfinite(join_held_excess))
+        throw InvalidInputError("CutPlanOptions: join_held_excess must be finite and >= 0");
     if (join_rings < 0)
         throw InvalidInputError("CutPlanOptions: join_rings must be >= 0");
     if (!(aligned_min_gain >= 0.0) || !std::isfinite(aligned_min_gain))
@@ -174,6 +176,11 @@ public:
     GraphPath join(GraphPath path) override
     {
         return first() ? path : joiner_.finish(*this, std::move(path));
+    }
+
+    GraphPath join_held(GraphPath path) override
+    {
+        return first() ? path : joiner_.finish_held(*this, std::move(path));
     }
 
 private:

@@ -140,11 +140,12 @@ public:
 
     GraphPath finish(const CutStep& step, GraphPath path) override
     {
-        const CutPlanContext& context = step.context();
-        const CutPlanOptions& options = *context.options;
-        const double radius = (*context.loops)[step.outlet()].arc_length / (2.0 * M_PI);
-        return cut_back(*context.graph, path, tree_, *context.loop_of, options.join_reach * radius,
-                        options.join_excess * radius);
+        return cut_back_from(step, path, step.context().options->join_excess);
+    }
+
+    GraphPath finish_held(const CutStep& step, GraphPath path) override
+    {
+        return cut_back_from(step, path, step.context().options->join_held_excess);
     }
 
     void added(const CutStep& step, const CutPath& cut) override
@@ -160,6 +161,15 @@ public:
     }
 
 private:
+    // cut_back() of \p path within CutPlanOptions::join_reach and \p excess outlet radii.
+    GraphPath cut_back_from(const CutStep& step, const GraphPath& path, double excess)
+    {
+        const CutPlanContext& context = step.context();
+        const double radius = (*context.loops)[step.outlet()].arc_length / (2.0 * M_PI);
+        return cut_back(*context.graph, path, tree_, *context.loop_of,
+                        context.options->join_reach * radius, excess * radius);
+    }
+
     TreeDistance tree_;
 };
 

@@ -77,16 +77,18 @@ constexpr double kSearchBridge = 1.0;
 //    that wind less).
 // \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
 // more than its band); it is searched again only if it is no natural cut.
-// \p finish: the join policy's finish of a path found to the tree (CutStep::join(), e.g. the
-// cut back of CutJoin::Approach); a bounded route keeps its cut back only if it stays within
-// the bound.
+// \p finish / \p finish_held: the join policy's finish of a path found to the tree
+// (CutStep::join(), e.g. the cut back of CutJoin::Approach) and of a bounded route, which keeps
+// to its side of the vessel (CutStep::join_held()); a bounded route keeps its cut back only if
+// it stays within the bound.
 // Empty = keep \p current.
-template <class Finish>
+template <class Finish, class FinishHeld>
 std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query,
                                     const Eigen::MatrixX3d& winding_rate, const WindingMeter& meter,
                                     const GraphPath& current, bool traced,
                                     const Eigen::MatrixX3d& stream_field,
-                                    const CutPlanOptions& options, Finish finish)
+                                    const CutPlanOptions& options, Finish finish,
+                                    FinishHeld finish_held)
 {
     const Mesh& mesh = graph.mesh();
     if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
@@ -185,7 +187,7 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
             // A later cut that would run beside the tree is cut back and bridged to it
             // (CutJoin::Approach); the bridge may turn, so a bounded route keeps its cut back
             // only if it stays within the bound (else it may run beside the tree).
-            GraphPath p = finish(*bounded);
+            GraphPath p = finish_held(*bounded);
             if (std::abs(meter.measure(as_cut(mesh, p)).winding_deg) > bound.limit_deg)
                 p = std::move(*bounded);
             offer(p);
@@ -247,10 +249,11 @@ public:
         if (!step.join_narrows_ends())
             if (const WindingMeter* reader = winding_meter())
             {
-                std::optional<GraphPath> held =
-                    steer_path(*context.graph, step.query(), *context.winding_rate, *reader,
-                               cut.path, cut.traced, stream_field, options,
-                               [&step](GraphPath p) { return step.join(std::move(p)); });
+                std::optional<GraphPath> held = steer_path(
+                    *context.graph, step.query(), *context.winding_rate, *reader, cut.path,
+                    cut.traced, stream_field, options,
+                    [&step](GraphPath p) { return step.join(std::move(p)); },
+                    [&step](GraphPath p) { return step.join_held(std::move(p)); });
                 if (held)
                 {
                     cut.path = std::move(*held);

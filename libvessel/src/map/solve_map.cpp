@@ -501,8 +501,13 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     const FlatQuality reference = made_reference.get();
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
-    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
+    // The pulled map's area as last measured here: the report's pulled_area where the pulled
+    // map is kept, at full resolution as keep_area.
+    double pulled_area = summary.pulled_area;
+    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what, bool pulled) {
         const FlatQuality q = map_distortion(mesh, uv);
+        if (pulled)
+            pulled_area = q.mean_abs_log_area_normalized;
         const bool ok = within_area_bound(q, reference, options.look_retry);
         char line[200];
         std::snprintf(line, sizeof line,
@@ -524,16 +529,21 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         }
         else
             relax_further(mesh, levels, from, options, uv, result);
-        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
+        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map",
+                   pulled))
             return true;
         polish_carried(mesh, input, options, pulled, uv, result);
-        return within(uv, pulled ? "the polished pulled map" : "the polished default map");
+        return within(uv, pulled ? "the polished pulled map" : "the polished default map", pulled);
     };
-    if (within(result.uv, "the carried pulled map"))
+    if (within(result.uv, "the carried pulled map", true))
+    {
+        summary.pulled_area = pulled_area;
         return "";
+    }
     Eigen::MatrixX2d uv = result.uv;
     if (bring_within(uv, below, true))
     {
+        summary.pulled_area = pulled_area;
         result.uv = std::move(uv);
         return "";
     }
@@ -547,7 +557,7 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     summary.kept = false;
     summary.report += "; above the bound at full resolution, went back to the default map";
     result.notes.push_back("coarse-to-fine: " + summary.report);
-    if (!within(fallback.uv, "the carried default map"))
+    if (!within(fallback.uv, "the carried default map", false))
         bring_within(fallback.uv, fallback_below, false);
     result.uv = std::move(fallback.uv);
     return "";

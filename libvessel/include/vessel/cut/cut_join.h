@@ -32,6 +32,13 @@ public:
         (void)step;
         return path;
     }
+    //! \brief finish() of a path held to one side of its vessel (a winding-bounded route,
+    //! CutPlanOptions::natural_cuts): it cannot turn toward the tree where it comes near it on
+    //! another side, so it runs on beside it instead. The default is finish().
+    virtual GraphPath finish_held(const CutStep& step, GraphPath path)
+    {
+        return finish(step, std::move(path));
+    }
     //! \p cut (first or later) is now part of the cut tree.
     virtual void added(const CutStep& step, const CutPath& cut)
     {
@@ -71,7 +78,8 @@ public:
 };
 
 //! CutJoin::Approach (the default): the path cut back where it starts to run beside the tree
-//! and bridged to it (CutPlanOptions::join_reach, join_excess).
+//! and bridged to it (CutPlanOptions::join_reach, join_excess; join_held_excess for a path held
+//! to one side of its vessel).
 class ApproachJoin : public CutJoinPolicy
 {
 public:

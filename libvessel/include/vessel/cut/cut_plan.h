@@ -97,6 +97,14 @@ struct CutPlanOptions
     //! short run is kept. Fitted, not derived: 8 lies below the runs it should stop and above
     //! the tails of the Glenn tree's later cuts (docs/design.md, "Reach 4, excess 8").
     double join_excess = 8.0;
+    //! CutJoin::Approach, for a path held to one side of its vessel (a winding-bounded route of
+    //! natural_cuts; CutJoiner::finish_held()): join_excess for such a path (outlet radii,
+    //! >= 0). It cannot turn toward the tree where it comes near it on another side of the
+    //! vessel, so a run beside the tree is all it has left there, and one shorter than
+    //! join_excess is cut back too. Fitted: 4 leaves the vmtk aorta's later cut 2.9 outlet
+    //! radii beside the first, 2 none on the aorta and the SimVascular demo (docs/results.md,
+    //! "Winding of the cuts").
+    double join_held_excess = 2.0;
     //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
     //! higher by more than this (|cos| units, >= 0). Fitted, not derived: it separates the
     //! small gains of cuts that already follow their vessel from those of drifting cuts
@@ -128,11 +136,13 @@ struct CutPlanOptions
     //! end to end and in span (which bounds each piece between two joins, what the shared
     //! yardstick seamwinding.py measures). A cut that is not natural after the multiplier
     //! takes winding_bounded_path()'s route within +-winding_target_deg (or half the limit)
-    //! whatever its alignment. Off by default: the routes it takes change where later cuts
-    //! join, and with it the branch layout's look and the seam's alignment; a later cut may
-    //! run beside an earlier one (docs/results.md, "Winding of the cuts", has the figures per
-    //! real tree). CLI `--natural-cuts`.
-    bool natural_cuts = false;
+    //! whatever its alignment; a bounded route that comes near the tree on another side of the
+    //! vessel is joined to it with join_held_excess. What it costs: where a bounded route
+    //! crosses a junction or a sac (the angle is undefined there) the seam aligns a little
+    //! less with the vessel, and the routes change where later cuts join, with them the branch
+    //! layout (docs/results.md, "Winding of the cuts", has the figures per real tree and
+    //! phantom). CLI `--no-natural-cuts` turns it off.
+    bool natural_cuts = true;
     //! Where on its loop each cut starts and the first cut ends (endpoints.h); null =
     //! ImaginaryNodeEndpoints, the paper's cheapest point of the loop.
     std::shared_ptr<const EndpointPolicy> endpoints;

@@ -61,6 +61,8 @@ public:
     //! \brief The join policy's finish of a path a route found itself (a later cut; the
     //! first cut's \p path is returned as is).
     virtual GraphPath join(GraphPath path) = 0;
+    //! As join(), for a path held to one side of its vessel (CutJoiner::finish_held()).
+    virtual GraphPath join_held(GraphPath path) = 0;
     //! CutJoinPolicy::narrows_ends() of the plan's join policy.
     virtual bool join_narrows_ends() const = 0;
 };

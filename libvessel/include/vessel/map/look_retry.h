@@ -25,9 +25,10 @@ struct LookRetryOptions
     LookRetry mode = LookRetry::Auto;
     //! The redo's hinge weight (LookPullOptions::weight; the other fields of
     //! FlattenOptions::look_pull apply).
-    //! 100 restores the Glenn tree's look within the area bound (docs/overlaps.md, "The
-    //! adaptive look"). CLI `--look-retry-pull`.
-    double pull = 100.0;
+    //! 300 restores the Glenn tree's look within the area bound on its natural cuts (100 left
+    //! 10 walk inversions, above the rule's 9.5, at 1.39x `keep`'s area against 1.19x;
+    //! docs/overlaps.md, "The adaptive look"). CLI `--look-retry-pull`.
+    double pull = 300.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
     //! what the maps whose fan is visibly scrambled show (docs/overlaps.md, "The adaptive
@@ -54,7 +55,9 @@ struct LookRetrySummary
     bool tried = false;          //!< the restart was redone with the pull
     bool kept = false;           //!< the pulled map replaced the default one
     double default_area = 0.0;   //!< default map's mean |log area| (normalized)
-    double pulled_area = 0.0;    //!< pulled map's, when tried
+    //! pulled map's, when tried; after coarse-to-fine, at full resolution where it was kept
+    //! there (as keep_area), else on the coarse mesh
+    double pulled_area = 0.0;
     //! the `keep` map's, when it was computed (else 0); at full resolution after coarse-to-fine
     double keep_area = 0.0;
     MapLook default_look;        //!< the default map's look, when tried
