@@ -1,8 +1,8 @@
 #include "vessel/cut/winding_bound.h"
 
-#include "vessel/core/errors.h"
 #include "detail/path_query.h"
 #include "detail/quad_heap.h"
+#include "vessel/core/errors.h"
 
 #include <algorithm>
 #include <cmath>
@@ -103,9 +103,21 @@ std::optional<GraphPath> winding_bounded_path(
         bool settled;
     };
     std::vector<Label> labels;
-    std::unordered_map<std::int64_t, int> label_of;
-    const auto key = [&](int v, int bin) {
-        return static_cast<std::int64_t>(v) * options.bins + bin;
+    // The label of each (vertex, bin), -1 = none yet: a block of `bins` slots per vertex the
+    // search reaches, made at its first visit. Faster than a hash map once a search reaches a
+    // fair part of the mesh (as it does where no route keeps the bound near the unconstrained
+    // one), and no larger than the vertices reached.
+    const auto bins = static_cast<std::size_t>(options.bins);
+    std::vector<int> block_of(nv, -1);
+    std::vector<int> label_of;
+    const auto slot_of = [&](int v, int bin) -> int& {
+        int& block = block_of[static_cast<std::size_t>(v)];
+        if (block < 0)
+        {
+            block = static_cast<int>(label_of.size() / bins);
+            label_of.resize(label_of.size() + bins, -1);
+        }
+        return label_of[static_cast<std::size_t>(block) * bins + static_cast<std::size_t>(bin)];
     };
     std::vector<char> is_source(nv, 0);
     MinHeap heap;  // (cost + lower bound to the targets, label)
@@ -113,7 +125,7 @@ std::optional<GraphPath> winding_bounded_path(
         if (!is_source[s.idx()] && std::isfinite(to_target[s.idx()]))
         {
             is_source[s.idx()] = 1;
-            label_of.emplace(key(s.idx(), bin_of(0.0)), static_cast<int>(labels.size()));
+            slot_of(s.idx(), bin_of(0.0)) = static_cast<int>(labels.size());
             heap.push({to_target[s.idx()], static_cast<int>(labels.size())});
             const double first = turn(VertexHandle(), s, false);
             labels.push_back({0.0, 0.0, s.idx(), std::isnan(first) ? -1 : s.idx(), -1, -1, false});
@@ -143,25 +155,26 @@ std::optional<GraphPath> winding_bounded_path(
             if (is_source[w] || (any_blocked && query.is_blocked[w]) ||
                 !std::isfinite(to_target[w]))
                 continue;
-            const double step =
-                turn(VertexHandle(last_turned), VertexHandle(w), last_turned != v);
+            const double step = turn(VertexHandle(last_turned), VertexHandle(w), last_turned != v);
             const double turned = std::isnan(step) ? winding : winding + step;
             if (!(std::abs(turned) <= limit))
                 continue;
             const int reached_last = std::isnan(step) ? last_turned : w;
             const double reached = cost + a->weight;
-            const auto [it, fresh] =
-                label_of.emplace(key(w, bin_of(turned)), static_cast<int>(labels.size()));
-            if (fresh)
+            int& slot = slot_of(w, bin_of(turned));
+            if (slot < 0)
+            {
+                slot = static_cast<int>(labels.size());
                 labels.push_back({reached, turned, w, reached_last, l, a->halfedge, false});
+            }
             else
             {
-                Label& old = labels[it->second];
+                Label& old = labels[static_cast<std::size_t>(slot)];
                 if (old.settled || !(reached < old.cost))
                     continue;
                 old = {reached, turned, w, reached_last, l, a->halfedge, false};
             }
-            heap.push({reached + to_target[w], it->second});
+            heap.push({reached + to_target[w], slot});
         }
     }
     if (found < 0 || labels[found].parent < 0)
