@@ -306,8 +306,8 @@ TEST_CASE("cli: pulmonary Glenn tree, the aligned route alone (--no-natural-cuts
 TEST_CASE("cli: pulmonary Glenn tree, guided cut direction (--direction-confidence 0.6)")
 {
     // The cuts only: `--refine none` (the cuts do not depend on the map), on the aligned route
-    // alone (--no-natural-cuts). Measured 0.900 (flatcheck smoothed 0.905) against 0.865 with
-    // the paper's pure curvature field.
+    // alone (--no-natural-cuts). Measured 0.916 against 0.865 with the paper's pure curvature
+    // field.
     const auto report =
         glenn_cuts_report("glenn_guided", "--no-natural-cuts --direction-confidence 0.6");
     const double seam = report["quality"]["seam_alignment"];

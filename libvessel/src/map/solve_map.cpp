@@ -501,13 +501,12 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     const FlatQuality reference = made_reference.get();
     LookRetrySummary& summary = result.look_retry;
     summary.keep_area = reference.mean_abs_log_area_normalized;
-    // The pulled map's area as last measured here: the report's pulled_area where the pulled
-    // map is kept, at full resolution as keep_area.
-    double pulled_area = summary.pulled_area;
-    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what, bool pulled) {
+    // The area of the map within() measured last: where the pulled map is kept, the report's
+    // pulled_area (at full resolution, as keep_area).
+    double measured = 0.0;
+    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
         const FlatQuality q = map_distortion(mesh, uv);
-        if (pulled)
-            pulled_area = q.mean_abs_log_area_normalized;
+        measured = q.mean_abs_log_area_normalized;
         const bool ok = within_area_bound(q, reference, options.look_retry);
         char line[200];
         std::snprintf(line, sizeof line,
@@ -529,21 +528,20 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         }
         else
             relax_further(mesh, levels, from, options, uv, result);
-        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map",
-                   pulled))
+        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
             return true;
         polish_carried(mesh, input, options, pulled, uv, result);
-        return within(uv, pulled ? "the polished pulled map" : "the polished default map", pulled);
+        return within(uv, pulled ? "the polished pulled map" : "the polished default map");
     };
-    if (within(result.uv, "the carried pulled map", true))
+    if (within(result.uv, "the carried pulled map"))
     {
-        summary.pulled_area = pulled_area;
+        summary.pulled_area = measured;
         return "";
     }
     Eigen::MatrixX2d uv = result.uv;
     if (bring_within(uv, below, true))
     {
-        summary.pulled_area = pulled_area;
+        summary.pulled_area = measured;
         result.uv = std::move(uv);
         return "";
     }
@@ -557,7 +555,7 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     summary.kept = false;
     summary.report += "; above the bound at full resolution, went back to the default map";
     result.notes.push_back("coarse-to-fine: " + summary.report);
-    if (!within(fallback.uv, "the carried default map", false))
+    if (!within(fallback.uv, "the carried default map"))
         bring_within(fallback.uv, fallback_below, false);
     result.uv = std::move(fallback.uv);
     return "";

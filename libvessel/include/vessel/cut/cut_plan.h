@@ -101,9 +101,9 @@ struct CutPlanOptions
     //! natural_cuts; CutJoiner::finish_held()): join_excess for such a path (outlet radii,
     //! >= 0). It cannot turn toward the tree where it comes near it on another side of the
     //! vessel, so a run beside the tree is all it has left there, and one shorter than
-    //! join_excess is cut back too. Fitted: 4 leaves the vmtk aorta's later cut 2.9 outlet
-    //! radii beside the first, 2 none on the aorta and the SimVascular demo (docs/results.md,
-    //! "Winding of the cuts").
+    //! join_excess is cut back too. Fitted on the real trees: no later cut runs beside an
+    //! earlier one on the vmtk aorta and the SimVascular demo (docs/design.md, "Natural
+    //! cuts").
     double join_held_excess = 2.0;
     //! CutRoute::Aligned: the traced path replaces the cheapest one only if its alignment is
     //! higher by more than this (|cos| units, >= 0). Fitted, not derived: it separates the

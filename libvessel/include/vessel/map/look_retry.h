@@ -25,9 +25,9 @@ struct LookRetryOptions
     LookRetry mode = LookRetry::Auto;
     //! The redo's hinge weight (LookPullOptions::weight; the other fields of
     //! FlattenOptions::look_pull apply).
-    //! 300 restores the Glenn tree's look within the area bound on its natural cuts (100 left
-    //! 10 walk inversions, above the rule's 9.5, at 1.39x `keep`'s area against 1.19x;
-    //! docs/overlaps.md, "The adaptive look"). CLI `--look-retry-pull`.
+    //! Fitted on the Glenn tree's natural cuts: a weight that brings its walk inversions under
+    //! the broken-look line within the area bound (docs/overlaps.md, "The adaptive look").
+    //! CLI `--look-retry-pull`.
     double pull = 300.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
