@@ -1230,12 +1230,38 @@ TEST_CASE("cli: a batch's mesh processes ask glibc's malloc for huge pages unles
     CHECK(env({}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
 }
 
+TEST_CASE("cli: the memory watchdog stops the admitted mesh furthest above its estimate, not one "
+          "waiting for room")
+{
+    using vessel::cli::process_to_stop;
+    using vessel::cli::WatchedMemory;
+    // resident {total, own} MB, estimate, admitted; 20 MB of program pages shared by all.
+    const WatchedMemory carotid{{170.0, 150.0}, 164.0, true};  // 6 MB above its estimate
+    const WatchedMemory artery{{40.0, 20.0}, 36.0, true};      // 4 MB above
+    const WatchedMemory waiting{{35.0, 15.0}, 0.0, false};     // its mesh read, 35 above "0"
+    // Within the cap: nobody is stopped (150 + 20 + 20 shared = 190 MB).
+    CHECK(process_to_stop({carotid, artery}, 190.0) == -1);
+    // Above it the admitted mesh furthest above its estimate is stopped, whatever its size.
+    CHECK(process_to_stop({carotid, artery}, 189.0) == 0);
+    CHECK(process_to_stop({artery, carotid}, 189.0) == 1);
+    // A mesh waiting for room is never the one stopped while an admitted mesh runs, even when
+    // the admitted one is below its estimate ...
+    const WatchedMemory below{{160.0, 140.0}, 164.0, true};
+    CHECK(process_to_stop({waiting, below}, 170.0) == 1);
+    CHECK(process_to_stop({below, waiting}, 170.0) == 0);
+    // ... and alone above the cap (its mesh does not fit even read) it is.
+    CHECK(process_to_stop({waiting}, 30.0) == 0);
+    CHECK(process_to_stop({waiting}, 35.0) == -1);
+    CHECK(process_to_stop({}, 0.0) == -1);
+}
+
 TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap, the others go on")
 {
     // The estimate is for the default options; mapped at full resolution (--coarse-vertices 0)
     // with Ceres's ARAP a 45k-triangle carotid needs more (191 MB for most of its run against
     // an estimate of 164 here), so a cap between the two admits it and must stop it. The small
-    // artery beside it is flattened.
+    // artery before it is flattened. One mesh at a time (--jobs 1): with the artery's process
+    // beside it the batch could pass the cap while the carotid alone is still below it.
     const auto dir = temp_dir("cli_batch_watchdog");
     fs::create_directories(dir + "/in");
     fs::copy_file(std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply", dir + "/in/a.ply");
@@ -1245,7 +1271,7 @@ TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap
     write_mesh(carotid, dir + "/in/b.ply");
     const double estimate = vessel::cli::estimated_peak_mb(carotid.n_faces());
     const double cap = estimate + 12.0;
-    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/out -q --coarse-vertices 0 " +
+    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/out -q --jobs 1 --coarse-vertices 0 " +
               "--arap-solver ceres --batch-memory " + std::to_string(cap) + " 2> " + dir +
               "/err.txt") == 1);
     const auto rows = read_csv_rows(dir + "/out/summary.csv");

@@ -25,8 +25,8 @@ struct BatchOptions
     //! machine's memory. Each mesh is admitted by estimated_peak_mb() (memory_budget.h): one whose
     //! estimate is above the cap is refused before it is flattened, one that fits waits until
     //! the running meshes leave it room, so that large meshes run one after the other. Whenever
-    //! the running meshes' processes use more than the cap, the one furthest above its estimate
-    //! is stopped (a `failed` row that says so; MemoryWatchdog).
+    //! the running meshes' processes use more than the cap, the admitted one furthest above its
+    //! estimate is stopped (a `failed` row that says so; MemoryWatchdog).
     double memory_mb = 0.0;
     //! The vessel-flatten command line (argv) of the batch: each mesh runs in a process of its
     //! own, `COMMAND --batch-case FILE NAME` (run_batch_case()), so that the memory cap is held

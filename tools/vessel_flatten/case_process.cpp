@@ -233,7 +233,9 @@ void MemoryWatchdog::watch(pid_t pid)
 void MemoryWatchdog::admit(pid_t pid, double estimate_mb)
 {
     std::lock_guard<std::mutex> lock(mutex_);
-    watched_[pid].estimate_mb = estimate_mb;
+    Watched& w = watched_[pid];
+    w.estimate_mb = estimate_mb;
+    w.admitted = true;
 }
 
 MemoryWatchdog::Verdict MemoryWatchdog::forget(pid_t pid)
@@ -250,33 +252,57 @@ MemoryWatchdog::Verdict MemoryWatchdog::forget(pid_t pid)
 void MemoryWatchdog::run()
 {
     std::unique_lock<std::mutex> lock(mutex_);
+    std::vector<pid_t> pids;
+    std::vector<WatchedMemory> looks;
     while (!stop_.wait_for(lock, period_, [this] { return stopping_; }))
     {
-        // The processes' own pages, and the pages they share (the program and its libraries, the
-        // same file pages in every process) once.
-        double own = 0.0, shared = 0.0, worst_excess = -1e300, worst_mb = 0.0;
-        pid_t worst = -1;
-        int running = 0;
+        pids.clear();
+        looks.clear();
         for (const auto& [pid, w] : watched_)
         {
             if (w.verdict.killed)
                 continue;
-            const Resident r = resident_mb(pid);
-            ++running;
-            own += r.own_mb;
-            shared = std::max(shared, r.total_mb - r.own_mb);
-            if (r.total_mb - w.estimate_mb > worst_excess)
-            {
-                worst_excess = r.total_mb - w.estimate_mb;
-                worst = pid;
-                worst_mb = r.total_mb;
-            }
+            pids.push_back(pid);
+            looks.push_back({resident_mb(pid), w.estimate_mb, w.admitted});
         }
-        if (worst < 0 || own + shared <= cap_mb_)
+        const int stop = process_to_stop(looks, cap_mb_);
+        if (stop < 0)
             continue;
-        ::kill(worst, SIGKILL);
-        watched_[worst].verdict = {true, worst_mb, running - 1};
+        ::kill(pids[stop], SIGKILL);
+        watched_[pids[stop]].verdict = {true, looks[stop].resident.total_mb,
+                                        static_cast<int>(looks.size()) - 1};
     }
+}
+
+int process_to_stop(const std::vector<WatchedMemory>& processes, double cap_mb)
+{
+    // The processes' own pages, and the pages they share (the program and its libraries, the
+    // same file pages in every process) once.
+    double own = 0.0, shared = 0.0;
+    for (const WatchedMemory& p : processes)
+    {
+        own += p.resident.own_mb;
+        shared = std::max(shared, p.resident.total_mb - p.resident.own_mb);
+    }
+    if (own + shared <= cap_mb)
+        return -1;
+    const bool any_admitted = std::any_of(processes.begin(), processes.end(),
+                                          [](const WatchedMemory& p) { return p.admitted; });
+    int worst = -1;
+    double worst_excess = 0.0;
+    for (int i = 0; i < static_cast<int>(processes.size()); ++i)
+    {
+        const WatchedMemory& p = processes[i];
+        if (p.admitted != any_admitted)
+            continue;
+        const double excess = p.resident.total_mb - p.estimate_mb;
+        if (worst < 0 || excess > worst_excess)
+        {
+            worst = i;
+            worst_excess = excess;
+        }
+    }
+    return worst;
 }
 
 }  // namespace vessel::cli

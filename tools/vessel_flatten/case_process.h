@@ -76,11 +76,24 @@ struct Resident
 //! The resident memory of process \p pid; zeros if it has ended.
 Resident resident_mb(pid_t pid);
 
+//! One watched process at a look of the MemoryWatchdog.
+struct WatchedMemory
+{
+    Resident resident;
+    double estimate_mb = 0;  //!< what it was admitted with
+    bool admitted = false;   //!< false while it waits for room in the budget, its mesh read
+};
+
+//! The process to stop when \p processes together use more than \p cap_mb (each one's own
+//! pages, plus the shared pages of the program and its libraries once), or -1 while they fit:
+//! the admitted process furthest above its estimate, the mesh that needs more than it said. A
+//! process waiting for admission holds only its mesh and will run within the budget, so it is
+//! stopped only when no admitted process runs (its mesh alone is above the cap).
+int process_to_stop(const std::vector<WatchedMemory>& processes, double cap_mb);
+
 //! Watches the resident memory of the batch's processes every \p period and, whenever they use
-//! more than the cap together (each one's own pages, plus the shared pages of the program and
-//! its libraries once), kills the one furthest above its estimate (a process not yet admitted
-//! counts with an estimate of 0): the mesh that needs more than it said is stopped, the
-//! others go on. Thread-safe.
+//! more than the cap together, kills the one process_to_stop() names: the others go on.
+//! Thread-safe.
 class MemoryWatchdog
 {
 public:
@@ -109,6 +122,7 @@ private:
     struct Watched
     {
         double estimate_mb = 0;
+        bool admitted = false;
         Verdict verdict;
     };
     double cap_mb_;
