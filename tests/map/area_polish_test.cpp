@@ -124,7 +124,8 @@ TEST_CASE("area polish: under --overlaps keep the map is polished without a scaf
     CHECK(keep.quality.mean_abs_log_area < flatten_tree3(false, OverlapPolicy::Keep).quality.mean_abs_log_area);
 }
 
-TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one and Newton ends lower")
+TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one and Newton gets as "
+          "low in fewer iterations")
 {
     const FlattenResult plain = flatten_tree3(false);
     AreaPolishOptions lbfgs;
@@ -140,7 +141,15 @@ TEST_CASE("area polish: Newton steps and L-BFGS both keep the map one-to-one and
     }
     CHECK(newton_run.report.find("Newton steps") != std::string::npos);
     CHECK(lbfgs_run.report.find("L-BFGS iterations") != std::string::npos);
-    CHECK(newton_run.energy_after <= lbfgs_run.energy_after);
+    // Both stop once a chunk gains less than `tolerance` of the energy's excess over the
+    // isometric minimum (2 x the surface area): Newton ends as low as L-BFGS within that rule
+    // (which of two such ends is lower is rounding: measured 2394.81 against 2394.80 on one
+    // machine, the other way on another), in a fraction of the iterations.
+    const double minimum = 2.0 * face_areas(plain.mesh).sum();
+    CHECK(newton_run.energy_after <=
+          lbfgs_run.energy_after +
+              AreaPolishOptions().tolerance * (lbfgs_run.energy_after - minimum));
+    CHECK(newton_run.iterations < lbfgs_run.iterations);
     CHECK(newton_run.iterations <= AreaPolishOptions().newton_max_iterations);
     for (const Eigen::MatrixX2d* uv : {&by_newton, &by_lbfgs})
         CHECK(boundary_self_intersection(plain.mesh, *uv).first == -1);

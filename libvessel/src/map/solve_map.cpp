@@ -12,6 +12,7 @@
 #include "vessel/map/centre_pull.h"
 #include "vessel/map/embedding.h"
 #include "vessel/map/lscm.h"
+#include "vessel/map/map_look.h"
 #include "vessel/map/multilevel.h"
 #include "vessel/map/spectral.h"
 #include "vessel/map/untangle.h"
@@ -533,13 +534,26 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         polish_carried(mesh, input, options, pulled, uv, result);
         return within(uv, pulled ? "the polished pulled map" : "the polished default map");
     };
-    if (within(result.uv, "the carried pulled map"))
+    // The carry and the relaxation lower the area without the pulls, and can break the look
+    // the retry made on the coarse mesh (pulmonary Glenn: 5 walk inversions on the coarse mesh,
+    // 8 to 10 at full resolution, with the floating-point rounding of the BLAS kernels): a kept
+    // pulled map whose look is broken is polished with the pulls (whose hinges cost nothing
+    // where the look holds) and kept if it is then within the bound.
+    const auto mend_look = [&](Eigen::MatrixX2d& uv) {
+        if (!options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed)))
+            return true;
+        result.notes.push_back("coarse-to-fine: look retry at full resolution: the carry broke "
+                               "the pulled map's look; polished with the pulls");
+        polish_carried(mesh, input, options, true, uv, result);
+        return within(uv, "the polished pulled map");
+    };
+    if (within(result.uv, "the carried pulled map") && mend_look(result.uv))
     {
         summary.pulled_area = measured;
         return "";
     }
     Eigen::MatrixX2d uv = result.uv;
-    if (bring_within(uv, below, true))
+    if (bring_within(uv, below, true) && mend_look(uv))
     {
         summary.pulled_area = measured;
         result.uv = std::move(uv);
@@ -611,7 +625,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     // The look retry's reference at full resolution (recheck_look_retry()), made on the second
     // core from when the retry starts on the coarse mesh, through the carry: it depends on the
     // fine mesh alone. Where the retry does not keep its pulled map it is not used: it is then
-    // stopped at its solvers' next iteration (cancellable()), not waited for to its end.
+    // stopped at its solvers' next iteration (cancellable()) as soon as the coarse retry has
+    // decided, not waited for to its end.
     std::atomic<bool> cancel_reference{false};
     std::future<FlatQuality> reference;
     const StopAhead stop_reference{[&] { cancel_reference = true; }};
@@ -628,6 +643,10 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     Eigen::MatrixX2d unpulled;
     at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
                                    &unpulled, start_reference);
+    // A retry that did not keep its pulled map needs no reference: stopped now, not when this
+    // function returns, so that it does not share the cores with the carry it would not serve.
+    if (!solved.look_retry.kept)
+        cancel_reference = true;
     char line[200];
     std::snprintf(line, sizeof line,
                   "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",

@@ -169,7 +169,17 @@ Eigen::MatrixX2d spectral_conformal(const Mesh& mesh, const SpectralConformalOpt
                                                                               : "not computed") +
                           " after " + std::to_string(eigs.num_iterations()) +
                           " restarts); raise max_iterations or tolerance");
-    const Eigen::VectorXd x = eigs.eigenvectors().col(0);
+    // One step of inverse iteration with the same shift (Golub and Van Loan, Matrix
+    // Computations, 4th ed., 7.6.1): Spectra stops when the Ritz values settle to its tolerance,
+    // while the Ritz vector can still hold a part of the next eigenvectors of the order of the
+    // square root of it; one more solve divides that part by (lambda_3 - sigma) / (lambda_1 -
+    // sigma), about 1e6 here, and stays in the wanted pair's plane (their shifted eigenvalues
+    // are equal).
+    Eigen::VectorXd x(2 * n);
+    {
+        const Eigen::VectorXd b_ritz = mass.cwiseProduct(eigs.eigenvectors().col(0));
+        op.perform_op(b_ritz.data(), x.data());
+    }
 
     Eigen::MatrixX2d uv(n, 2);
     uv.col(0) = x.head(n);
