@@ -639,9 +639,16 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                 input, placed, &cancel_reference);
         });
     };
+    // On the coarse mesh the retry's area bound is an early exit: the bound itself is held at
+    // full resolution (recheck_look_retry()). It refuses there only a pulled map clearly above
+    // the bound, by more than the coarse ratio moves with rounding alone (pulmonary Glenn:
+    // 1.42 to 1.451 with the BLAS kernels of different CPUs, docs/overlaps.md "Rounding").
+    constexpr double kCoarseAreaMargin = 1.05;
+    FlattenOptions coarse_options = options;
+    coarse_options.look_retry.max_area_over_keep *= kCoarseAreaMargin;
     FlattenResult solved;
     Eigen::MatrixX2d unpulled;
-    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
+    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, coarse_options, solved,
                                    &unpulled, start_reference);
     // A retry that did not keep its pulled map needs no reference: stopped now, not when this
     // function returns, so that it does not share the cores with the carry it would not serve.

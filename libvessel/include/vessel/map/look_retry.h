@@ -37,9 +37,10 @@ struct LookRetryOptions
     //! The pulled map is kept only if its mean |log area| (both FlatQuality measures) is at
     //! most this factor times that of the unconstrained map (`--overlaps keep`, computed for the
     //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
-    //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh and
-    //! the bound is checked again at full resolution against the fine mesh's `keep` map: the
-    //! coarse mesh's areas do not say it. A carried map above it is relaxed further, then
+    //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh,
+    //! where this bound plus 5% (the coarse ratio moves by that much with rounding alone) only
+    //! refuses maps clearly above it, and the bound is checked at full resolution against the
+    //! fine mesh's `keep` map: the coarse mesh's areas do not say it. A carried map above it is relaxed further, then
     //! polished, then given up for the default map (docs/benchmarks.md "The look retry at full
     //! resolution"). CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
