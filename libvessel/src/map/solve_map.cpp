@@ -535,10 +535,9 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         return within(uv, pulled ? "the polished pulled map" : "the polished default map");
     };
     // The carry and the relaxation lower the area without the pulls, and can break the look
-    // the retry made on the coarse mesh (pulmonary Glenn: 5 walk inversions on the coarse mesh,
-    // 8 to 10 at full resolution, with the floating-point rounding of the BLAS kernels): a kept
-    // pulled map whose look is broken is polished with the pulls (whose hinges cost nothing
-    // where the look holds) and kept if it is then within the bound.
+    // the retry made on the coarse mesh (docs/overlaps.md, "Rounding"): a kept pulled map whose
+    // look is broken is polished with the pulls (whose hinges cost nothing where the look
+    // holds) and kept if it is then within the bound.
     const auto mend_look = [&](Eigen::MatrixX2d& uv) {
         if (!options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed)))
             return true;
@@ -641,8 +640,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     };
     // On the coarse mesh the retry's area bound is an early exit: the bound itself is held at
     // full resolution (recheck_look_retry()). It refuses there only a pulled map clearly above
-    // the bound, by more than the coarse ratio moves with rounding alone (pulmonary Glenn:
-    // 1.42 to 1.451 with the BLAS kernels of different CPUs, docs/overlaps.md "Rounding").
+    // the bound, by more than the coarse ratio moves with rounding alone (the BLAS kernels of
+    // different CPUs; docs/overlaps.md, "Rounding").
     constexpr double kCoarseAreaMargin = 1.05;
     FlattenOptions coarse_options = options;
     coarse_options.look_retry.max_area_over_keep *= kCoarseAreaMargin;

@@ -173,8 +173,8 @@ Eigen::MatrixX2d spectral_conformal(const Mesh& mesh, const SpectralConformalOpt
     // Computations, 4th ed., 7.6.1): Spectra stops when the Ritz values settle to its tolerance,
     // while the Ritz vector can still hold a part of the next eigenvectors of the order of the
     // square root of it; one more solve divides that part by (lambda_3 - sigma) / (lambda_1 -
-    // sigma), about 1e6 here, and stays in the wanted pair's plane (their shifted eigenvalues
-    // are equal).
+    // sigma), large for the small shift sigma, and stays in the wanted pair's plane (their
+    // shifted eigenvalues are equal).
     Eigen::VectorXd x(2 * n);
     {
         const Eigen::VectorXd b_ritz = mass.cwiseProduct(eigs.eigenvectors().col(0));
