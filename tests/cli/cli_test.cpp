@@ -1271,9 +1271,9 @@ TEST_CASE("cli: a batch stops a mesh whose process uses more memory than the cap
     write_mesh(carotid, dir + "/in/b.ply");
     const double estimate = vessel::cli::estimated_peak_mb(carotid.n_faces());
     const double cap = estimate + 12.0;
-    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir + "/out -q --jobs 1 --coarse-vertices 0 " +
-              "--arap-solver ceres --batch-memory " + std::to_string(cap) + " 2> " + dir +
-              "/err.txt") == 1);
+    CHECK(run(kFlatten + " --batch " + dir + "/in -o " + dir +
+              "/out -q --jobs 1 --coarse-vertices 0 --arap-solver ceres --batch-memory " +
+              std::to_string(cap) + " 2> " + dir + "/err.txt") == 1);
     const auto rows = read_csv_rows(dir + "/out/summary.csv");
     REQUIRE(rows.size() == 3);
     CHECK(rows[1][1] == "ok");

@@ -529,7 +529,8 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         }
         else
             relax_further(mesh, levels, from, options, uv, result);
-        if (within(uv, pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
+        if (within(uv,
+                   pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
             return true;
         polish_carried(mesh, input, options, pulled, uv, result);
         return within(uv, pulled ? "the polished pulled map" : "the polished default map");

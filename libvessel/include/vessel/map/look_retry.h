@@ -40,9 +40,9 @@ struct LookRetryOptions
     //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh,
     //! where this bound plus 5% (the coarse ratio moves by that much with rounding alone) only
     //! refuses maps clearly above it, and the bound is checked at full resolution against the
-    //! fine mesh's `keep` map: the coarse mesh's areas do not say it. A carried map above it is relaxed further, then
-    //! polished, then given up for the default map (docs/benchmarks.md "The look retry at full
-    //! resolution"). CLI `--look-retry-area`.
+    //! fine mesh's `keep` map: the coarse mesh's areas do not say it. A carried map above it is
+    //! relaxed further, then polished, then given up for the default map (docs/benchmarks.md
+    //! "The look retry at full resolution"). CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
     //! \brief Whether \p look is broken by the rule above.
     bool look_broken(const MapLook& look) const;
