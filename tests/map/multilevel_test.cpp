@@ -137,6 +137,19 @@ TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips no
     CHECK(flat_quality(mesh, uv).mean_abs_log_area < before);
 }
 
+namespace {
+
+// Options under which relax_area() makes exactly 6 sweeps (no early stop).
+MultilevelOptions six_sweeps()
+{
+    MultilevelOptions options;
+    options.relax_sweeps = 6;
+    options.tolerance = 0.0;
+    return options;
+}
+
+}  // namespace
+
 TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the sweeps alone")
 {
     // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel
@@ -148,9 +161,7 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     REQUIRE(test::count_flips(mesh, carried) == 0);
     const VertexHandle held = test::boundary_vertices(mesh).front();
     const Pins pins = {{held, carried.row(held.idx()).transpose()}};
-    MultilevelOptions options;
-    options.relax_sweeps = 6;
-    options.tolerance = 0.0;  // every sweep made
+    MultilevelOptions options = six_sweeps();
     Eigen::MatrixX2d alone = carried;
     options.coarse_corrections = 0;
     const RelaxSummary swept = relax_area(mesh, alone, pins, 0.99, options, &coarse, &coarse_uv);
@@ -177,6 +188,59 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     const Eigen::MatrixX2d other_uv = coarse_map(other.mesh);
     CHECK_THROWS_AS(relax_area(mesh, uv, pins, 0.99, options, &other, &other_uv), InvalidInputError);
     options.coarse_corrections = -1;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+}
+
+TEST_CASE("multilevel: corrections solved iteratively over two levels lower the energy as the "
+          "factorized ones do")
+{
+    // A cut cylinder carried up two levels; on the finest, the same relaxation with the
+    // corrections' system factorized, and solved by conjugate gradients with V-cycles over the
+    // coarser level and the one below it (direct_correction_vertices 0).
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
+    const std::vector<CoarseMesh> levels = coarsen_levels(mesh, 150, {});
+    REQUIRE(levels.size() >= 2);
+    const Eigen::MatrixX2d below_uv = coarse_map(levels[1].mesh);
+    Eigen::MatrixX2d coarser_uv = prolongate(levels[0].mesh, levels[1], below_uv, 0.99);
+    REQUIRE(test::count_flips(levels[0].mesh, coarser_uv) == 0);
+    const Eigen::MatrixX2d carried = prolongate(mesh, levels[0], coarser_uv, 0.99);
+    REQUIRE(test::count_flips(mesh, carried) == 0);
+    const VertexHandle held = test::boundary_vertices(mesh).front();
+    const Pins pins = {{held, carried.row(held.idx()).transpose()}};
+    MultilevelOptions options = six_sweeps();
+    options.coarse_corrections = 0;
+    Eigen::MatrixX2d alone = carried;
+    const RelaxSummary swept =
+        relax_area(mesh, alone, pins, 0.99, options, &levels[0], &coarser_uv);
+    options.coarse_corrections = 3;
+    Eigen::MatrixX2d factorized = carried;
+    const RelaxSummary direct = relax_area(mesh, factorized, pins, 0.99, options, &levels[0],
+                                           &coarser_uv, true, &levels[1], &below_uv);
+    options.direct_correction_vertices = 0;
+    Eigen::MatrixX2d iterated = carried;
+    const RelaxSummary iterative = relax_area(mesh, iterated, pins, 0.99, options, &levels[0],
+                                              &coarser_uv, true, &levels[1], &below_uv);
+    const double minimum = 2.0 * face_areas(mesh).sum();
+    MESSAGE("energy / minimum: carried " << swept.energy_before / minimum << ", sweeps alone "
+                                         << swept.energy_after / minimum << ", factorized "
+                                         << direct.energy_after / minimum << ", iterative "
+                                         << iterative.energy_after / minimum);
+    CHECK(iterative.corrections == 3);
+    // The iterative steps are not the factorized ones, but they remove most of what the sweeps
+    // leave, as those do.
+    CHECK(direct.energy_after - minimum < 0.9 * (swept.energy_after - minimum));
+    CHECK(iterative.energy_after - minimum < 0.9 * (swept.energy_after - minimum));
+    CHECK(iterative.energy_after - minimum < 1.25 * (direct.energy_after - minimum));
+    CHECK(test::count_flips(mesh, iterated) == 0);
+    CHECK(boundary_self_intersection(mesh, iterated).first < 0);
+    CHECK((iterated.row(held.idx()) - carried.row(held.idx())).norm() == 0.0);
+
+    // A level below that is not the coarser level's is refused; so is a negative threshold.
+    Eigen::MatrixX2d uv = carried;
+    CHECK_THROWS_AS(relax_area(mesh, uv, pins, 0.99, options, &levels[0], &coarser_uv, true,
+                               &levels[0], &coarser_uv),
+                    InvalidInputError);
+    options.direct_correction_vertices = -1;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
 }
 

@@ -45,13 +45,26 @@ Eigen::SparseMatrix<double> galerkin_operator(
     const std::vector<FaceOperator>& faces, const std::vector<int>& slot, const double* x,
     double lambda, const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation);
 
+//! The coarse step's system C d = -P^T g (C the Galerkin operator, some unknowns held at 0) is
+//! solved either by a sparse Cholesky factorization of C, made again whenever a step holds more
+//! unknowns, or, given the interpolation P2 of a level below the coarse one, iteratively:
+//! conjugate gradients over the free unknowns, preconditioned by a V-cycle (symmetric
+//! Gauss-Seidel sweeps on C around an exact solve of P2^T C P2 with a stiff spring on each held
+//! unknown; Briggs, Henson and McCormick 2000, "A multigrid tutorial", ch. 3 and 10). A
+//! factorization's fill grows faster than C, so on the largest meshes it dominates the
+//! relaxation; the iterative solve costs a few sweeps over C's entries plus the factorization of
+//! an operator a quarter as large, and holding more unknowns refactorizes only that one
+//! (docs/benchmarks.md "Coarse-to-fine").
 class CoarseCorrection
 {
 public:
     //! \p faces: the fine mesh's; \p interpolation from coarse_interpolation(); \p pinned per
-    //! fine vertex (>= 0: held).
+    //! fine vertex (>= 0: held). \p below: empty, or the interpolation of a level below the
+    //! coarse one (coarse_interpolation() of that level into the coarse level's map; 2|V_coarse|
+    //! rows): the system is then solved iteratively.
     CoarseCorrection(const std::vector<FaceOperator>& faces, Eigen::SparseMatrix<double> interpolation,
-                     const std::vector<int>& pinned, double lambda);
+                     const std::vector<int>& pinned, double lambda,
+                     Eigen::SparseMatrix<double> below = {});
 
     //! One correction of the map x (interleaved), whose energy is \p current (updated).
     //! Returns the energy lowered (0: no admissible step; x unchanged). \p guard null: the
@@ -67,14 +80,28 @@ private:
     PairedCholmod solver_;
     // Holds the coarse unknowns that interpolate fine vertex v; returns how many were not yet.
     int hold_around(int v, std::vector<char>& held) const;
-    // Factorizes the coarse operator with the held unknowns fixed.
+    // Factorizes the coarse operator with the held unknowns fixed (the direct solve), or, with
+    // a level below, that level's operator with the held unknowns' springs.
     void factorize();
+    // The coarse step for the right-hand side \p rhs (held entries 0).
+    Eigen::VectorXd solve(const Eigen::VectorXd& rhs);
+    // One V-cycle on C d = rhs from d = 0.
+    Eigen::VectorXd v_cycle(const Eigen::VectorXd& rhs);
+    // A Gauss-Seidel sweep on full_ d = rhs, over the unknowns in increasing or decreasing order.
+    void sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const;
 
     Eigen::SparseMatrix<double> coarse_;  // the coarse operator (upper triangle), once computed
     Eigen::SparseMatrix<double> system_;  // coarse_ with the held unknowns' rows made identity
     double mean_diagonal_ = 1.0;
     std::vector<char> held_;  // per coarse unknown
     bool analysed_ = false;
+    // The V-cycle's: the interpolation from the level below, C stored whole (both triangles,
+    // for the sweeps), and the level below's operator P2^T C P2 (upper triangle).
+    Eigen::SparseMatrix<double> below_;
+    Eigen::SparseMatrix<double> full_;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> below_rows_;  // below_ by rows
+    Eigen::SparseMatrix<double> below_base_;      // P2^T C P2 (upper), without the springs
+    Eigen::SparseMatrix<double> below_operator_;  // with the held unknowns' springs
 };
 
 }  // namespace vessel::detail

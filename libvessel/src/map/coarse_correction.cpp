@@ -258,8 +258,13 @@ std::vector<int> free_slots(const std::vector<int>& pinned)
 
 CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
                                    Eigen::SparseMatrix<double> interpolation,
-                                   const std::vector<int>& pinned, double lambda)
-    : faces_(faces), P_(std::move(interpolation)), slot_(free_slots(pinned)), lambda_(lambda)
+                                   const std::vector<int>& pinned, double lambda,
+                                   Eigen::SparseMatrix<double> below)
+    : faces_(faces),
+      P_(std::move(interpolation)),
+      slot_(free_slots(pinned)),
+      lambda_(lambda),
+      below_(std::move(below))
 {
     // A pinned vertex does not move: its rows of P are emptied.
     P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned[r / 2] < 0; });
@@ -281,6 +286,43 @@ int CoarseCorrection::hold_around(int v, std::vector<char>& held) const
 
 void CoarseCorrection::factorize()
 {
+    if (below_.size() > 0)
+    {
+        // The V-cycle: the sweeps skip the held unknowns; the level below's operator is
+        // P2^T C P2 (upper triangle) plus, per held unknown i, a stiff spring
+        // kSpring x mean_diagonal_ x (P2 row i)^T (P2 row i). Without the springs the level
+        // below moves the held unknowns, and zeroing them afterwards undoes most of its
+        // correction (the cycle then diverged on the carotid phantoms); where no pin holds the
+        // map they also fix its translations, which would leave P2^T C P2 singular. A spring
+        // joins the vertices of one triangle of the level below: the pattern stays.
+        constexpr double kSpring = 1e4;
+        if (!analysed_)
+        {
+            full_ = coarse_.selfadjointView<Eigen::Upper>();
+            Eigen::SparseMatrix<double> product = below_.transpose() * full_ * below_;
+            below_base_ = product.triangularView<Eigen::Upper>();
+            for (Eigen::Index c = 0; c < below_base_.cols(); ++c)
+                below_base_.coeffRef(c, c) += 1e-8 * mean_diagonal_;
+            below_base_.makeCompressed();
+            below_rows_ = below_;
+        }
+        below_operator_ = below_base_;
+        for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(held_.size()); ++i)
+            if (held_[i])
+                for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a(below_rows_, i); a; ++a)
+                    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator b(below_rows_, i); b; ++b)
+                        if (a.col() <= b.col())
+                            below_operator_.coeffRef(a.col(), b.col()) +=
+                                kSpring * mean_diagonal_ * a.value() * b.value();
+        if (!analysed_)
+        {
+            solver_.analyze_pairs(below_operator_);
+            analysed_ = true;
+        }
+        if (solver_.info() == Eigen::Success)
+            solver_.factorize(below_operator_);
+        return;
+    }
     // Held unknowns become identity rows with a zero right-hand side, so the pattern stays that
     // of the analysis.
     system_ = coarse_;
@@ -299,6 +341,93 @@ void CoarseCorrection::factorize()
     }
     if (solver_.info() == Eigen::Success)
         solver_.factorize(system_);
+}
+
+void CoarseCorrection::sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const
+{
+    // C is symmetric: column i holds row i.
+    const Eigen::Index n = full_.cols();
+    for (Eigen::Index k = 0; k < n; ++k)
+    {
+        const Eigen::Index i = forward ? k : n - 1 - k;
+        if (held_[i])
+            continue;
+        double sum = rhs[i], diagonal = 0.0;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(full_, i); it; ++it)
+        {
+            if (it.row() == i)
+                diagonal = it.value();
+            else
+                sum -= it.value() * d[it.row()];
+        }
+        if (diagonal > 0.0)
+            d[i] = sum / diagonal;
+    }
+}
+
+Eigen::VectorXd CoarseCorrection::v_cycle(const Eigen::VectorXd& rhs)
+{
+    // Symmetric smoothing (forward before the level below's correction, backward after it)
+    // keeps the cycle a symmetric positive definite approximation of C's inverse, so that the
+    // step it gives descends (Briggs, Henson and McCormick 2000, ch. 3).
+    constexpr int kSmoothing = 2;
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(rhs.size());
+    for (int s = 0; s < kSmoothing; ++s)
+        sweep(rhs, d, true);
+    Eigen::VectorXd residual = rhs - full_ * d;
+    for (Eigen::Index c = 0; c < residual.size(); ++c)
+        if (held_[c])
+            residual[c] = 0.0;
+    d += below_ * solver_.solve(below_.transpose() * residual);
+    for (Eigen::Index c = 0; c < d.size(); ++c)
+        if (held_[c])
+            d[c] = 0.0;
+    for (int s = 0; s < kSmoothing; ++s)
+        sweep(rhs, d, false);
+    return d;
+}
+
+Eigen::VectorXd CoarseCorrection::solve(const Eigen::VectorXd& rhs)
+{
+    if (below_.size() == 0)
+        return solver_.solve(rhs);
+    // Conjugate gradients on C restricted to the free unknowns, preconditioned by one V-cycle
+    // (symmetric positive definite: symmetric smoothing around an exact solve below). Two
+    // iterations: the step is line searched on the energy anyway, and further iterations cost
+    // more than the steps they improve (docs/benchmarks.md "Coarse-to-fine").
+    constexpr int kIterations = 2;
+    constexpr double kTolerance = 0.05;  // of the first residual's norm
+    const auto free_part = [&](Eigen::VectorXd& y) {
+        for (Eigen::Index c = 0; c < y.size(); ++c)
+            if (held_[c])
+                y[c] = 0.0;
+    };
+    Eigen::VectorXd d = Eigen::VectorXd::Zero(rhs.size());
+    Eigen::VectorXd r = rhs;
+    free_part(r);
+    const double r0 = r.norm();
+    Eigen::VectorXd z = v_cycle(r);
+    Eigen::VectorXd p = z;
+    double rz = r.dot(z);
+    int it = 0;
+    for (; it < kIterations && rz > 0.0; ++it)
+    {
+        Eigen::VectorXd Ap = full_ * p;
+        free_part(Ap);
+        const double curvature = p.dot(Ap);
+        if (!(curvature > 0.0))
+            break;
+        const double alpha = rz / curvature;
+        d += alpha * p;
+        r -= alpha * Ap;
+        if (!(r.norm() > kTolerance * r0))
+            break;
+        z = v_cycle(r);
+        const double next = r.dot(z);
+        p = z + (next / rz) * p;
+        rz = next;
+    }
+    return d;
 }
 
 double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, BoundaryGuard* guard,
@@ -342,7 +471,7 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         for (Eigen::Index c = 0; c < m2; ++c)
             if (held_[c])
                 rhs[c] = 0.0;
-        const Eigen::VectorXd direction = P_ * solver_.solve(rhs);
+        const Eigen::VectorXd direction = P_ * solve(rhs);
         const double slope = gradient.dot(direction);
         if (!direction.allFinite() || !(slope < 0.0))
             return 0.0;

@@ -25,6 +25,9 @@ void MultilevelOptions::validate() const
     if (coarse_corrections < 0)
         throw InvalidInputError("MultilevelOptions: coarse_corrections must be >= 0, got " +
                                 std::to_string(coarse_corrections));
+    if (direct_correction_vertices < 0)
+        throw InvalidInputError("MultilevelOptions: direct_correction_vertices must be >= 0, got " +
+                                std::to_string(direct_correction_vertices));
     if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
         throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
                                 std::to_string(tolerance));

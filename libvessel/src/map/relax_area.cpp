@@ -21,7 +21,8 @@ namespace vessel {
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options,
                         const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv,
-                        bool keep_boundary_simple)
+                        bool keep_boundary_simple, const CoarseMesh* below,
+                        const Eigen::MatrixX2d* below_uv)
 {
     options.validate();
     if (uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
@@ -79,9 +80,24 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                                     std::to_string(coarser->mesh.n_vertices()) +
                                     " coarse vertices) does not match the mesh of " +
                                     std::to_string(n) + " vertices and its map");
+        Eigen::SparseMatrix<double> below_interpolation;
+        if (below && below_uv && coarser->mesh.n_vertices() > static_cast<std::size_t>(options.direct_correction_vertices))
+        {
+            if (below->coarse_of.size() != coarser->mesh.n_vertices() ||
+                below_uv->rows() != static_cast<Eigen::Index>(below->mesh.n_vertices()))
+                throw InvalidInputError(
+                    "relax_area: the level below the coarser one (" +
+                    std::to_string(below->coarse_of.size()) + " vertices above it, " +
+                    std::to_string(below_uv->rows()) + " map rows for " +
+                    std::to_string(below->mesh.n_vertices()) +
+                    " vertices) does not match the coarser level of " +
+                    std::to_string(coarser->mesh.n_vertices()) + " vertices and its map");
+            below_interpolation =
+                detail::coarse_interpolation(below->mesh, below->coarse_of, *below_uv, *coarser_uv);
+        }
         correction = std::make_unique<detail::CoarseCorrection>(
             ops, detail::coarse_interpolation(coarser->mesh, coarser->coarse_of, *coarser_uv, uv),
-            pinned, area_weight);
+            pinned, area_weight, std::move(below_interpolation));
     }
     // Only vertices that may still lower the energy are visited: those that lowered it in the
     // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a

@@ -390,6 +390,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     // only slowly.
     const double lambda = relax_weight(options);
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
+    Eigen::MatrixX2d below_uv;  // the map of levels[l + 1].mesh, which levels[l]'s came from
     for (std::size_t l = levels.size(); l-- > 0;)
     {
         const Mesh& above = l == 0 ? mesh : levels[l - 1].mesh;
@@ -421,8 +422,10 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 result.notes.push_back("coarse-to-fine: " + std::to_string(touching) +
                                        " boundary vertices nearer another part than the "
                                        "clearance after the carry");
+        const bool deeper = l + 1 < levels.size();
         const RelaxSummary relaxed =
-            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv, keep_simple);
+            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv, keep_simple,
+                       deeper ? &levels[l + 1] : nullptr, deeper ? &below_uv : nullptr);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
@@ -438,6 +441,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             if (below)
                 *below = std::move(coarser_uv);
         }
+        else
+            below_uv = std::move(coarser_uv);
     }
     result.uv = std::move(uv);
     return "";

@@ -43,6 +43,14 @@ struct MultilevelOptions
     //! Coarse-grid corrections of relax_area() on each level, at most: one after every second
     //! sweep. 0 = none (Gauss-Seidel alone: about 80 sweeps for the same area distortion).
     int coarse_corrections = 8;
+    //! Vertices of the coarser level above which the coarse-grid corrections' system is solved
+    //! iteratively (conjugate gradients preconditioned by V-cycles over that level and the
+    //! one below it, detail/coarse_correction.h) instead of by a sparse Cholesky factorization,
+    //! whose fill grows faster than the level: on the largest meshes its factorizations
+    //! dominate the relaxation (docs/benchmarks.md "Coarse-to-fine"). Only where relax_area()
+    //! is given the level below (the coarse-to-fine carry gives it below the coarsest level's
+    //! first carry). 0 = iteratively wherever the level below is given.
+    int direct_correction_vertices = 50000;
     //! A carried map whose relaxed energy (relax_area()'s, at the finest level) ends above
     //! this multiple of its isometric minimum (twice the surface area) is refused, and the
     //! map solved again as after a carry that crosses: the coarse solve stopped far from its
@@ -149,12 +157,18 @@ struct RelaxSummary
 //! \param keep_boundary_simple false for a map allowed to overlap itself (OverlapPolicy::Keep):
 //! boundary vertices then move as interior ones do, with no guard (a guard would hold every
 //! vertex whose edges cross another part already, and the map far from its minimum).
+//! \param below the level \p coarser was decimated to (its `coarse_of` indexes
+//! `coarser->mesh`), or null, and \p below_uv the map of `below->mesh` that \p coarser_uv was
+//! carried from: where the coarser level has more than `options.direct_correction_vertices`
+//! vertices, the corrections' system is then solved iteratively with V-cycles over the two
+//! levels instead of factorized.
 //! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2, or the
-//! coarser level does not match.
+//! coarser level (or the level below it) does not match.
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options = {},
                         const CoarseMesh* coarser = nullptr,
                         const Eigen::MatrixX2d* coarser_uv = nullptr,
-                        bool keep_boundary_simple = true);
+                        bool keep_boundary_simple = true, const CoarseMesh* below = nullptr,
+                        const Eigen::MatrixX2d* below_uv = nullptr);
 
 }  // namespace vessel
