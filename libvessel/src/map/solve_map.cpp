@@ -466,17 +466,23 @@ void relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
 }
 
 // The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full
-// resolution, with the look retry's pulls when \p pulled; one note.
-void polish_carried(const Mesh& mesh, const LayoutInput& input, const FlattenOptions& options,
-                    bool pulled, Eigen::MatrixX2d& uv, FlattenResult& result)
+// resolution, with the look retry's pulls when \p pulled, at most \p newton_steps Newton steps
+// if > 0; one note.
+AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
+                                 const FlattenOptions& options, bool pulled, Eigen::MatrixX2d& uv,
+                                 FlattenResult& result, int newton_steps = 0)
 {
     AreaPolishOptions polish = options.area_polish;
     polish.keep_boundary_simple = true;
+    if (newton_steps > 0)
+        polish.newton_max_iterations = std::min(polish.newton_max_iterations, newton_steps);
     if (pulled)
         polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
                                          options.look_pull.form, options.look_pull.margin_deg,
                                          options.look_pull.hold);
-    result.notes.push_back("coarse-to-fine: " + area_polish(mesh, uv, {}, polish).report);
+    AreaPolishSummary summary = area_polish(mesh, uv, {}, polish);
+    result.notes.push_back("coarse-to-fine: " + summary.report);
+    return summary;
 }
 
 // After the look retry kept its pulled map on the coarse mesh: its bound
@@ -543,13 +549,25 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     // The carry and the relaxation lower the area without the pulls, and can break the look
     // the retry made on the coarse mesh (docs/overlaps.md, "Rounding"): a kept pulled map whose
     // look is broken is polished with the pulls (whose hinges cost nothing where the look
-    // holds) and kept if it is then within the bound.
+    // holds) and kept if it is then within the bound. The mend is for the look: the polish
+    // goes a chunk of Newton steps at a time and stops once the look is whole again (or it
+    // converges, or has made the area polish's steps in all).
+    const auto broken = [&](const Eigen::MatrixX2d& uv) {
+        return options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed));
+    };
     const auto mend_look = [&](Eigen::MatrixX2d& uv) {
-        if (!options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed)))
+        if (!broken(uv))
             return true;
         result.notes.push_back("coarse-to-fine: look retry at full resolution: the carry broke "
-                               "the pulled map's look; polished with the pulls");
-        polish_carried(mesh, input, options, true, uv, result);
+                               "the pulled map's look; polished with the pulls until it is whole");
+        const AreaPolishOptions& polish = options.area_polish;
+        if (!polish.newton)
+            polish_carried(mesh, input, options, true, uv, result);
+        const int chunk = std::max(polish.newton_chunk_iterations, 1);
+        for (int made = 0; polish.newton && made < polish.newton_max_iterations; made += chunk)
+            if (polish_carried(mesh, input, options, true, uv, result, chunk).iterations < chunk ||
+                !broken(uv))
+                break;
         return within(uv, "the polished pulled map");
     };
     if (within(result.uv, "the carried pulled map") && mend_look(result.uv))
