@@ -48,8 +48,8 @@ struct MultilevelOptions
     //! one below it, detail/coarse_correction.h) instead of by a sparse Cholesky factorization,
     //! whose fill grows faster than the level: on the largest meshes its factorizations
     //! dominate the relaxation (docs/benchmarks.md "Coarse-to-fine"). Only where relax_area()
-    //! is given the level below (the coarse-to-fine carry gives it below the coarsest level's
-    //! first carry). 0 = iteratively wherever the level below is given.
+    //! is given the level below (the carry gives it to every level it relaxes but the one
+    //! carried from the coarsest mesh). 0 = iteratively wherever the level below is given.
     int direct_correction_vertices = 50000;
     //! A carried map whose relaxed energy (relax_area()'s, at the finest level) ends above
     //! this multiple of its isometric minimum (twice the surface area) is refused, and the
@@ -150,7 +150,10 @@ struct RelaxSummary
 //! coarse-grid corrections (two-grid multigrid; Briggs, Henson and McCormick 2000, "A multigrid
 //! tutorial"): the projected Newton system restricted to the coarse level's interpolation
 //! (Galerkin), its step line searched under the same guarantees (no flip; near boundary
-//! contacts held). One factorization of twice the coarse level's vertex count per level.
+//! contacts held). One factorization of twice the coarse level's vertex count per level, again
+//! after each step that holds more coarse vertices; given the level below a coarse level of more
+//! than `options.direct_correction_vertices` vertices, that of the level below instead, the
+//! coarse level's system solved iteratively.
 //! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.
 //! \param coarser the level \p mesh was decimated to (its `coarse_of` indexes \p mesh), or null
 //! \param coarser_uv the map of `coarser->mesh` that \p uv was carried from
