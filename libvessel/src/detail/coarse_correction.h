@@ -87,6 +87,8 @@ private:
     Eigen::VectorXd solve(const Eigen::VectorXd& rhs);
     // One V-cycle on C d = rhs from d = 0.
     Eigen::VectorXd v_cycle(const Eigen::VectorXd& rhs);
+    // Sets the held unknowns' entries of \p y (2|V_coarse|) to 0.
+    void zero_held(Eigen::VectorXd& y) const;
     // A Gauss-Seidel sweep on full_ d = rhs, over the unknowns in increasing or decreasing order.
     void sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const;
 
@@ -98,8 +100,8 @@ private:
     // The V-cycle's: the interpolation from the level below, C stored whole (both triangles,
     // for the sweeps), and the level below's operator P2^T C P2 (upper triangle).
     Eigen::SparseMatrix<double> below_;
+    Eigen::SparseMatrix<double, Eigen::RowMajor> below_rows_;  // below_ by rows (the springs)
     Eigen::SparseMatrix<double> full_;
-    Eigen::SparseMatrix<double, Eigen::RowMajor> below_rows_;  // below_ by rows
     Eigen::SparseMatrix<double> below_base_;      // P2^T C P2 (upper), without the springs
     Eigen::SparseMatrix<double> below_operator_;  // with the held unknowns' springs
 };

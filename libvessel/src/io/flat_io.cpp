@@ -46,7 +46,8 @@ void write_flat_obj(const std::string& path, const std::vector<Eigen::Vector3d>&
             char text[32];
             std::to_chars_result done{};
             if constexpr (std::is_floating_point_v<decltype(value)>)
-                done = std::to_chars(text, text + sizeof text, value, std::chars_format::general, 9);
+                done = std::to_chars(text, text + sizeof text, value, std::chars_format::general,
+                                     9);
             else
                 done = std::to_chars(text, text + sizeof text, value);
             buffer.append(text, done.ptr);

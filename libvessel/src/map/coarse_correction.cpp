@@ -264,7 +264,8 @@ CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
       P_(std::move(interpolation)),
       slot_(free_slots(pinned)),
       lambda_(lambda),
-      below_(std::move(below))
+      below_(std::move(below)),
+      below_rows_(below_)
 {
     // A pinned vertex does not move: its rows of P are emptied.
     P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned[r / 2] < 0; });
@@ -304,13 +305,13 @@ void CoarseCorrection::factorize()
             for (Eigen::Index c = 0; c < below_base_.cols(); ++c)
                 below_base_.coeffRef(c, c) += 1e-8 * mean_diagonal_;
             below_base_.makeCompressed();
-            below_rows_ = below_;
         }
         below_operator_ = below_base_;
+        using RowIterator = Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator;
         for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(held_.size()); ++i)
             if (held_[i])
-                for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator a(below_rows_, i); a; ++a)
-                    for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator b(below_rows_, i); b; ++b)
+                for (RowIterator a(below_rows_, i); a; ++a)
+                    for (RowIterator b(below_rows_, i); b; ++b)
                         if (a.col() <= b.col())
                             below_operator_.coeffRef(a.col(), b.col()) +=
                                 kSpring * mean_diagonal_ * a.value() * b.value();
@@ -341,6 +342,13 @@ void CoarseCorrection::factorize()
     }
     if (solver_.info() == Eigen::Success)
         solver_.factorize(system_);
+}
+
+void CoarseCorrection::zero_held(Eigen::VectorXd& y) const
+{
+    for (Eigen::Index c = 0; c < y.size(); ++c)
+        if (held_[c])
+            y[c] = 0.0;
 }
 
 void CoarseCorrection::sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const
@@ -375,13 +383,9 @@ Eigen::VectorXd CoarseCorrection::v_cycle(const Eigen::VectorXd& rhs)
     for (int s = 0; s < kSmoothing; ++s)
         sweep(rhs, d, true);
     Eigen::VectorXd residual = rhs - full_ * d;
-    for (Eigen::Index c = 0; c < residual.size(); ++c)
-        if (held_[c])
-            residual[c] = 0.0;
+    zero_held(residual);
     d += below_ * solver_.solve(below_.transpose() * residual);
-    for (Eigen::Index c = 0; c < d.size(); ++c)
-        if (held_[c])
-            d[c] = 0.0;
+    zero_held(d);
     for (int s = 0; s < kSmoothing; ++s)
         sweep(rhs, d, false);
     return d;
@@ -397,23 +401,17 @@ Eigen::VectorXd CoarseCorrection::solve(const Eigen::VectorXd& rhs)
     // more than the steps they improve (docs/benchmarks.md "Coarse-to-fine").
     constexpr int kIterations = 2;
     constexpr double kTolerance = 0.05;  // of the first residual's norm
-    const auto free_part = [&](Eigen::VectorXd& y) {
-        for (Eigen::Index c = 0; c < y.size(); ++c)
-            if (held_[c])
-                y[c] = 0.0;
-    };
     Eigen::VectorXd d = Eigen::VectorXd::Zero(rhs.size());
     Eigen::VectorXd r = rhs;
-    free_part(r);
+    zero_held(r);
     const double r0 = r.norm();
     Eigen::VectorXd z = v_cycle(r);
     Eigen::VectorXd p = z;
     double rz = r.dot(z);
-    int it = 0;
-    for (; it < kIterations && rz > 0.0; ++it)
+    for (int it = 0; it < kIterations && rz > 0.0; ++it)
     {
         Eigen::VectorXd Ap = full_ * p;
-        free_part(Ap);
+        zero_held(Ap);
         const double curvature = p.dot(Ap);
         if (!(curvature > 0.0))
             break;
@@ -461,16 +459,13 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         factorize();
     }
     const Eigen::VectorXd restricted = P_.transpose() * gradient;
-    const Eigen::Index m2 = coarse_.rows();
     Eigen::VectorXd trial(n2);
     for (int round = 0; round < 8; ++round)
     {
         if (solver_.info() != Eigen::Success)
             return 0.0;
         Eigen::VectorXd rhs = -restricted;
-        for (Eigen::Index c = 0; c < m2; ++c)
-            if (held_[c])
-                rhs[c] = 0.0;
+        zero_held(rhs);
         const Eigen::VectorXd direction = P_ * solve(rhs);
         const double slope = gradient.dot(direction);
         if (!direction.allFinite() || !(slope < 0.0))

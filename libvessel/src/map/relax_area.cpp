@@ -81,7 +81,8 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                                     " coarse vertices) does not match the mesh of " +
                                     std::to_string(n) + " vertices and its map");
         Eigen::SparseMatrix<double> below_interpolation;
-        if (below && below_uv && coarser->mesh.n_vertices() > static_cast<std::size_t>(options.direct_correction_vertices))
+        const auto direct = static_cast<std::size_t>(options.direct_correction_vertices);
+        if (below && below_uv && coarser->mesh.n_vertices() > direct)
         {
             if (below->coarse_of.size() != coarser->mesh.n_vertices() ||
                 below_uv->rows() != static_cast<Eigen::Index>(below->mesh.n_vertices()))

@@ -561,13 +561,17 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         result.notes.push_back("coarse-to-fine: look retry at full resolution: the carry broke "
                                "the pulled map's look; polished with the pulls until it is whole");
         const AreaPolishOptions& polish = options.area_polish;
-        if (!polish.newton)
+        if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
             polish_carried(mesh, input, options, true, uv, result);
-        const int chunk = std::max(polish.newton_chunk_iterations, 1);
-        for (int made = 0; polish.newton && made < polish.newton_max_iterations; made += chunk)
-            if (polish_carried(mesh, input, options, true, uv, result, chunk).iterations < chunk ||
-                !broken(uv))
-                break;
+        else
+        {
+            const int chunk = std::max(polish.newton_chunk_iterations, 1);
+            for (int made = 0; made < polish.newton_max_iterations; made += chunk)
+                if (polish_carried(mesh, input, options, true, uv, result, chunk).iterations <
+                        chunk ||
+                    !broken(uv))
+                    break;
+        }
         return within(uv, "the polished pulled map");
     };
     if (within(result.uv, "the carried pulled map") && mend_look(result.uv))
