@@ -14,7 +14,7 @@ namespace vessel::detail {
 //! that map only if it has no flipped or overlapping triangle, a simple boundary, a better look
 //! (fewer outlets below the inlet, or as many and fewer walk inversions), and a mean
 //! |log area| within LookRetryOptions::max_area_over_keep of the `keep` map's (OverlapPolicy::Keep from
-//! \p initial and \p pins; computed only when the pulled map's area is above the default's).
+//! \p initial and \p pins; used only when the pulled map's area is above the default's).
 //! Fills result.look_retry, and on keeping result.uv and .injective; one line in result.notes.
 //! Does nothing with LookRetry::Off, a look_pull already set, OverlapPolicy::Keep, or no
 //! outlets.
@@ -25,7 +25,9 @@ namespace vessel::detail {
 //! \param on_try if set, called once the retry is going to be made, before its solve (the
 //! coarse-to-fine path starts its full-resolution reference then, on the second core).
 //! \param ahead if valid: pulled_map() already under way (solve_single_level() starts it beside
-//! the restarted map); the retry takes its map instead of solving it again.
+//! the restarted map); the retry takes its map instead of solving it again. While it is not
+//! ready, the `keep` map is solved on the calling thread (before \p on_try), whether or not the
+//! bound turns out to need it: time the thread would spend waiting.
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
                 const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr,

@@ -6,7 +6,9 @@
 #include "vessel/core/errors.h"
 #include "vessel/quality/metrics.h"
 
+#include <chrono>
 #include <cmath>
+#include <optional>
 #include <functional>
 #include <cstdio>
 
@@ -154,6 +156,14 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
         (retry.mode == LookRetry::Auto && !retry.look_broken(summary.default_look)))
         return;
     summary.tried = true;
+    // While the pulled map made ahead is still being solved on the second core, this thread
+    // would wait for it: it solves the `keep` map the area bound may need meanwhile (the same
+    // map as after the fact; used only where the bound needs it), before on_try() starts more
+    // work that would share the cores with the two.
+    std::optional<FlatQuality> keep_ahead;
+    if (ahead && ahead->valid() &&
+        ahead->wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        keep_ahead = keep_quality(mesh, pins, initial, options, layout, placed);
     if (on_try)
         on_try();
     const FlatQuality before = map_distortion(mesh, result.uv);
@@ -176,7 +186,8 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     else if (summary.pulled_area > summary.default_area ||
              quality.mean_abs_log_area > before.mean_abs_log_area)
     {
-        const FlatQuality keep = keep_quality(mesh, pins, initial, options, layout, placed);
+        const FlatQuality keep =
+            keep_ahead ? *keep_ahead : keep_quality(mesh, pins, initial, options, layout, placed);
         summary.keep_area = keep.mean_abs_log_area_normalized;
         if (!within_area_bound(quality, keep, retry))
             verdict = "area above the bound";
