@@ -174,6 +174,30 @@ double energy(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x, in
     return partial[0] + partial[1];
 }
 
+// Gradient of energy() at x (no face flipped), interleaved like x: per face, with
+// E = area (|J|^2 + |J|^2 / det^2) (|J^-1|^2 = |J|^2 / det^2 in 2D), dE/dJ = 2 area (J (1 +
+// 1 / det^2) - |J|^2 / det^3 cof J), cof J = [[J11, -J10], [-J01, J00]] = d det / dJ.
+Eigen::VectorXd energy_gradient(const std::vector<FaceOperator>& ops, const Eigen::VectorXd& x)
+{
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(x.size());
+    for (const FaceOperator& op : ops)
+    {
+        const Eigen::Matrix2d J = jacobian(op, x);
+        const double det = J.determinant(), frob = J.squaredNorm();
+        Eigen::Matrix2d cof;
+        cof << J(1, 1), -J(1, 0), -J(0, 1), J(0, 0);
+        const Eigen::Matrix2d dJ =
+            2.0 * op.area * (J * (1.0 + 1.0 / (det * det)) - frob / (det * det * det) * cof);
+        for (int k = 0; k < 3; ++k)
+        {
+            const int i = 2 * op.corner[k];
+            g[i] += dJ(0, 0) * op.d0[k] + dJ(0, 1) * op.d1[k];
+            g[i + 1] += dJ(1, 0) * op.d0[k] + dJ(1, 1) * op.d1[k];
+        }
+    }
+    return g;
+}
+
 // The global step's normal matrix has a fixed pattern: the u and v of a face's three corners
 // couple in a 6 x 6 block. Only one triangle is stored (CHOLMOD reads no more). With the
 // corners in increasing vertex order, local unknown l = 2 * (sorted corner) + (0 for u, 1 for
@@ -829,6 +853,37 @@ bool Slim::iterate(int it, int done)
             ++summary_.accelerated;
         }
     }
+    if (!(step.energy < e))
+    {
+        // No descent along the proxy's direction. Where faces compressed below the weights'
+        // clamp (add_face()) carry the energy, the clamped proxy's gradient is not the energy's,
+        // and its minimizer need not descend (tree maps from the layout circle: SLIM then
+        // stalled orders of magnitude above its minimum). The factorized proxy matrix M applied
+        // to the true gradient g does: -M^-1 g is a descent direction for any positive
+        // definite M, and equals the proxy's direction wherever no weight is clamped.
+        Eigen::VectorXd g = energy_gradient(ops_, x_);
+        if (!options_.centre_pulls.empty())
+        {
+            std::vector<int> slot(static_cast<std::size_t>(n_all_));
+            for (int v = 0; v < n_all_; ++v)
+                slot[static_cast<std::size_t>(v)] = v;
+            detail::add_centre_pull_gradient(options_.centre_pulls, x_, slot, g.data());
+        }
+        Eigen::VectorXd descent = -solver_.solve(g);
+        if (scaffold_)
+            for (int v : scaffold_->box())
+                descent.segment<2>(2 * v).setZero();
+        if (solver_.info() == Eigen::Success && descent.allFinite())
+        {
+            const LineStep by_gradient = line_search(ops_, x_, descent, e);
+            if (by_gradient.energy < e)
+            {
+                d = std::move(descent);
+                step = by_gradient;
+                ++summary_.gradient_steps;
+            }
+        }
+    }
     const Eigen::VectorXd x_before = x_.head(2 * n_);
     summary_.iterations = done + it + 1;
     if (options_.on_iteration)
@@ -914,7 +969,10 @@ std::string Slim::report() const
                             " continued steps"
                       : std::string()) +
            (s.accelerated > 0 ? ", " + std::to_string(s.accelerated) + " steps with momentum"
-                              : std::string());
+                              : std::string()) +
+           (s.gradient_steps > 0
+                ? ", " + std::to_string(s.gradient_steps) + " steps along the true gradient"
+                : std::string());
 }
 
 }  // namespace

@@ -120,6 +120,9 @@ struct InjectiveSummary
     int scaffold_rebuilds = 0;  //!< scaffold triangulations made
     int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
     int accelerated = 0;        //!< steps that took the momentum direction (momentum)
+    //! Steps along the proxy matrix applied to the energy's true gradient, where the proxy's
+    //! own direction did not descend (weights clamped on nearly collapsed faces).
+    int gradient_steps = 0;
     std::string report;  //!< one line: iterations and energies
 };
 
@@ -129,7 +132,11 @@ struct InjectiveSummary
 //! flip \cite smith_2015_bijective: the energy grows without bound as a triangle collapses and
 //! each step stops short of the first collapse, so a flip-free start stays flip-free. Its
 //! minimum is an isometry, like ARAP's, but it penalizes shrinking as much as stretching, so
-//! area stays close to the 3D area.
+//! area stays close to the 3D area. The proxy's weights are computed with singular values
+//! clamped at 1e-2 (nearly collapsed faces would make the global step numerically
+//! indefinite); where that proxy's direction does not lower the energy, the step goes along its
+//! matrix applied to the energy's true gradient instead (a descent direction; the same as the
+//! proxy's wherever no weight is clamped).
 //! \param uv |V| x 2 start, row `v.idx()`, with no flipped triangle; updated in place.
 //! \param pins vertices held fixed (may be empty).
 //! \throw InvalidInputError if \p uv has a flipped triangle or the sizes disagree.
