@@ -533,10 +533,11 @@ TEST_CASE("cli: --coarse-vertices: the default maps AneuRisk coarse-to-fine, 0 a
 
 namespace {
 
-// The iterate SLIM's scaffold phase went on from, as its report line states it; -1 if none.
+// The iterate SLIM went back to when its boundary crossed (and on from with a scaffold, or
+// stopped at within the scaffold's skip gap), as its report line states it; -1 if none.
 int scaffold_from(const nlohmann::json& report)
 {
-    static const std::regex pattern("scaffold from iterate ([0-9]+)");
+    static const std::regex pattern("(?:scaffold from|stopped at) iterate ([0-9]+)");
     std::smatch match;
     const std::string line = report["slim"]["report"];
     return std::regex_search(line, match, pattern) ? std::stoi(match[1]) : -1;

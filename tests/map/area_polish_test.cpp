@@ -166,12 +166,16 @@ TEST_CASE("area polish: SLIM hands over to it sooner, with the same area distort
     CHECK_THROWS_WITH_AS(options.validate(), doctest::Contains("scaffold_tolerance"),
                          InvalidInputError);
 
-    // The old rule (SLIM's own scaffold tolerance before the polish) against the default.
-    FlattenOptions old_rule;
+    // The old rule (SLIM's own scaffold tolerance before the polish) against the default,
+    // both with the scaffold phase run (by default this phantom skips it: its boundary crosses
+    // within InjectiveOptions::kPolishedSkipGap of the last simple iterate's energy).
+    FlattenOptions with_scaffold;
+    with_scaffold.injective.scaffold_skip_gap = -1.0;
+    FlattenOptions old_rule = with_scaffold;
     old_rule.injective.scaffold_tolerance = InjectiveOptions::kScaffoldTolerance;
     const Mesh carotid = carotid_phantom();  // its SLIM needs the scaffold (boundary crosses)
     const FlattenResult before = flatten(carotid, old_rule);
-    const FlattenResult r = flatten(carotid, FlattenOptions());
+    const FlattenResult r = flatten(carotid, with_scaffold);
     CHECK(polished(r));
     REQUIRE(before.injective.scaffold_from >= 0);  // the scaffold phase runs in both
     CHECK(r.injective.scaffold_from == before.injective.scaffold_from);

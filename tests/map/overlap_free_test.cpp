@@ -70,3 +70,30 @@ TEST_SUITE("slow")
             check_one_to_one(30, seed);
     }
 }
+
+TEST_CASE("overlaps: a boundary that crosses once SLIM has all but converged skips the scaffold "
+          "phase, one-to-one and as even in area")
+{
+    // The carotid phantom's unconstrained SLIM crosses its boundary after a few iterations,
+    // within 3% of the energy it then has: by default it stops at its last simple iterate and
+    // the area polish (with its own scaffold) goes on from there.
+    const Mesh mesh = carotid_phantom();
+    const FlattenResult skipped = flatten(mesh, FlattenOptions{});
+    FlattenOptions never;
+    never.injective.scaffold_skip_gap = -1.0;
+    const FlattenResult scaffolded = flatten(mesh, never);
+    REQUIRE(skipped.injective.scaffold_skipped);
+    CHECK(skipped.injective.scaffold_from >= 1);
+    CHECK(skipped.injective.scaffold_rebuilds == 0);
+    CHECK_FALSE(scaffolded.injective.scaffold_skipped);
+    CHECK(scaffolded.injective.scaffold_rebuilds > 0);
+    for (const FlattenResult* r : {&skipped, &scaffolded})
+    {
+        CHECK(r->quality.flipped_triangles == 0);
+        CHECK(r->quality.overlapping_triangles == 0);
+    }
+    MESSAGE("mean |log area|: skipped ", skipped.quality.mean_abs_log_area_normalized,
+            ", with the scaffold phase ", scaffolded.quality.mean_abs_log_area_normalized);
+    CHECK(skipped.quality.mean_abs_log_area_normalized <
+          1.1 * scaffolded.quality.mean_abs_log_area_normalized);
+}

@@ -42,6 +42,9 @@ void InjectiveOptions::validate() const
     if (!(momentum >= 0.0 && momentum < 1.0))
         throw InvalidInputError("InjectiveOptions: momentum must be in [0, 1), got " +
                                 std::to_string(momentum));
+    if (!std::isfinite(scaffold_skip_gap))
+        throw InvalidInputError("InjectiveOptions: scaffold_skip_gap must be finite (0 = "
+                                "automatic, < 0 = never)");
     if (scaffold_passes < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_passes must be >= 1, got " +
                                 std::to_string(scaffold_passes));
@@ -939,6 +942,21 @@ InjectiveSummary Slim::run(Eigen::MatrixX2d& uv)
         if (!watch_ || !crosses(x_))
             break;
         watch_ = false;
+        // Where the unconstrained steps had all but converged when the boundary crossed, the
+        // scaffold phase could gain about the gap between the last simple iterate and the
+        // crossed one: stop at the former (scaffold_skip_gap).
+        if (options_.scaffold_skip_gap > 0.0)
+        {
+            const double simple = energy(surface_, last_simple_, threads_);
+            if (simple <= (1.0 + options_.scaffold_skip_gap) * e_surface_)
+            {
+                x_ = last_simple_;
+                e_surface_ = simple;
+                summary_.scaffold_from = last_simple_it_;
+                summary_.scaffold_skipped = true;
+                break;
+            }
+        }
         x_ = last_simple_;
         summary_.scaffold_from = last_simple_it_;
         summary_.converged = false;
@@ -956,14 +974,20 @@ InjectiveSummary Slim::run(Eigen::MatrixX2d& uv)
 std::string Slim::report() const
 {
     const InjectiveSummary& s = summary_;
-    return std::string(!scaffold_ ? "SLIM"
+    return std::string(s.scaffold_skipped
+                           ? "SLIM (boundary crossed; stopped at iterate " +
+                                 std::to_string(s.scaffold_from) +
+                                 ", the last simple one, within the scaffold's skip gap)"
+                       : !scaffold_ ? "SLIM"
                        : s.scaffold_from >= 0
                            ? "SLIM (boundary crossed; scaffold from iterate " +
                                  std::to_string(s.scaffold_from) + ")"
                            : "SLIM with scaffold") +
            " symmetric Dirichlet: " + std::to_string(s.iterations) + " iterations, energy " +
            std::to_string(s.initial_energy) + " -> " + std::to_string(s.final_energy) +
-           (s.converged ? " (converged)" : " (iteration limit)") +
+           (s.scaffold_skipped ? std::string()
+            : s.converged      ? std::string(" (converged)")
+                               : std::string(" (iteration limit)")) +
            (scaffold_ ? ", " + std::to_string(s.scaffold_rebuilds) +
                             " scaffold triangulations, " + std::to_string(s.scaffold_passes) +
                             " continued steps"

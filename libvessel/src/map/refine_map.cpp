@@ -33,6 +33,8 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
     InjectiveOptions slim = options.injective;
     if (options.polish_area && slim.scaffold_tolerance == 0.0)
         slim.scaffold_tolerance = InjectiveOptions::kPolishedScaffoldTolerance;  // the polish goes on
+    if (options.polish_area && slim.scaffold_skip_gap == 0.0)
+        slim.scaffold_skip_gap = InjectiveOptions::kPolishedSkipGap;
     if (restart)
     {
         // A one-to-one start: the layout circle (layout_circle.h: Tutte's circle walked so that

@@ -62,6 +62,21 @@ struct InjectiveOptions
     //! polish's Newton steps do in a few steps anyway; the end map's mean |log area| stays the
     //! same (docs/journal/benchmarks-2026-11.md, "SLIM hands over to the polish").
     static constexpr double kPolishedScaffoldTolerance = 3e-4;
+    //! With scaffold_on_contact: when the boundary has crossed (crossing_patience), SLIM goes
+    //! back to its last simple iterate and on with a scaffold. Where that iterate's energy is
+    //! at most this fraction above the crossed iterate's, it stops there instead: the
+    //! unconstrained steps had all but converged, and the scaffold phase, whose iterations
+    //! cost several unconstrained ones each (a constrained Delaunay triangulation and a new
+    //! symbolic factorization), could gain about that gap, which a following area polish
+    //! gains anyway with its own scaffold. The map is one-to-one either way. 0 = automatic:
+    //! kPolishedSkipGap where flatten()'s area polish follows SLIM, never otherwise; < 0 =
+    //! never.
+    double scaffold_skip_gap = 0.0;
+    //! Before the area polish: a boundary that crosses late, after the energy has all but
+    //! converged, skips the scaffold phase; one that crosses within the first iterations, far
+    //! above the minimum (a tree from the layout circle), does not (docs/benchmarks.md, "The
+    //! scaffold's skip gap").
+    static constexpr double kPolishedSkipGap = 0.03;
     //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
     //! many iterations; in between its triangles (box and Steiner vertices included) keep their
     //! connectivity and only their rest shapes follow the map (a triangle that became
@@ -120,6 +135,8 @@ struct InjectiveSummary
     int scaffold_rebuilds = 0;  //!< scaffold triangulations made
     int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
     int accelerated = 0;        //!< steps that took the momentum direction (momentum)
+    //! The boundary crossed and SLIM stopped at its last simple iterate (scaffold_skip_gap).
+    bool scaffold_skipped = false;
     //! Steps along the proxy matrix applied to the energy's true gradient, where the proxy's
     //! own direction did not descend (weights clamped on nearly collapsed faces).
     int gradient_steps = 0;
