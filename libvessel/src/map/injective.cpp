@@ -942,25 +942,20 @@ InjectiveSummary Slim::run(Eigen::MatrixX2d& uv)
         if (!watch_ || !crosses(x_))
             break;
         watch_ = false;
+        const double crossed = e_surface_;
+        x_ = last_simple_;
+        summary_.scaffold_from = last_simple_it_;
+        e_surface_ = energy(surface_, x_, threads_);
         // Where the unconstrained steps had all but converged when the boundary crossed, the
         // scaffold phase could gain about the gap between the last simple iterate and the
         // crossed one: stop at the former (scaffold_skip_gap).
-        if (options_.scaffold_skip_gap > 0.0)
+        if (options_.scaffold_skip_gap > 0.0 &&
+            e_surface_ <= (1.0 + options_.scaffold_skip_gap) * crossed)
         {
-            const double simple = energy(surface_, last_simple_, threads_);
-            if (simple <= (1.0 + options_.scaffold_skip_gap) * e_surface_)
-            {
-                x_ = last_simple_;
-                e_surface_ = simple;
-                summary_.scaffold_from = last_simple_it_;
-                summary_.scaffold_skipped = true;
-                break;
-            }
+            summary_.scaffold_skipped = true;
+            break;
         }
-        x_ = last_simple_;
-        summary_.scaffold_from = last_simple_it_;
         summary_.converged = false;
-        e_surface_ = energy(surface_, x_, threads_);
         slow_ = 0;
         start_scaffold();
         momentum_.resize(0);

@@ -8,9 +8,9 @@
 
 #include <chrono>
 #include <cmath>
-#include <optional>
-#include <functional>
 #include <cstdio>
+#include <functional>
+#include <optional>
 
 namespace vessel {
 
