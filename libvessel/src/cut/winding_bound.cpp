@@ -30,45 +30,69 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 using Item = std::pair<double, int>;  // (key, index)
 using MinHeap = std::priority_queue<Item, std::vector<Item>, std::greater<Item>>;
 
-// The unconstrained cost from every vertex to the nearest target, over arcs into unblocked
+// The unconstrained cost from a vertex to the nearest target, over arcs into unblocked
 // vertices only: Dijkstra from the targets over the reversed arcs (the arc u -> x is the
 // opposite of the halfedge x -> u), on the cut graph's 4-ary heap. A lower bound of every
-// constrained route's remaining cost.
-std::vector<double> cost_to_targets(const CutGraph& graph, const PathQuery& query)
+// constrained route's remaining cost (the search's A* heuristic). Settled on demand: a vertex's
+// cost is final once Dijkstra pops it, and the search asks for the vertices near its route
+// only, so the Dijkstra stops at the farthest of them instead of covering the whole mesh.
+class CostToTargets
 {
-    const std::size_t nv = graph.mesh().n_vertices();
-    const bool any_blocked = !query.is_blocked.empty();
-    std::vector<double> cost(nv, kInfinity);
-    std::vector<int> slot(nv, -1);
-    std::vector<detail::HeapItem> heap;
-    const auto closer = [](const detail::HeapItem& a, const detail::HeapItem& b) {
-        return a.first < b.first;
-    };
-    for (std::size_t v = 0; v < nv; ++v)
-        if (query.is_target[v])
-        {
-            cost[v] = 0.0;
-            detail::heap_lower(heap, slot, static_cast<int>(v), 0.0, closer);
-        }
-    while (!heap.empty())
+public:
+    CostToTargets(const CutGraph& graph, const PathQuery& query)
+        : graph_(graph), query_(query), any_blocked_(!query.is_blocked.empty()),
+          cost_(graph.mesh().n_vertices(), kInfinity), slot_(graph.mesh().n_vertices(), -1),
+          settled_(graph.mesh().n_vertices(), 0)
     {
-        const int x = detail::heap_pop(heap, slot, closer).second;
-        const auto [first, last] = graph.arcs(x);
+        for (std::size_t v = 0; v < cost_.size(); ++v)
+            if (query.is_target[v])
+            {
+                cost_[v] = 0.0;
+                detail::heap_lower(heap_, slot_, static_cast<int>(v), 0.0, closer);
+            }
+    }
+
+    //! The cost from \p v; infinite where no target is reached.
+    double operator()(int v)
+    {
+        while (!settled_[static_cast<std::size_t>(v)] && !heap_.empty())
+            settle_next();
+        return cost_[static_cast<std::size_t>(v)];
+    }
+
+private:
+    static bool closer(const detail::HeapItem& a, const detail::HeapItem& b)
+    {
+        return a.first < b.first;
+    }
+
+    void settle_next()
+    {
+        const int x = detail::heap_pop(heap_, slot_, closer).second;
+        settled_[static_cast<std::size_t>(x)] = 1;
+        const auto [first, last] = graph_.arcs(x);
         for (const CutGraph::Arc* a = first; a != last; ++a)
         {
             const int u = a->to;
-            if (any_blocked && query.is_blocked[u])
+            if (any_blocked_ && query_.is_blocked[u])
                 continue;
-            const double nd = cost[x] + graph.weight(HalfedgeHandle(a->halfedge ^ 1));
-            if (nd < cost[u])
+            const double nd = cost_[x] + graph_.weight(HalfedgeHandle(a->halfedge ^ 1));
+            if (nd < cost_[u])
             {
-                cost[u] = nd;
-                detail::heap_lower(heap, slot, u, nd, closer);
+                cost_[u] = nd;
+                detail::heap_lower(heap_, slot_, u, nd, closer);
             }
         }
     }
-    return cost;
-}
+
+    const CutGraph& graph_;
+    const PathQuery& query_;
+    bool any_blocked_;
+    std::vector<double> cost_;
+    std::vector<int> slot_;
+    std::vector<char> settled_;
+    std::vector<detail::HeapItem> heap_;
+};
 
 }  // namespace
 
@@ -82,7 +106,7 @@ std::optional<GraphPath> winding_bounded_path(
     const std::size_t nv = mesh.n_vertices();
     detail::check_path_query(mesh, query, "winding_bounded_path");
 
-    const std::vector<double> to_target = cost_to_targets(graph, query);
+    CostToTargets to_target(graph, query);
     const bool any_blocked = !query.is_blocked.empty();
     const double limit = options.limit_deg * M_PI / 180.0;
     const double width = 2.0 * limit / options.bins;
@@ -121,11 +145,11 @@ std::optional<GraphPath> winding_bounded_path(
     std::vector<char> is_source(nv, 0);
     MinHeap heap;  // (cost + lower bound to the targets, label)
     for (auto s : query.sources)
-        if (!is_source[s.idx()] && std::isfinite(to_target[s.idx()]))
+        if (!is_source[s.idx()] && std::isfinite(to_target(s.idx())))
         {
             is_source[s.idx()] = 1;
             slot_of(s.idx(), bin_of(0.0)) = static_cast<int>(labels.size());
-            heap.push({to_target[s.idx()], static_cast<int>(labels.size())});
+            heap.push({to_target(s.idx()), static_cast<int>(labels.size())});
             const double first = turn(VertexHandle(), s, false);
             labels.push_back({0.0, 0.0, s.idx(), std::isnan(first) ? -1 : s.idx(), -1, -1, false});
         }
@@ -135,7 +159,7 @@ std::optional<GraphPath> winding_bounded_path(
     {
         const auto [f, l] = heap.top();
         heap.pop();
-        if (labels[l].settled || f > labels[l].cost + to_target[labels[l].vertex])
+        if (labels[l].settled || f > labels[l].cost + to_target(labels[l].vertex))
             continue;  // settled, or a stale key
         labels[l].settled = true;
         const int v = labels[l].vertex;
@@ -152,7 +176,7 @@ std::optional<GraphPath> winding_bounded_path(
             const int w = a->to;
             // A cut opens its loop at one vertex: it never comes back to a source.
             if (is_source[w] || (any_blocked && query.is_blocked[w]) ||
-                !std::isfinite(to_target[w]))
+                !std::isfinite(to_target(w)))
                 continue;
             const double step = turn(VertexHandle(last_turned), VertexHandle(w), last_turned != v);
             const double turned = std::isnan(step) ? winding : winding + step;
@@ -173,7 +197,7 @@ std::optional<GraphPath> winding_bounded_path(
                     continue;
                 old = {reached, turned, w, reached_last, l, a->halfedge, false};
             }
-            heap.push({reached + to_target[w], slot});
+            heap.push({reached + to_target(w), slot});
         }
     }
     if (found < 0 || labels[found].parent < 0)

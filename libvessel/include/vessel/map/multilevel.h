@@ -141,6 +141,9 @@ struct RelaxSummary
 //! \brief Lower the area-weighted distortion energy of area_polish() (weight \p area_weight) of
 //! a flip-free map by Gauss-Seidel sweeps of per-vertex projected Newton steps, each with a line
 //! search that keeps every incident face's orientation (the energy's barrier), so no face flips.
+//! A sweep visits the free interior vertices colour by colour (no two of a colour in one face,
+//! so each colour's steps are independent and made on two threads on large meshes; the map does
+//! not depend on the thread count), then the boundary vertices one after another.
 //! Pinned vertices stay put; boundary vertices move, none so that the boundary crosses itself
 //! or two of its edges come nearer each other than a hundredth of the mean boundary edge (or,
 //! where they were that near already, any nearer): a contact would make the written map, its
