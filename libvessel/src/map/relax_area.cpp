@@ -143,14 +143,17 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     }
     const int threads = detail::face_threads(ops.size());
     std::vector<std::vector<Eigen::Vector3d>> scratch(static_cast<std::size_t>(threads));
-    std::vector<double> lowered_by(static_cast<std::size_t>(threads));
+    // Each vertex's decrease, summed in the colour's order: the sweep's total, and with it the
+    // stopping rule, is then the same bits whatever the thread count.
+    std::vector<double> lowered_at(n, 0.0);
     for (int sweep = 0; sweep < options.relax_sweeps; ++sweep)
     {
         if (keep_boundary_simple)
             guard.rebuild(x);
         const double threshold =
             0.1 * options.tolerance * std::max(current - minimum, 0.0) / std::max(n, 1);
-        // One vertex's step; true where it lowered the energy by more than the threshold.
+        // One vertex's step: the energy it lowered (0: not moved); marks the vertex where that
+        // is above the threshold.
         const auto step_vertex = [&](int v, bool boundary, std::vector<Eigen::Vector3d>& ds) {
             const detail::Corner* begin = corners.data() + first[v];
             const detail::Corner* end = corners.data() + first[v + 1];
@@ -166,16 +169,15 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         double lowered = 0.0;
         for (const std::vector<int>& members : colours)
         {
-            std::fill(lowered_by.begin(), lowered_by.end(), 0.0);
             detail::parallel_chunks(
                 members.size(), members.size() < 2048 ? 1 : threads,
                 [&](std::size_t begin, std::size_t end, int t) {
                     for (std::size_t i = begin; i < end; ++i)
-                        if (active[members[i]])
-                            lowered_by[t] += step_vertex(members[i], false, scratch[t]);
+                        lowered_at[members[i]] =
+                            active[members[i]] ? step_vertex(members[i], false, scratch[t]) : 0.0;
                 });
-            for (double by : lowered_by)
-                lowered += by;
+            for (int v : members)
+                lowered += lowered_at[v];
         }
         for (int v : boundary_vertices)
             if (active[v])
