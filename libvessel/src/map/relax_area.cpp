@@ -102,7 +102,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     // Only vertices that may still lower the energy are visited: those that lowered it in the
     // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a
     // sweep, and their neighbours (whose stars changed).
-    std::vector<char> active(n, 1), next(n, 0), improved(n, 0);
+    std::vector<char> active(n, 1), next(n, 0);
     // The free interior vertices by colour, no two of a colour in one face: a vertex's step
     // reads and writes its star alone, so the vertices of a colour step in parallel and in any
     // order to the same result (multicolour Gauss-Seidel; Adams 2001, "A distributed memory
@@ -143,8 +143,9 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     }
     const int threads = detail::face_threads(ops.size());
     std::vector<std::vector<Eigen::Vector3d>> scratch(static_cast<std::size_t>(threads));
-    // Each vertex's decrease, summed in the colour's order: the sweep's total, and with it the
-    // stopping rule, is then the same bits whatever the thread count.
+    // Each vertex's decrease in this sweep (0 where it did not step), summed in the colour's
+    // order: the sweep's total, and with it the stopping rule, is then the same bits whatever
+    // the thread count.
     std::vector<double> lowered_at(n, 0.0);
     for (int sweep = 0; sweep < options.relax_sweeps; ++sweep)
     {
@@ -152,19 +153,16 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             guard.rebuild(x);
         const double threshold =
             0.1 * options.tolerance * std::max(current - minimum, 0.0) / std::max(n, 1);
-        // One vertex's step: the energy it lowered (0: not moved); marks the vertex where that
-        // is above the threshold.
+        // One vertex's step: the energy it lowered (0: not moved).
         const auto step_vertex = [&](int v, bool boundary, std::vector<Eigen::Vector3d>& ds) {
             const detail::Corner* begin = corners.data() + first[v];
             const detail::Corner* end = corners.data() + first[v + 1];
             const Eigen::Vector2d from(x[2 * v], x[2 * v + 1]);
-            const double step = detail::vertex_newton_step(
+            return detail::vertex_newton_step(
                 energy, begin, end, x, v,
                 boundary ? guard.max_step() : std::numeric_limits<double>::infinity(),
                 [&](const Eigen::Vector2d& p) { return !boundary || guard.allows(x, v, from, p); },
                 ds);
-            improved[v] = step > threshold;
-            return step;
         };
         double lowered = 0.0;
         for (const std::vector<int>& members : colours)
@@ -180,16 +178,15 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                 lowered += lowered_at[v];
         }
         for (int v : boundary_vertices)
-            if (active[v])
-                lowered += step_vertex(v, true, scratch[0]);
+        {
+            lowered_at[v] = active[v] ? step_vertex(v, true, scratch[0]) : 0.0;
+            lowered += lowered_at[v];
+        }
         for (int v = 0; v < n; ++v)
-            if (improved[v])
-            {
-                improved[v] = 0;
+            if (lowered_at[v] > threshold)
                 for (int c = first[v]; c < first[v + 1]; ++c)
                     for (int w : ops[corners[c].face].corner)
                         next[w] = 1;
-            }
         active.swap(next);
         std::fill(next.begin(), next.end(), 0);
         current -= lowered;
