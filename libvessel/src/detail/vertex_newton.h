@@ -51,15 +51,18 @@ public:
         return e;
     }
 
-    // Gradient and Hessian of the energy around one vertex with respect to its position; also
-    // the largest step along a direction that keeps every face's det positive is computed from
-    // the det gradients kept in `ds`.
-    void derivatives(const Corner* begin, const Corner* end, const double* x, Eigen::Vector2d& grad,
-                     Eigen::Matrix2d& hess, std::vector<Eigen::Vector3d>& ds) const
+    // Energy (as around()), gradient and Hessian of the energy around one vertex with respect
+    // to its position, from one evaluation of each face's Jacobian; also the largest step along
+    // a direction that keeps every face's det positive is computed from the det gradients kept
+    // in `ds`.
+    double derivatives(const Corner* begin, const Corner* end, const double* x,
+                       Eigen::Vector2d& grad, Eigen::Matrix2d& hess,
+                       std::vector<Eigen::Vector3d>& ds) const
     {
         grad.setZero();
         hess.setZero();
         ds.clear();
+        double e = 0.0;
         for (const Corner* c = begin; c != end; ++c)
         {
             const detail::FaceOperator& op = ops_[c->face];
@@ -73,12 +76,16 @@ public:
             const Eigen::Vector2d dsv = cof * g;
             ds.emplace_back(dsv.x(), dsv.y(), s);
             const double A = op.area, w = 1.0 - lambda_;
+            // The same expression as face(), so that the sum is around()'s to the bit.
+            e += s > 0.0 ? op.area * ((1.0 - lambda_) * a / s + lambda_ * (s + 1.0 / s))
+                         : std::numeric_limits<double>::infinity();
             grad += A * (w * (da / s - a * dsv / (s * s)) + lambda_ * (1.0 - 1.0 / (s * s)) * dsv);
             const Eigen::Matrix2d cross = da * dsv.transpose() + dsv * da.transpose();
             hess += A * (w * (2.0 * g.squaredNorm() / s * Eigen::Matrix2d::Identity() -
                               cross / (s * s) + 2.0 * a / (s * s * s) * dsv * dsv.transpose()) +
                          lambda_ * 2.0 / (s * s * s) * dsv * dsv.transpose());
         }
+        return e;
     }
 
 private:
@@ -96,7 +103,7 @@ double vertex_newton_step(const VertexEnergy& energy, const Corner* begin, const
 {
     Eigen::Vector2d grad;
     Eigen::Matrix2d hess;
-    energy.derivatives(begin, end, x, grad, hess, ds);
+    const double before = energy.derivatives(begin, end, x, grad, hess, ds);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
     eig.computeDirect(hess);
     Eigen::Vector2d lambda = eig.eigenvalues();
@@ -116,7 +123,6 @@ double vertex_newton_step(const VertexEnergy& energy, const Corner* begin, const
             alpha = std::min(alpha, 0.9 * (-d.z() / rate));
     }
     const Eigen::Vector2d start(x[2 * v], x[2 * v + 1]);
-    const double before = energy.around(begin, end, x);
     for (int tries = 0; tries < 12; ++tries, alpha *= 0.5)
     {
         x[2 * v] = start.x() + alpha * step.x();
