@@ -126,10 +126,16 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
     const double lo = u_[p.idx()] - half_width_, hi = u_[p.idx()] + half_width_;
     ring.vertices.assign(1, p);
     stamp_[p.idx()] = round_;
+    // Plain pointers: the pushes below may alias the members for the compiler, which would
+    // then load them again for every neighbour.
+    const double* const u = u_.data();
+    int* const stamp = stamp_.data();
+    const int round = round_;
     const auto enter = [&](int w) {
-        if (stamp_[w] != round_ && u_[w] >= lo && u_[w] <= hi)
+        // The band first: most neighbours lie outside it, and u is read anyway.
+        if (u[w] >= lo && u[w] <= hi && stamp[w] != round)
         {
-            stamp_[w] = round_;
+            stamp[w] = round;
             ring.vertices.push_back(VertexHandle(w));
         }
     };
