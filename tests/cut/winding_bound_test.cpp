@@ -7,6 +7,7 @@
 #include "vessel/cut/cut_winding.h"
 #include "vessel/cut/winding_bound.h"
 #include "vessel/core/errors.h"
+#include "vessel/direction/direction.h"
 #include "vessel/direction/geodesic.h"
 #include "vessel/phantom/phantom.h"
 
@@ -164,4 +165,55 @@ TEST_CASE("winding_bound: no route within the bound, a loose bound, and what is 
     PathQuery short_targets = query;
     short_targets.is_target.resize(3);
     CHECK_THROWS_AS(winding_bounded_path(graph, short_targets, turn), InvalidInputError);
+}
+
+TEST_CASE("winding_bound: the rings fitted ahead on a second thread give the same path")
+{
+    // WindingMeter::Prefetch fits rings on another thread while the search runs: the path, its
+    // winding and the meter's later readings must be the same bits as without it.
+    const TwistedTube tube;
+    CutGraph graph(tube.mesh, tube.weights);
+    const Eigen::MatrixX3d axis = -descent_direction(tube.mesh, tube.u);
+    const double edge = mean_edge_length(tube.mesh);
+    const WindingMeter alone(graph, tube.u, edge, axis);
+    const WindingMeter helped(graph, tube.u, edge, axis);
+    const PathQuery query = tube.up();
+    for (double limit : {10.0, 30.0})
+    {
+        CAPTURE(limit);
+        WindingBoundOptions options;
+        options.limit_deg = limit;
+        const std::optional<GraphPath> plain = winding_bounded_path(
+            graph, query,
+            [&alone](VertexHandle last, VertexHandle w, bool gap) {
+                return alone.step(last, w, gap);
+            },
+            options);
+        int hints = 0;
+        std::optional<GraphPath> ahead;
+        {
+            WindingMeter::Prefetch prefetch(helped);
+            ahead = winding_bounded_path(
+                graph, query,
+                [&helped](VertexHandle last, VertexHandle w, bool gap) {
+                    return helped.step(last, w, gap);
+                },
+                options,
+                [&](VertexHandle v) {
+                    ++hints;
+                    prefetch.hint(v);
+                });
+        }
+        REQUIRE(plain);
+        REQUIRE(ahead);
+        CHECK(hints > 0);
+        CHECK(ahead->halfedges == plain->halfedges);
+        CHECK(ahead->cost == plain->cost);
+        CHECK(ahead->winding_rad == plain->winding_rad);
+        const PathWinding a = alone.measure(vertices_of(tube.mesh, *plain));
+        const PathWinding b = helped.measure(vertices_of(tube.mesh, *ahead));
+        CHECK(a.winding_deg == b.winding_deg);
+        CHECK(a.span_deg == b.span_deg);
+        CHECK(std::abs(b.winding_deg) <= limit + 1e-9);
+    }
 }

@@ -6,9 +6,13 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
+#include <mutex>
 #include <string>
+#include <thread>
 
 namespace vessel {
 
@@ -81,6 +85,7 @@ WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitu
                                 "descent_direction(mesh, longitudinal)");
     for (std::size_t v = 0; v < direction_.size(); ++v)
         direction_[v] = axis_direction.row(static_cast<Eigen::Index>(v)).transpose();
+    directions_given_ = true;
 }
 
 namespace {
@@ -120,17 +125,89 @@ Eigen::Vector3d transport(const Eigen::Vector3d& x, const Eigen::Vector3d& a,
 
 }  // namespace
 
-bool WindingMeter::ring_at(VertexHandle p, Ring& ring) const
+// A vertex's ring in the Prefetch: not asked for, queued, being fitted ahead, fitted ahead,
+// or fitted by the meter's own thread (which then never reads the prefetched one).
+enum : signed char { kNone = 0, kQueued, kFitting, kFitted, kOwn };
+
+struct WindingMeter::Prefetch::State
 {
-    ++round_;
+    explicit State(const WindingMeter& m)
+        : meter(m), n(m.mesh_.n_vertices()), status(new std::atomic<signed char>[n]()),
+          fits(n), stamp(n, -1), hinted(n, 0)
+    {
+    }
+
+    // The meter's thread: the ring of v if it was fitted ahead (into \p fit), else false, and
+    // then the other thread will not fit it (or its fit is not read).
+    bool take(int v, RingFit& fit)
+    {
+        signed char s = status[v].load(std::memory_order_acquire);
+        while (s == kNone || s == kQueued)
+            if (status[v].compare_exchange_weak(s, kOwn, std::memory_order_acq_rel))
+                return false;
+        if (s != kFitted)
+            return false;  // being fitted: fitted here too (the same bits)
+        fit = fits[static_cast<std::size_t>(v)];
+        return true;
+    }
+
+    // The other thread: fits the queued rings, newest first (the search's front).
+    void work()
+    {
+        Ring ring;
+        std::vector<int> batch;
+        int round = 0;
+        for (;;)
+        {
+            {
+                std::unique_lock<std::mutex> lock(mutex);
+                ready.wait(lock, [&] { return stop || !queue.empty(); });
+                if (stop)
+                    return;
+                batch.swap(queue);
+            }
+            for (auto it = batch.rbegin(); it != batch.rend(); ++it)
+            {
+                const int v = *it;
+                signed char expected = kQueued;
+                if (!status[v].compare_exchange_strong(expected, kFitting,
+                                                       std::memory_order_acq_rel))
+                    continue;  // the meter's thread took it
+                RingFit& fit = fits[static_cast<std::size_t>(v)];
+                fit.ok = meter.ring_at(VertexHandle(v), ring, stamp.data(), ++round);
+                fit.centre = ring.centre;
+                fit.axis = ring.axis;
+                fit.radius = ring.radius;
+                status[v].store(kFitted, std::memory_order_release);
+                if (stop.load(std::memory_order_relaxed))
+                    return;
+            }
+            batch.clear();
+        }
+    }
+
+    const WindingMeter& meter;
+    const std::size_t n;
+    std::unique_ptr<std::atomic<signed char>[]> status;
+    std::vector<RingFit> fits;  // per vertex, valid once its status is kFitted
+    std::vector<int> stamp;     // the other thread's band marks
+    std::vector<char> hinted;   // the meter's thread: vertices whose neighbourhood was queued
+    std::vector<int> pending;   // the meter's thread: queued since the last hand-over
+    std::mutex mutex;
+    std::condition_variable ready;
+    std::vector<int> queue;
+    std::atomic<bool> stop{false};
+    std::thread worker;
+};
+
+bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const int round) const
+{
     const double lo = u_[p.idx()] - half_width_, hi = u_[p.idx()] + half_width_;
     ring.vertices.assign(1, p);
-    stamp_[p.idx()] = round_;
-    // Plain pointers: the pushes below may alias the members for the compiler, which would
-    // then load them again for every neighbour.
+    stamp[p.idx()] = round;
+    // A plain pointer: the pushes below may alias the member for the compiler, which would
+    // then load it again for every neighbour.
     const double* const u = u_.data();
-    int* const stamp = stamp_.data();
-    const int round = round_;
     const auto enter = [&](int w) {
         // The band first: most neighbours lie outside it, and u is read anyway.
         if (u[w] >= lo && u[w] <= hi && stamp[w] != round)
@@ -187,14 +264,76 @@ const WindingMeter::RingFit& WindingMeter::ring_fit(VertexHandle p, Ring& scratc
     if (slot < 0)
     {
         RingFit fit;
-        fit.ok = ring_at(p, scratch);
-        fit.centre = scratch.centre;
-        fit.axis = scratch.axis;
-        fit.radius = scratch.radius;
+        if (!(ahead_ && ahead_->take(p.idx(), fit)))
+        {
+            fit.ok = ring_at(p, scratch, stamp_.data(), ++round_);
+            fit.centre = scratch.centre;
+            fit.axis = scratch.axis;
+            fit.radius = scratch.radius;
+        }
         slot = static_cast<int>(fits_.size());
         fits_.push_back(fit);
     }
     return fits_[static_cast<std::size_t>(slot)];
+}
+
+WindingMeter::Prefetch::Prefetch(const WindingMeter& meter)
+{
+    if (!meter.directions_given_ || meter.ahead_ || std::thread::hardware_concurrency() < 2)
+        return;
+    state_ = std::make_unique<State>(meter);
+    state_->worker = std::thread([state = state_.get()] { state->work(); });
+    meter.ahead_ = state_.get();
+}
+
+WindingMeter::Prefetch::~Prefetch()
+{
+    if (!state_)
+        return;
+    {
+        std::lock_guard<std::mutex> lock(state_->mutex);
+        state_->stop = true;
+    }
+    state_->ready.notify_one();
+    state_->worker.join();
+    state_->meter.ahead_ = nullptr;
+}
+
+void WindingMeter::Prefetch::hint(VertexHandle v)
+{
+    if (!state_)
+        return;
+    State& s = *state_;
+    char& seen = s.hinted[static_cast<std::size_t>(v.idx())];
+    if (seen)
+        return;
+    seen = 1;
+    const WindingMeter& m = s.meter;
+    const auto queue = [&](int x) {
+        if (m.fit_of_[static_cast<std::size_t>(x)] >= 0)
+            return;
+        signed char expected = kNone;
+        if (s.status[x].compare_exchange_strong(expected, kQueued, std::memory_order_relaxed))
+            s.pending.push_back(x);
+    };
+    const auto around = [&](int w, auto&& visit) {
+        if (m.graph_)
+            detail::graph_neighbours(*m.graph_)(w, visit);
+        else
+            detail::mesh_neighbours(m.mesh_)(w, visit);
+    };
+    around(v.idx(), [&](int w) {
+        queue(w);
+        around(w, queue);
+    });
+    if (s.pending.empty())
+        return;
+    {
+        std::lock_guard<std::mutex> lock(s.mutex);
+        s.queue.insert(s.queue.end(), s.pending.begin(), s.pending.end());
+    }
+    s.pending.clear();
+    s.ready.notify_one();
 }
 
 PathWinding WindingMeter::measure(const CutPath& path) const

@@ -176,12 +176,13 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         WindingBoundOptions bound;
         bound.limit_deg = limit;
         const double carry = bridge;
+        WindingMeter::Prefetch ahead(meter);
         std::optional<GraphPath> bounded = winding_bounded_path(
             graph, query,
             [&meter, carry](VertexHandle last, VertexHandle w, bool gap) {
                 return meter.step(last, w, gap, carry);
             },
-            bound);
+            bound, [&ahead](VertexHandle v) { ahead.hint(v); });
         if (bounded)
         {
             // A later cut that would run beside the tree is cut back and bridged to it

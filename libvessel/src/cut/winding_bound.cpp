@@ -99,7 +99,7 @@ private:
 std::optional<GraphPath> winding_bounded_path(
     const CutGraph& graph, const PathQuery& query,
     const std::function<double(VertexHandle, VertexHandle, bool)>& turn,
-    const WindingBoundOptions& options)
+    const WindingBoundOptions& options, const std::function<void(VertexHandle)>& settled)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
@@ -168,6 +168,8 @@ std::optional<GraphPath> winding_bounded_path(
             found = l;
             break;
         }
+        if (settled)
+            settled(VertexHandle(v));
         const double cost = labels[l].cost, winding = labels[l].winding;
         const int last_turned = labels[l].last;
         const auto [first, last] = graph.arcs(v);

@@ -40,12 +40,16 @@ struct WindingBoundOptions
 //! little. A route that visits a vertex twice (the product graph allows it) has the loop cut
 //! out. The query's steering, winding_rate and tie_tolerance are not read.
 //! \param turn see above; radians.
+//! \param settled if set, called with the vertex of each label the search settles (whose arcs
+//! it follows next): e.g. WindingMeter::Prefetch::hint(), so that the turns it asks for next
+//! are made ready on another thread.
 //! \return the path (cost = sum of the graph's weights, winding_rad = its summed turns), or
 //! nothing if no route stays within the bound.
 //! \throw InvalidInputError as CutGraph::shortest_path(), or if the options are invalid.
 std::optional<GraphPath> winding_bounded_path(
     const CutGraph& graph, const PathQuery& query,
     const std::function<double(VertexHandle, VertexHandle, bool)>& turn,
-    const WindingBoundOptions& options = {});
+    const WindingBoundOptions& options = {},
+    const std::function<void(VertexHandle)>& settled = {});
 
 }  // namespace vessel
