@@ -125,9 +125,13 @@ Eigen::Vector3d transport(const Eigen::Vector3d& x, const Eigen::Vector3d& a,
 
 }  // namespace
 
+namespace {
+
 // A vertex's ring in the Prefetch: not asked for, queued, being fitted ahead, fitted ahead,
 // or fitted by the meter's own thread (which then never reads the prefetched one).
 enum : signed char { kNone = 0, kQueued, kFitting, kFitted, kOwn };
+
+}  // namespace
 
 struct WindingMeter::Prefetch::State
 {
@@ -151,8 +155,21 @@ struct WindingMeter::Prefetch::State
         return true;
     }
 
-    // The other thread: fits the queued rings, newest first (the search's front).
-    void work()
+    // The other thread: fits the queued rings, newest first (the search's front). Should a
+    // fit fail (out of memory), it stops: the meter's thread then fits every ring itself (a
+    // ring left kFitting is never read).
+    void work() noexcept
+    {
+        try
+        {
+            fit_queued();
+        }
+        catch (...)
+        {
+        }
+    }
+
+    void fit_queued()
     {
         Ring ring;
         std::vector<int> batch;
