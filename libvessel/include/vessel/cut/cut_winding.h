@@ -112,7 +112,7 @@ public:
     //! queues the vertices within two edges of v, whose rings the search asks for next. The
     //! figures are the same bits as without it (a ring does not depend on the thread that
     //! fits it, and the meter keeps the rings in the order they are asked for); only the time
-    //! changes (Glenn split4: the rings are about half of the cut stage). Does nothing for a
+    //! changes (docs/benchmarks.md, "The cut stages alone"). Does nothing for a
     //! meter whose axis directions were not given (the fourth constructor: the others fit
     //! them lazily). While it lives the meter must be used by the calling thread alone.
     class Prefetch
