@@ -190,11 +190,8 @@ struct WindingMeter::Prefetch::State
                 if (!status[v].compare_exchange_strong(expected, kFitting,
                                                        std::memory_order_acq_rel))
                     continue;  // the meter's thread took it
-                RingFit& fit = fits[static_cast<std::size_t>(v)];
-                fit.ok = meter.ring_at(VertexHandle(v), ring, stamp.data(), ++round);
-                fit.centre = ring.centre;
-                fit.axis = ring.axis;
-                fit.radius = ring.radius;
+                fits[static_cast<std::size_t>(v)] =
+                    meter.fit_ring(VertexHandle(v), ring, stamp.data(), ++round);
                 status[v].store(kFitted, std::memory_order_release);
                 if (stop.load(std::memory_order_relaxed))
                     return;
@@ -275,6 +272,17 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const i
     return ring.radius > 0.0 && spread < options_.max_spread * ring.radius;
 }
 
+WindingMeter::RingFit WindingMeter::fit_ring(VertexHandle p, Ring& ring, int* const stamp,
+                                             const int round) const
+{
+    RingFit fit;
+    fit.ok = ring_at(p, ring, stamp, round);
+    fit.centre = ring.centre;
+    fit.axis = ring.axis;
+    fit.radius = ring.radius;
+    return fit;
+}
+
 const WindingMeter::RingFit& WindingMeter::ring_fit(VertexHandle p, Ring& scratch) const
 {
     int& slot = fit_of_[static_cast<std::size_t>(p.idx())];
@@ -282,12 +290,7 @@ const WindingMeter::RingFit& WindingMeter::ring_fit(VertexHandle p, Ring& scratc
     {
         RingFit fit;
         if (!(ahead_ && ahead_->take(p.idx(), fit)))
-        {
-            fit.ok = ring_at(p, scratch, stamp_.data(), ++round_);
-            fit.centre = scratch.centre;
-            fit.axis = scratch.axis;
-            fit.radius = scratch.radius;
-        }
+            fit = fit_ring(p, scratch, stamp_.data(), ++round_);
         slot = static_cast<int>(fits_.size());
         fits_.push_back(fit);
     }
@@ -333,12 +336,8 @@ void WindingMeter::Prefetch::hint(VertexHandle v)
         if (s.status[x].compare_exchange_strong(expected, kQueued, std::memory_order_relaxed))
             s.pending.push_back(x);
     };
-    const auto around = [&](int w, auto&& visit) {
-        if (m.graph_)
-            detail::graph_neighbours(*m.graph_)(w, visit);
-        else
-            detail::mesh_neighbours(m.mesh_)(w, visit);
-    };
+    // A meter given its directions walks a graph (the constructor that takes them).
+    const auto around = detail::graph_neighbours(*m.graph_);
     around(v.idx(), [&](int w) {
         queue(w);
         around(w, queue);

@@ -36,10 +36,7 @@ public:
     double face(const detail::FaceOperator& op, const double* x) const
     {
         const Eigen::Matrix2d J = detail::jacobian(op, x);
-        const double s = J.determinant();
-        if (!(s > 0.0))
-            return std::numeric_limits<double>::infinity();
-        return op.area * ((1.0 - lambda_) * J.squaredNorm() / s + lambda_ * (s + 1.0 / s));
+        return of(op.area, J.squaredNorm(), J.determinant());
     }
 
     // Energy of the faces around one vertex.
@@ -76,9 +73,7 @@ public:
             const Eigen::Vector2d dsv = cof * g;
             ds.emplace_back(dsv.x(), dsv.y(), s);
             const double A = op.area, w = 1.0 - lambda_;
-            // The same expression as face(), so that the sum is around()'s to the bit.
-            e += s > 0.0 ? op.area * ((1.0 - lambda_) * a / s + lambda_ * (s + 1.0 / s))
-                         : std::numeric_limits<double>::infinity();
+            e += of(op.area, a, s);  // face()'s, so that the sum is around()'s
             grad += A * (w * (da / s - a * dsv / (s * s)) + lambda_ * (1.0 - 1.0 / (s * s)) * dsv);
             const Eigen::Matrix2d cross = da * dsv.transpose() + dsv * da.transpose();
             hess += A * (w * (2.0 * g.squaredNorm() / s * Eigen::Matrix2d::Identity() -
@@ -89,6 +84,14 @@ public:
     }
 
 private:
+    // A face's energy from its area, ||J||^2 and det J (infinite for a flipped face).
+    double of(double area, double squared_norm, double det) const
+    {
+        if (!(det > 0.0))
+            return std::numeric_limits<double>::infinity();
+        return area * ((1.0 - lambda_) * squared_norm / det + lambda_ * (det + 1.0 / det));
+    }
+
     const std::vector<detail::FaceOperator>& ops_;
     double lambda_;
 };

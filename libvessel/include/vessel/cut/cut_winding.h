@@ -141,6 +141,8 @@ private:
     //! (a thread's own marks: Prefetch fits rings on another thread).
     bool ring_at(VertexHandle p, Ring& ring, int* stamp, int round) const;
     struct RingFit;
+    //! ring_at()'s answer for p as kept per vertex (\p ring holds the ring's vertices).
+    RingFit fit_ring(VertexHandle p, Ring& ring, int* stamp, int round) const;
     //! The unit offset \p d of p from its ring's axis, and the ring; false where measure()
     //! does not measure p.
     bool offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const;
@@ -171,7 +173,7 @@ private:
     //! (u within half the band's half width) held it (index into fits_, -1 until asked).
     mutable std::vector<int> rate_of_;
     mutable std::vector<RingFit> fits_;
-    bool directions_given_ = false;            // all of direction_ set at construction
+    bool directions_given_ = false;  // all of direction_ set at construction (graph_ set too)
     mutable Prefetch::State* ahead_ = nullptr;  // the live Prefetch's, if any
 };
 
