@@ -62,6 +62,7 @@ struct FaceHessian
 {
     Eigen::Matrix3d uu, vu, vv;
 
+    FaceHessian() = default;
     FaceHessian(const FaceOperator& op, const Eigen::Matrix2d& J, double lambda)
     {
         const Eigen::Matrix4d HJ = op.area * projected_face_hessian(J, lambda);

@@ -58,7 +58,10 @@ Eigen::SparseMatrix<double> galerkin_operator(
             }
     }
     // H by 2 x 2 blocks: per free fine vertex its diagonal block and, in a segment sized by its
-    // faces (two neighbours each, shared ones once), its free neighbours' blocks.
+    // faces (two neighbours each, shared ones once), its free neighbours' blocks. The faces'
+    // Hessians (their projection is most of the work) are made a chunk at a time on two
+    // threads, then added up by two threads each owning half of the vertices: every vertex's
+    // blocks are summed in face order, so the operator is the same bits as on one thread.
     std::vector<int> seg(n + 1, 0), used(n, 0);
     for (const FaceOperator& op : faces)
         for (int v : op.corner)
@@ -68,33 +71,53 @@ Eigen::SparseMatrix<double> galerkin_operator(
     std::vector<int> neighbour(seg[n]);
     std::vector<Eigen::Matrix2d> offdiagonal(seg[n], Eigen::Matrix2d::Zero());
     std::vector<Eigen::Matrix2d> diagonal(n, Eigen::Matrix2d::Zero());
-    for (const FaceOperator& op : faces)
+    const auto is_free = [&](const FaceOperator& op) {
+        return slot[op.corner[0]] >= 0 || slot[op.corner[1]] >= 0 || slot[op.corner[2]] >= 0;
+    };
+    const int threads = face_threads(faces.size());
+    constexpr std::size_t kChunk = 16384;
+    std::vector<FaceHessian> hessians(std::min(kChunk, faces.size()));
+    for (std::size_t base = 0; base < faces.size(); base += kChunk)
     {
-        if (slot[op.corner[0]] < 0 && slot[op.corner[1]] < 0 && slot[op.corner[2]] < 0)
-            continue;
-        const FaceHessian H(op, jacobian(op, x), lambda);
-        for (int k = 0; k < 3; ++k)
-        {
-            const int i = op.corner[k];
-            if (slot[i] < 0)
-                continue;
-            diagonal[i] += H.block(k, k);
-            for (int l = 0; l < 3; ++l)
+        const std::size_t count = std::min(kChunk, faces.size() - base);
+        parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t f = begin; f < end; ++f)
+                if (const FaceOperator& op = faces[base + f]; is_free(op))
+                    hessians[f] = FaceHessian(op, jacobian(op, x), lambda);
+        });
+        parallel_chunks(count, threads, [&](std::size_t, std::size_t, int t) {
+            const int owned_begin = static_cast<int>(static_cast<long>(n) * t / threads);
+            const int owned_end = static_cast<int>(static_cast<long>(n) * (t + 1) / threads);
+            for (std::size_t f = 0; f < count; ++f)
             {
-                const int j = op.corner[l];
-                if (l == k || slot[j] < 0)
+                const FaceOperator& op = faces[base + f];
+                if (!is_free(op))
                     continue;
-                int e = seg[i];
-                while (e < seg[i] + used[i] && neighbour[e] != j)
-                    ++e;
-                if (e == seg[i] + used[i])
+                const FaceHessian& H = hessians[f];
+                for (int k = 0; k < 3; ++k)
                 {
-                    neighbour[e] = j;
-                    ++used[i];
+                    const int i = op.corner[k];
+                    if (slot[i] < 0 || i < owned_begin || i >= owned_end)
+                        continue;
+                    diagonal[i] += H.block(k, k);
+                    for (int l = 0; l < 3; ++l)
+                    {
+                        const int j = op.corner[l];
+                        if (l == k || slot[j] < 0)
+                            continue;
+                        int e = seg[i];
+                        while (e < seg[i] + used[i] && neighbour[e] != j)
+                            ++e;
+                        if (e == seg[i] + used[i])
+                        {
+                            neighbour[e] = j;
+                            ++used[i];
+                        }
+                        offdiagonal[e] += H.block(k, l);
+                    }
                 }
-                offdiagonal[e] += H.block(k, l);
             }
-        }
+        });
     }
     // Column a of the upper triangle by blocks: C_ab = sum over fine i of a, and j = i or a
     // neighbour of i, of w_ia w_jb H_ij, for b <= a (C is symmetric: C_ab(r, s) is the entry

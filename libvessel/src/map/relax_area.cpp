@@ -100,8 +100,13 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             pinned, area_weight, std::move(below_interpolation));
     }
     // Only vertices that may still lower the energy are visited: those that lowered it in the
-    // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a
-    // sweep, and their neighbours (whose stars changed).
+    // last sweep by more than a tenth of the mean decrease of the vertices that stepped in it
+    // (and more than a tenth of a vertex's share of what the stopping rule asks of a sweep), and
+    // their neighbours, whose stars changed. A sweep's decrease is concentrated on few vertices
+    // (most of them lower the energy by orders of magnitude less than the mean), and every
+    // vertex steps again after a coarse-grid correction, which moves them all
+    // (docs/benchmarks.md "Coarse-to-fine").
+    constexpr double kActiveShareOfMean = 0.1;
     std::vector<char> active(n, 1), next(n, 0);
     // The free interior vertices by colour, no two of a colour in one face: a vertex's step
     // reads and writes its star alone, so the vertices of a colour step in parallel and in any
@@ -182,8 +187,17 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             lowered_at[v] = active[v] ? step_vertex(v, true, scratch[0]) : 0.0;
             lowered += lowered_at[v];
         }
+        std::size_t stepped = 0;
+        for (const std::vector<int>& members : colours)
+            for (int v : members)
+                stepped += active[v];
+        for (int v : boundary_vertices)
+            stepped += active[v];
+        const double active_above =
+            std::max(threshold, kActiveShareOfMean * lowered /
+                                    static_cast<double>(std::max<std::size_t>(stepped, 1)));
         for (int v = 0; v < n; ++v)
-            if (lowered_at[v] > threshold)
+            if (lowered_at[v] > active_above)
                 for (int c = first[v]; c < first[v + 1]; ++c)
                     for (int w : ops[corners[c].face].corner)
                         next[w] = 1;
