@@ -109,6 +109,68 @@ TEST_CASE("overlap: an unrolled cut cylinder has none, a cylinder wrapped past 3
     CHECK(r.overlapping_triangles() == 2 * 4 * 2 * n_along);
 }
 
+TEST_CASE("overlap: a map certified one-to-one by its boundary reports what the grid search reports")
+{
+    // find_overlaps(mesh, uv) skips the pairwise search where every face turns the same way and
+    // the boundary is a simple polygon; where either fails it searches. Either way its report
+    // must be the triangle soup's.
+    const int n_around = 20, n_along = 6;
+    const Mesh cylinder = test::cut_cylinder(1.0, 3.0, n_around, n_along);
+    const auto soup_of = [&](const Eigen::MatrixX2d& uv) {
+        std::vector<Triangle2> soup;
+        for (auto f : cylinder.faces())
+        {
+            Triangle2 t;
+            int k = 0;
+            for (auto v : f.vertices())
+                t[k++] = uv.row(v.idx()).transpose();
+            soup.push_back(t);
+        }
+        return soup;
+    };
+    const auto same_report = [&](const Eigen::MatrixX2d& uv) {
+        const OverlapReport fast = find_overlaps(cylinder, uv);
+        const OverlapReport searched = find_overlaps(soup_of(uv));
+        CHECK(fast.pairs == searched.pairs);
+        CHECK(fast.triangles == searched.triangles);
+        CHECK(fast.overlap_area == doctest::Approx(searched.overlap_area));
+        CHECK(fast.map_area == doctest::Approx(searched.map_area));
+        return searched.pairs.size();
+    };
+    Eigen::MatrixX2d unrolled(cylinder.n_vertices(), 2), spiral(cylinder.n_vertices(), 2);
+    for (int j = 0; j <= n_along; ++j)
+        for (int i = 0; i <= n_around; ++i)
+        {
+            const int v = j * (n_around + 1) + i;
+            unrolled.row(v) << 2.0 * M_PI * i / n_around, 3.0 * j / n_along;
+            // A strip swept through 400 degrees with its radius growing by less than its width
+            // per turn: every face keeps its orientation, the two ends lie over each other.
+            const double angle = (400.0 / 360.0) * 2.0 * M_PI * i / n_around;
+            const double r = 4.0 + 0.5 * angle / (2.0 * M_PI) + 3.0 * j / n_along;
+            spiral.row(v) << r * std::cos(angle), r * std::sin(angle);
+        }
+    CHECK(same_report(unrolled) == 0);
+    Eigen::MatrixX2d mirrored = unrolled;
+    mirrored.col(0) *= -1.0;  // every face turned the other way: still one-to-one
+    CHECK(same_report(mirrored) == 0);
+    CHECK(same_report(spiral) > 0);
+    // The strip closed into an annulus: its seam's two sides lie on each other, the boundary
+    // touches itself (no certificate), and touching is no overlap.
+    Eigen::MatrixX2d annulus(cylinder.n_vertices(), 2);
+    for (int j = 0; j <= n_along; ++j)
+        for (int i = 0; i <= n_around; ++i)
+        {
+            const double angle = 2.0 * M_PI * (i % n_around) / n_around, r = 4.0 + 3.0 * j / n_along;
+            annulus.row(j * (n_around + 1) + i) << r * std::cos(angle), r * std::sin(angle);
+        }
+    CHECK(same_report(annulus) == 0);
+    // One face flipped: no certificate, the search finds it.
+    Eigen::MatrixX2d flipped = unrolled;
+    flipped.row((n_along / 2) * (n_around + 1) + n_around / 2) +=
+        Eigen::Vector2d(0.0, 1.5 * 3.0 / n_along);
+    CHECK(same_report(flipped) > 0);
+}
+
 TEST_CASE("overlap: the grid finds exactly the pairs an all-pairs search finds")
 {
     std::mt19937 rng(7);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
 
 namespace vessel {
 
@@ -168,6 +169,108 @@ private:
     long nx_ = 1;
 };
 
+// Whether the boundary of \p mesh is one loop through each of its vertices once, whose image
+// in \p uv is a simple polygon: no two of its edges meet, decided exactly, except consecutive
+// ones at their shared corner (and those not folded back along each other). Boundary edges are
+// bucketed in a uniform grid of about two mean edge lengths.
+bool boundary_is_simple_loop(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    std::vector<int> next(mesh.n_vertices(), -1);
+    std::size_t edges = 0;
+    int start = -1;
+    for (auto h : mesh.halfedges())
+        if (h.is_boundary())
+        {
+            if (next[h.from().idx()] >= 0)
+                return false;  // a vertex twice on the boundary
+            next[h.from().idx()] = h.to().idx();
+            start = h.from().idx();
+            ++edges;
+        }
+    if (edges < 3)
+        return false;
+    std::vector<int> loop;
+    loop.reserve(edges);
+    for (int v = start; loop.size() <= edges;)
+    {
+        loop.push_back(v);
+        v = next[v];
+        if (v < 0)
+            return false;
+        if (v == start)
+            break;
+    }
+    if (loop.size() != edges)
+        return false;  // more than one loop
+    const auto point = [&](int v) { return Point(uv(v, 0), uv(v, 1)); };
+    const std::size_t n = loop.size();
+    double total = 0.0;
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        const Point a = point(loop[(k + n - 1) % n]), v = point(loop[k]), b = point(loop[(k + 1) % n]);
+        if (a == v || v == b)
+            return false;
+        // Consecutive edges folded back along each other share more than their corner.
+        if (CGAL::orientation(a, v, b) == CGAL::COLLINEAR && CGAL::angle(a, v, b) == CGAL::ACUTE)
+            return false;
+        total += (uv.row(loop[(k + 1) % n]) - uv.row(loop[k])).norm();
+    }
+    const double cell = std::max(2.0 * total / static_cast<double>(n), 1e-300);
+    const auto key = [](long long i, long long j) {
+        return static_cast<long long>(static_cast<unsigned long long>(i) << 32 ^
+                                      (static_cast<unsigned long long>(j) & 0xffffffffULL));
+    };
+    std::unordered_map<long long, std::vector<std::size_t>> grid;
+    grid.reserve(2 * n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+        const Eigen::Vector2d p = uv.row(loop[k]).transpose();
+        const Eigen::Vector2d q = uv.row(loop[(k + 1) % n]).transpose();
+        const Kernel::Segment_2 s(point(loop[k]), point(loop[(k + 1) % n]));
+        const long long i0 = std::floor(std::min(p.x(), q.x()) / cell);
+        const long long i1 = std::floor(std::max(p.x(), q.x()) / cell);
+        const long long j0 = std::floor(std::min(p.y(), q.y()) / cell);
+        const long long j1 = std::floor(std::max(p.y(), q.y()) / cell);
+        for (long long i = i0; i <= i1; ++i)
+            for (long long j = j0; j <= j1; ++j)
+            {
+                std::vector<std::size_t>& bucket = grid[key(i, j)];
+                for (std::size_t other : bucket)
+                {
+                    const bool consecutive = (other + 1) % n == k || (k + 1) % n == other;
+                    if (!consecutive &&
+                        CGAL::do_intersect(s, Kernel::Segment_2(point(loop[other]),
+                                                                point(loop[(other + 1) % n]))))
+                        return false;
+                }
+                bucket.push_back(k);
+            }
+    }
+    return true;
+}
+
+// Whether the map is one-to-one by a certificate instead of a test of every pair of faces:
+// every face turns the same way, none degenerate (exactly), and the boundary is a simple loop
+// (boundary_is_simple_loop()). A point off the edges is then covered by as many faces as the
+// boundary's image winds around it (the degree of a piecewise-linear map), 0 or 1 for a simple
+// polygon, so no two faces' interiors meet (Lipman 2014, "Bijective mappings of meshes with
+// boundary and the degree in mesh processing", SIAM J. Imaging Sciences 7(2)).
+bool certified_one_to_one(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+{
+    CGAL::Orientation turn = CGAL::COLLINEAR;
+    for (auto f : mesh.faces())
+    {
+        auto h = f.halfedge();
+        const int a = h.from().idx(), b = h.to().idx(), c = h.next().to().idx();
+        const CGAL::Orientation t = CGAL::orientation(Point(uv(a, 0), uv(a, 1)), Point(uv(b, 0), uv(b, 1)),
+                                                      Point(uv(c, 0), uv(c, 1)));
+        if (t == CGAL::COLLINEAR || (turn != CGAL::COLLINEAR && t != turn))
+            return false;
+        turn = t;
+    }
+    return turn != CGAL::COLLINEAR && boundary_is_simple_loop(mesh, uv);
+}
+
 }  // namespace
 
 bool interiors_intersect(const Triangle2& a, const Triangle2& b)
@@ -270,7 +373,19 @@ OverlapReport find_overlaps(const Mesh& mesh, const Eigen::MatrixX2d& uv)
             t[k++] = uv.row(v.idx()).transpose();
         triangles.push_back(t);
     }
-    return find_overlaps(triangles);
+    for (const Triangle2& t : triangles)
+        for (const auto& p : t)
+            if (!p.allFinite())
+                return find_overlaps(triangles);  // which throws, naming the face
+    if (!certified_one_to_one(mesh, uv))
+        return find_overlaps(triangles);
+    OverlapReport report;
+    for (const Triangle2& t : triangles)
+    {
+        const Eigen::Vector2d e1 = t[1] - t[0], e2 = t[2] - t[0];
+        report.map_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+    }
+    return report;
 }
 
 }  // namespace vessel
