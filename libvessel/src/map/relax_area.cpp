@@ -100,12 +100,14 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             pinned, area_weight, std::move(below_interpolation));
     }
     // Only vertices that may still lower the energy are visited: those that lowered it in the
-    // last sweep by more than a tenth of the mean decrease of the vertices that stepped in it
-    // (and more than a tenth of a vertex's share of what the stopping rule asks of a sweep), and
-    // their neighbours, whose stars changed. A sweep's decrease is concentrated on few vertices
-    // (most of them lower the energy by orders of magnitude less than the mean), and every
-    // vertex steps again after a coarse-grid correction, which moves them all
-    // (docs/benchmarks.md "Coarse-to-fine").
+    // last sweep by more than a tenth of a vertex's share of what the stopping rule asks of a
+    // sweep and, but for the guarded boundary vertices, by more than a tenth of the mean
+    // decrease of the vertices that stepped in it; and their neighbours, whose stars changed.
+    // A sweep's decrease is concentrated on few vertices (most of them lower the energy by
+    // orders of magnitude less than the mean), and every vertex steps again after a coarse-grid
+    // correction, which moves them all. A boundary vertex's step is capped by the guard
+    // (BoundaryGuard::max_step()), so its decrease in one sweep does not tell how far it has
+    // still to go (docs/benchmarks.md "Coarse-to-fine").
     constexpr double kActiveShareOfMean = 0.1;
     std::vector<char> active(n, 1), next(n, 0);
     // The free interior vertices by colour, no two of a colour in one face: a vertex's step
@@ -115,6 +117,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     // vertices, whose steps test the other boundary edges, step one after another.
     const auto is_free = [&](int v) { return pinned[v] < 0 && first[v] != first[v + 1]; };
     std::vector<int> boundary_vertices;
+    std::vector<char> guarded(n, 0);
     std::vector<std::vector<int>> colours;
     {
         std::vector<int> colour(n, -1);
@@ -126,6 +129,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             if (keep_boundary_simple && guard.on_boundary(v))
             {
                 boundary_vertices.push_back(v);
+                guarded[v] = 1;
                 continue;
             }
             taken.assign(taken.size(), 0);
@@ -197,7 +201,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             std::max(threshold, kActiveShareOfMean * lowered /
                                     static_cast<double>(std::max<std::size_t>(stepped, 1)));
         for (int v = 0; v < n; ++v)
-            if (lowered_at[v] > active_above)
+            if (lowered_at[v] > (guarded[v] ? threshold : active_above))
                 for (int c = first[v]; c < first[v + 1]; ++c)
                     for (int w : ops[corners[c].face].corner)
                         next[w] = 1;
