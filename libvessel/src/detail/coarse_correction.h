@@ -76,6 +76,9 @@ private:
     Eigen::SparseMatrix<double> P_;
     Eigen::SparseMatrix<double, Eigen::RowMajor> rows_;  // P by rows: a fine vertex's coarse vertices
     std::vector<int> slot_;  // per fine vertex: its index, -1 if pinned
+    // Per thread of the gradient's sum: slot_ on the thread's half of the vertices, -1 elsewhere.
+    std::vector<std::vector<int>> owned_slot_;
+    std::vector<double> per_face_;  // the line search's energies of the faces
     double lambda_;
     PairedCholmod solver_;
     // Holds the coarse unknowns that interpolate fine vertex v; returns how many were not yet.

@@ -11,11 +11,20 @@ namespace vessel::detail {
 
 namespace {
 
-double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& energy, const double* x)
+// The energy of all faces at x: each face's on two threads (large meshes), summed in face
+// order, so the same bits as one thread's loop.
+double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& energy,
+                    const double* x, std::vector<double>& per_face)
 {
+    per_face.resize(faces.size());
+    parallel_chunks(faces.size(), face_threads(faces.size()),
+                    [&](std::size_t begin, std::size_t end, int) {
+                        for (std::size_t f = begin; f < end; ++f)
+                            per_face[f] = energy.face(faces[f], x);
+                    });
     double e = 0.0;
-    for (const FaceOperator& op : faces)
-        e += energy.face(op, x);
+    for (const double face : per_face)
+        e += face;
     return e;
 }
 
@@ -293,6 +302,15 @@ CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
     // A pinned vertex does not move: its rows of P are emptied.
     P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned[r / 2] < 0; });
     rows_ = P_;
+    const int threads = face_threads(faces.size());
+    const int n = static_cast<int>(slot_.size());
+    for (int t = 0; t < threads; ++t)
+    {
+        std::vector<int>& owned = owned_slot_.emplace_back(n, -1);
+        for (int v = static_cast<int>(static_cast<long>(n) * t / threads);
+             v < static_cast<int>(static_cast<long>(n) * (t + 1) / threads); ++v)
+            owned[v] = slot_[v];
+    }
 }
 
 int CoarseCorrection::hold_around(int v, std::vector<char>& held) const
@@ -456,10 +474,30 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
 {
     const double* x = xv.data();
     const Eigen::Index n2 = xv.size();
+    // The gradient: each face's dE/dJ made a chunk at a time on two threads (large meshes),
+    // then added up by two threads each owning half of the vertices (owned_slot_), every entry
+    // in face order, so the same bits as one thread's loop.
     Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n2);
-    for (const FaceOperator& op : faces_)
-        add_face_gradient(op, op.area * polish_face_gradient(jacobian(op, x), lambda_), slot_,
-                          gradient.data());
+    {
+        const int threads = static_cast<int>(owned_slot_.size());
+        constexpr std::size_t kChunk = 16384;
+        std::vector<Eigen::Matrix2d> dE(std::min(kChunk, faces_.size()));
+        for (std::size_t base = 0; base < faces_.size(); base += kChunk)
+        {
+            const std::size_t count = std::min(kChunk, faces_.size() - base);
+            parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int) {
+                for (std::size_t f = begin; f < end; ++f)
+                {
+                    const FaceOperator& op = faces_[base + f];
+                    dE[f] = op.area * polish_face_gradient(jacobian(op, x), lambda_);
+                }
+            });
+            parallel_chunks(count, threads, [&](std::size_t, std::size_t, int t) {
+                for (std::size_t f = 0; f < count; ++f)
+                    add_face_gradient(faces_[base + f], dE[f], owned_slot_[t], gradient.data());
+            });
+        }
+    }
     if (coarse_.size() == 0)
     {
         // The coarse operator at the first step, kept for the next ones: the relaxation changes
@@ -498,7 +536,7 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         for (; t > 1e-3; t *= 0.5)
         {
             trial = xv + t * direction;
-            e = total_energy(faces_, energy, trial.data());
+            e = total_energy(faces_, energy, trial.data(), per_face_);
             if (e <= current + 1e-4 * t * slope)
                 break;
         }
