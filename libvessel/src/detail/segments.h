@@ -1,11 +1,15 @@
 #pragma once
 // Plane predicates shared by the map's overlap tests, the coarse-grid interpolation and the
-// map's arrow sampling: orientation, segment intersection, barycentric coordinates.
+// map's arrow sampling: orientation, segment intersection, barycentric coordinates; and the
+// search for meeting pairs among a boundary's segments.
 
 #include <Eigen/Core>
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace vessel::detail {
 
@@ -66,6 +70,46 @@ inline double segment_distance(const Eigen::Vector2d& a, const Eigen::Vector2d& 
     };
     return std::min({to_segment(a, c, d), to_segment(b, c, d), to_segment(c, a, b),
                      to_segment(d, a, b)});
+}
+
+//! The first pair (l, k), l < k, of the segments [a[i], b[i]] for which meets(l, k) is true,
+//! or {-1, -1}: near-linear, as only segments that share a cell of a uniform grid (cells two
+//! mean segment lengths wide) are asked, k in increasing order, each k's cells i outer and j
+//! inner, each cell's earlier segments in their order.
+template <class Meets>
+std::pair<int, int> first_meeting_segments(const std::vector<Eigen::Vector2d>& a,
+                                           const std::vector<Eigen::Vector2d>& b,
+                                           const Meets& meets)
+{
+    double total = 0.0;
+    for (std::size_t k = 0; k < a.size(); ++k)
+        total += (b[k] - a[k]).norm();
+    const double cell = std::max(2.0 * total / static_cast<double>(a.size()), 1e-300);
+    // Cell (i, j) -> one key; the shift is done unsigned (cells left of or below the origin
+    // have negative indices, and shifting a negative signed value is undefined).
+    const auto key = [](long long i, long long j) {
+        return static_cast<long long>(static_cast<unsigned long long>(i) << 32 ^
+                                      (static_cast<unsigned long long>(j) & 0xffffffffULL));
+    };
+    std::unordered_map<long long, std::vector<int>> grid;
+    grid.reserve(2 * a.size());
+    for (std::size_t k = 0; k < a.size(); ++k)
+    {
+        const long long i0 = std::floor(std::min(a[k].x(), b[k].x()) / cell);
+        const long long i1 = std::floor(std::max(a[k].x(), b[k].x()) / cell);
+        const long long j0 = std::floor(std::min(a[k].y(), b[k].y()) / cell);
+        const long long j1 = std::floor(std::max(a[k].y(), b[k].y()) / cell);
+        for (long long i = i0; i <= i1; ++i)
+            for (long long j = j0; j <= j1; ++j)
+            {
+                std::vector<int>& bucket = grid[key(i, j)];
+                for (int other : bucket)
+                    if (meets(other, static_cast<int>(k)))
+                        return {other, static_cast<int>(k)};
+                bucket.push_back(static_cast<int>(k));
+            }
+    }
+    return {-1, -1};
 }
 
 }  // namespace vessel::detail

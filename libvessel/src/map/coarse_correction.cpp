@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace vessel::detail {
 
@@ -26,6 +27,38 @@ double total_energy(const std::vector<FaceOperator>& faces, const VertexEnergy& 
     for (const double face : per_face)
         e += face;
     return e;
+}
+
+// The vertices [first, second) that thread t of `threads` owns when per-vertex sums are split
+// among threads (each thread then adds only into its own vertices).
+std::pair<int, int> owned_vertices(int n, int t, int threads)
+{
+    return {static_cast<int>(static_cast<long>(n) * t / threads),
+            static_cast<int>(static_cast<long>(n) * (t + 1) / threads)};
+}
+
+// Per-vertex sums over the faces on two threads (large meshes) to the same bits as one thread's
+// loop: a chunk of faces at a time, make(face, item) for each face on the threads, then
+// add(face, item, t) for every face of the chunk in face order by each thread t, which adds
+// only into the vertices it owns (owned_vertices()), so every sum keeps the face order.
+template <class Item, class Make, class Add>
+void sum_over_faces(const std::vector<FaceOperator>& faces, const Make& make, const Add& add)
+{
+    const int threads = face_threads(faces.size());
+    constexpr std::size_t kChunk = 16384;
+    std::vector<Item> items(std::min(kChunk, faces.size()));
+    for (std::size_t base = 0; base < faces.size(); base += kChunk)
+    {
+        const std::size_t count = std::min(kChunk, faces.size() - base);
+        parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t f = begin; f < end; ++f)
+                make(faces[base + f], items[f]);
+        });
+        parallel_chunks(count, threads, [&](std::size_t, std::size_t, int t) {
+            for (std::size_t f = 0; f < count; ++f)
+                add(faces[base + f], items[f], t);
+        });
+    }
 }
 
 }  // namespace
@@ -67,10 +100,9 @@ Eigen::SparseMatrix<double> galerkin_operator(
             }
     }
     // H by 2 x 2 blocks: per free fine vertex its diagonal block and, in a segment sized by its
-    // faces (two neighbours each, shared ones once), its free neighbours' blocks. The faces'
-    // Hessians (their projection is most of the work) are made a chunk at a time on two
-    // threads, then added up by two threads each owning half of the vertices: every vertex's
-    // blocks are summed in face order, so the operator is the same bits as on one thread.
+    // faces (two neighbours each, shared ones once), its free neighbours' blocks, summed in face
+    // order on two threads (sum_over_faces(): the faces' Hessians, whose projection is most of
+    // the work, made in parallel), so the operator is the same bits as on one thread.
     std::vector<int> seg(n + 1, 0), used(n, 0);
     for (const FaceOperator& op : faces)
         for (int v : op.corner)
@@ -84,50 +116,39 @@ Eigen::SparseMatrix<double> galerkin_operator(
         return slot[op.corner[0]] >= 0 || slot[op.corner[1]] >= 0 || slot[op.corner[2]] >= 0;
     };
     const int threads = face_threads(faces.size());
-    constexpr std::size_t kChunk = 16384;
-    std::vector<FaceHessian> hessians(std::min(kChunk, faces.size()));
-    for (std::size_t base = 0; base < faces.size(); base += kChunk)
-    {
-        const std::size_t count = std::min(kChunk, faces.size() - base);
-        parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int) {
-            for (std::size_t f = begin; f < end; ++f)
-                if (const FaceOperator& op = faces[base + f]; is_free(op))
-                    hessians[f] = FaceHessian(op, jacobian(op, x), lambda);
-        });
-        parallel_chunks(count, threads, [&](std::size_t, std::size_t, int t) {
-            const int owned_begin = static_cast<int>(static_cast<long>(n) * t / threads);
-            const int owned_end = static_cast<int>(static_cast<long>(n) * (t + 1) / threads);
-            for (std::size_t f = 0; f < count; ++f)
+    sum_over_faces<FaceHessian>(
+        faces,
+        [&](const FaceOperator& op, FaceHessian& H) {
+            if (is_free(op))
+                H = FaceHessian(op, jacobian(op, x), lambda);
+        },
+        [&](const FaceOperator& op, const FaceHessian& H, int t) {
+            if (!is_free(op))
+                return;
+            const auto [owned_begin, owned_end] = owned_vertices(n, t, threads);
+            for (int k = 0; k < 3; ++k)
             {
-                const FaceOperator& op = faces[base + f];
-                if (!is_free(op))
+                const int i = op.corner[k];
+                if (slot[i] < 0 || i < owned_begin || i >= owned_end)
                     continue;
-                const FaceHessian& H = hessians[f];
-                for (int k = 0; k < 3; ++k)
+                diagonal[i] += H.block(k, k);
+                for (int l = 0; l < 3; ++l)
                 {
-                    const int i = op.corner[k];
-                    if (slot[i] < 0 || i < owned_begin || i >= owned_end)
+                    const int j = op.corner[l];
+                    if (l == k || slot[j] < 0)
                         continue;
-                    diagonal[i] += H.block(k, k);
-                    for (int l = 0; l < 3; ++l)
+                    int e = seg[i];
+                    while (e < seg[i] + used[i] && neighbour[e] != j)
+                        ++e;
+                    if (e == seg[i] + used[i])
                     {
-                        const int j = op.corner[l];
-                        if (l == k || slot[j] < 0)
-                            continue;
-                        int e = seg[i];
-                        while (e < seg[i] + used[i] && neighbour[e] != j)
-                            ++e;
-                        if (e == seg[i] + used[i])
-                        {
-                            neighbour[e] = j;
-                            ++used[i];
-                        }
-                        offdiagonal[e] += H.block(k, l);
+                        neighbour[e] = j;
+                        ++used[i];
                     }
+                    offdiagonal[e] += H.block(k, l);
                 }
             }
         });
-    }
     // Column a of the upper triangle by blocks: C_ab = sum over fine i of a, and j = i or a
     // neighbour of i, of w_ia w_jb H_ij, for b <= a (C is symmetric: C_ab(r, s) is the entry
     // (2b + s, 2a + r)).
@@ -307,9 +328,8 @@ CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
     for (int t = 0; t < threads; ++t)
     {
         std::vector<int>& owned = owned_slot_.emplace_back(n, -1);
-        for (int v = static_cast<int>(static_cast<long>(n) * t / threads);
-             v < static_cast<int>(static_cast<long>(n) * (t + 1) / threads); ++v)
-            owned[v] = slot_[v];
+        const auto [begin, end] = owned_vertices(n, t, threads);
+        std::copy(slot_.begin() + begin, slot_.begin() + end, owned.begin() + begin);
     }
 }
 
@@ -474,30 +494,17 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
 {
     const double* x = xv.data();
     const Eigen::Index n2 = xv.size();
-    // The gradient: each face's dE/dJ made a chunk at a time on two threads (large meshes),
-    // then added up by two threads each owning half of the vertices (owned_slot_), every entry
-    // in face order, so the same bits as one thread's loop.
+    // The gradient, summed per entry in face order on two threads (sum_over_faces(); each
+    // thread's owned_slot_ holds its own vertices' slots).
     Eigen::VectorXd gradient = Eigen::VectorXd::Zero(n2);
-    {
-        const int threads = static_cast<int>(owned_slot_.size());
-        constexpr std::size_t kChunk = 16384;
-        std::vector<Eigen::Matrix2d> dE(std::min(kChunk, faces_.size()));
-        for (std::size_t base = 0; base < faces_.size(); base += kChunk)
-        {
-            const std::size_t count = std::min(kChunk, faces_.size() - base);
-            parallel_chunks(count, threads, [&](std::size_t begin, std::size_t end, int) {
-                for (std::size_t f = begin; f < end; ++f)
-                {
-                    const FaceOperator& op = faces_[base + f];
-                    dE[f] = op.area * polish_face_gradient(jacobian(op, x), lambda_);
-                }
-            });
-            parallel_chunks(count, threads, [&](std::size_t, std::size_t, int t) {
-                for (std::size_t f = 0; f < count; ++f)
-                    add_face_gradient(faces_[base + f], dE[f], owned_slot_[t], gradient.data());
-            });
-        }
-    }
+    sum_over_faces<Eigen::Matrix2d>(
+        faces_,
+        [&](const FaceOperator& op, Eigen::Matrix2d& dE) {
+            dE = op.area * polish_face_gradient(jacobian(op, x), lambda_);
+        },
+        [&](const FaceOperator& op, const Eigen::Matrix2d& dE, int t) {
+            add_face_gradient(op, dE, owned_slot_[t], gradient.data());
+        });
     if (coarse_.size() == 0)
     {
         // The coarse operator at the first step, kept for the next ones: the relaxation changes

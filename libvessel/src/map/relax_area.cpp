@@ -117,7 +117,6 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     // vertices, whose steps test the other boundary edges, step one after another.
     const auto is_free = [&](int v) { return pinned[v] < 0 && first[v] != first[v + 1]; };
     std::vector<int> boundary_vertices;
-    std::vector<char> guarded(n, 0);
     std::vector<std::vector<int>> colours;
     {
         std::vector<int> colour(n, -1);
@@ -129,7 +128,6 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             if (keep_boundary_simple && guard.on_boundary(v))
             {
                 boundary_vertices.push_back(v);
-                guarded[v] = 1;
                 continue;
             }
             taken.assign(taken.size(), 0);
@@ -201,7 +199,8 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             std::max(threshold, kActiveShareOfMean * lowered /
                                     static_cast<double>(std::max<std::size_t>(stepped, 1)));
         for (int v = 0; v < n; ++v)
-            if (lowered_at[v] > (guarded[v] ? threshold : active_above))
+            if (lowered_at[v] >
+                (keep_boundary_simple && guard.on_boundary(v) ? threshold : active_above))
                 for (int c = first[v]; c < first[v + 1]; ++c)
                     for (int w : ops[corners[c].face].corner)
                         next[w] = 1;

@@ -1,13 +1,13 @@
 #include "vessel/quality/overlap.h"
 
 #include "vessel/core/errors.h"
+#include "detail/segments.h"
 #include "detail/uv_rows.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 namespace vessel {
 
@@ -171,8 +171,7 @@ private:
 
 // Whether the boundary of \p mesh is one loop through each of its vertices once, whose image
 // in \p uv is a simple polygon: no two of its edges meet, decided exactly, except consecutive
-// ones at their shared corner (and those not folded back along each other). Boundary edges are
-// bucketed in a uniform grid of about two mean edge lengths.
+// ones at their shared corner (and those not folded back along each other).
 bool boundary_is_simple_loop(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
     std::vector<int> next(mesh.n_vertices(), -1);
@@ -204,69 +203,49 @@ bool boundary_is_simple_loop(const Mesh& mesh, const Eigen::MatrixX2d& uv)
         return false;  // more than one loop
     const auto point = [&](int v) { return Point(uv(v, 0), uv(v, 1)); };
     const std::size_t n = loop.size();
-    double total = 0.0;
+    std::vector<Eigen::Vector2d> a(n), b(n);  // edge k from loop[k] to the next
     for (std::size_t k = 0; k < n; ++k)
     {
-        const Point a = point(loop[(k + n - 1) % n]), v = point(loop[k]), b = point(loop[(k + 1) % n]);
-        if (a == v || v == b)
+        const Point before = point(loop[(k + n - 1) % n]), at = point(loop[k]),
+                    after = point(loop[(k + 1) % n]);
+        if (before == at || at == after)
             return false;
         // Consecutive edges folded back along each other share more than their corner.
-        if (CGAL::orientation(a, v, b) == CGAL::COLLINEAR && CGAL::angle(a, v, b) == CGAL::ACUTE)
+        if (CGAL::orientation(before, at, after) == CGAL::COLLINEAR &&
+            CGAL::angle(before, at, after) == CGAL::ACUTE)
             return false;
-        total += (uv.row(loop[(k + 1) % n]) - uv.row(loop[k])).norm();
+        a[k] = uv.row(loop[k]).transpose();
+        b[k] = uv.row(loop[(k + 1) % n]).transpose();
     }
-    const double cell = std::max(2.0 * total / static_cast<double>(n), 1e-300);
-    const auto key = [](long long i, long long j) {
-        return static_cast<long long>(static_cast<unsigned long long>(i) << 32 ^
-                                      (static_cast<unsigned long long>(j) & 0xffffffffULL));
+    const auto segment = [&](int k) {
+        return Kernel::Segment_2(point(loop[k]), point(loop[(k + 1) % n]));
     };
-    std::unordered_map<long long, std::vector<std::size_t>> grid;
-    grid.reserve(2 * n);
-    for (std::size_t k = 0; k < n; ++k)
-    {
-        const Eigen::Vector2d p = uv.row(loop[k]).transpose();
-        const Eigen::Vector2d q = uv.row(loop[(k + 1) % n]).transpose();
-        const Kernel::Segment_2 s(point(loop[k]), point(loop[(k + 1) % n]));
-        const long long i0 = std::floor(std::min(p.x(), q.x()) / cell);
-        const long long i1 = std::floor(std::max(p.x(), q.x()) / cell);
-        const long long j0 = std::floor(std::min(p.y(), q.y()) / cell);
-        const long long j1 = std::floor(std::max(p.y(), q.y()) / cell);
-        for (long long i = i0; i <= i1; ++i)
-            for (long long j = j0; j <= j1; ++j)
-            {
-                std::vector<std::size_t>& bucket = grid[key(i, j)];
-                for (std::size_t other : bucket)
-                {
-                    const bool consecutive = (other + 1) % n == k || (k + 1) % n == other;
-                    if (!consecutive &&
-                        CGAL::do_intersect(s, Kernel::Segment_2(point(loop[other]),
-                                                                point(loop[(other + 1) % n]))))
-                        return false;
-                }
-                bucket.push_back(k);
-            }
-    }
-    return true;
+    return detail::first_meeting_segments(a, b, [&](int l, int k) {
+               const bool consecutive = (l + 1) % static_cast<int>(n) == k ||
+                                        (k + 1) % static_cast<int>(n) == l;
+               return !consecutive && CGAL::do_intersect(segment(l), segment(k));
+           }).first < 0;
 }
 
 // Whether the map is one-to-one by a certificate instead of a test of every pair of faces:
-// every face turns the same way, none degenerate (exactly), and the boundary is a simple loop
-// (boundary_is_simple_loop()). A point off the edges is then covered by as many faces as the
-// boundary's image winds around it (the degree of a piecewise-linear map), 0 or 1 for a simple
-// polygon, so no two faces' interiors meet (Lipman 2014, "Bijective mappings of meshes with
-// boundary and the degree in mesh processing", SIAM J. Imaging Sciences 7(2)).
-bool certified_one_to_one(const Mesh& mesh, const Eigen::MatrixX2d& uv)
+// every face (\p triangles, one per face, corners in the mesh's order) turns the same way, none
+// degenerate (exactly), and the boundary is a simple loop (boundary_is_simple_loop()). A point
+// off the edges is then covered by as many faces as the boundary's image winds around it (the
+// degree of a piecewise-linear map), 0 or 1 for a simple polygon, so no two faces' interiors
+// meet (Lipman 2014, "Bijective mappings of meshes with boundary and the degree in mesh
+// processing", SIAM J. Imaging Sciences 7(2)).
+bool certified_one_to_one(const Mesh& mesh, const Eigen::MatrixX2d& uv,
+                          const std::vector<Triangle2>& triangles)
 {
     CGAL::Orientation turn = CGAL::COLLINEAR;
-    for (auto f : mesh.faces())
+    for (const Triangle2& t : triangles)
     {
-        auto h = f.halfedge();
-        const int a = h.from().idx(), b = h.to().idx(), c = h.next().to().idx();
-        const CGAL::Orientation t = CGAL::orientation(Point(uv(a, 0), uv(a, 1)), Point(uv(b, 0), uv(b, 1)),
-                                                      Point(uv(c, 0), uv(c, 1)));
-        if (t == CGAL::COLLINEAR || (turn != CGAL::COLLINEAR && t != turn))
+        const CGAL::Orientation o = CGAL::orientation(Point(t[0].x(), t[0].y()),
+                                                      Point(t[1].x(), t[1].y()),
+                                                      Point(t[2].x(), t[2].y()));
+        if (o == CGAL::COLLINEAR || (turn != CGAL::COLLINEAR && o != turn))
             return false;
-        turn = t;
+        turn = o;
     }
     return turn != CGAL::COLLINEAR && boundary_is_simple_loop(mesh, uv);
 }
@@ -377,7 +356,7 @@ OverlapReport find_overlaps(const Mesh& mesh, const Eigen::MatrixX2d& uv)
         for (const auto& p : t)
             if (!p.allFinite())
                 return find_overlaps(triangles);  // which throws, naming the face
-    if (!certified_one_to_one(mesh, uv))
+    if (!certified_one_to_one(mesh, uv, triangles))
         return find_overlaps(triangles);
     OverlapReport report;
     for (const Triangle2& t : triangles)
