@@ -154,6 +154,11 @@ std::optional<GraphPath> winding_bounded_path(
             labels.push_back({0.0, 0.0, s.idx(), std::isnan(first) ? -1 : s.idx(), -1, -1, false});
         }
 
+    // The turn onto an arc from its tail where the tail is the route's last measured vertex
+    // depends on the arc alone, and a search settles a vertex in several bins of the winding
+    // (about ten on Glenn split4): each is asked for once (per halfedge index).
+    std::vector<double> own_turn(mesh.n_halfedges());
+    std::vector<char> own_known(mesh.n_halfedges(), 0);
     int found = -1;
     while (!heap.empty())
     {
@@ -180,7 +185,19 @@ std::optional<GraphPath> winding_bounded_path(
             if (is_source[w] || (any_blocked && query.is_blocked[w]) ||
                 !std::isfinite(to_target(w)))
                 continue;
-            const double step = turn(VertexHandle(last_turned), VertexHandle(w), last_turned != v);
+            double step;
+            if (last_turned == v)
+            {
+                const auto h = static_cast<std::size_t>(a->halfedge);
+                if (!own_known[h])
+                {
+                    own_turn[h] = turn(VertexHandle(v), VertexHandle(w), false);
+                    own_known[h] = 1;
+                }
+                step = own_turn[h];
+            }
+            else
+                step = turn(VertexHandle(last_turned), VertexHandle(w), true);
             const double turned = std::isnan(step) ? winding : winding + step;
             if (!(std::abs(turned) <= limit))
                 continue;

@@ -31,7 +31,9 @@ struct WindingBoundOptions
 //! \p turn(last, w, gap) is the angle a route adds on reaching w, given `last`, the route's
 //! last vertex for which \p turn gave an angle (invalid before the first), and `gap`, whether
 //! the route passed vertices without one since: NaN if w has none (then `last` stays), else
-//! the angle (then w becomes `last`). With WindingMeter::step() the bound
+//! the angle (then w becomes `last`). It must depend on its arguments alone: where `last` is
+//! the arc's tail, the search asks once per arc however many bins reach the tail. With
+//! WindingMeter::step() the bound
 //! is the meter's own reading: the path's measure() winding lies within the limit, and so does
 //! every partial sum (span <= 2 x limit).
 //! Unlike a Lagrange multiplier on the winding (PathQuery::steer_weight), which reaches only
