@@ -148,7 +148,10 @@ private:
     bool offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const;
 
     const Mesh& mesh_;
-    const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs
+    const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs ...
+    //! ... copied as each vertex's neighbours alone, in the arcs' order (compressed rows): a
+    //! ring reads a quarter of the memory of the arcs' (head, halfedge, weight).
+    std::vector<int> neighbour_start_, neighbours_;
     Eigen::VectorXd u_;  // a copy: the meter may outlive the caller's field
     WindingOptions options_;
     double half_width_ = 0.0;
