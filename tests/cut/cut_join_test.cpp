@@ -21,13 +21,22 @@ std::vector<double> beside_radii(const TreeSurface& surface, CutJoin join)
     FlattenOptions options;
     options.cuts.join = join;
     const FlattenResult r = flatten(surface.mesh, options);
+    std::vector<double> radius, reach;
+    for (const CutPath& c : r.plan.paths)
+    {
+        radius.push_back(r.loops[static_cast<std::size_t>(c.outlet)].arc_length / (2.0 * M_PI));
+        reach.push_back(CutPlanOptions{}.join_reach * radius.back());
+    }
+    // The report's one-field figures are the per-cut ones, to the bit.
+    const std::vector<double> all = beside_lengths(surface.mesh, r.plan, reach);
+    REQUIRE(all.size() == r.plan.paths.size());
+    CHECK(all[0] == 0.0);
     std::vector<double> result;
     for (std::size_t i = 1; i < r.plan.paths.size(); ++i)
     {
-        const double radius =
-            r.loops[static_cast<std::size_t>(r.plan.paths[i].outlet)].arc_length / (2.0 * M_PI);
-        result.push_back(
-            beside_length(surface.mesh, r.plan, i, CutPlanOptions{}.join_reach * radius) / radius);
+        const double one = beside_length(surface.mesh, r.plan, i, reach[i]);
+        CHECK(all[i] == one);
+        result.push_back(one / radius[i]);
     }
     return result;
 }

@@ -93,6 +93,11 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     nlohmann::json cuts = nlohmann::json::array();
     // beside_length within the default join reach (outlet radii), whatever --join-reach was.
     const double beside_reach = CutPlanOptions{}.join_reach;
+    std::vector<double> reach;
+    for (const CutPath& c : r.plan.paths)
+        reach.push_back(beside_reach * r.loops[static_cast<std::size_t>(c.outlet)].arc_length /
+                        (2.0 * M_PI));
+    const std::vector<double> beside = beside_lengths(surface.mesh, r.plan, reach);
     for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
     {
         const CutPath& c = r.plan.paths[i];
@@ -109,11 +114,7 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"traced", c.traced},
                         {"length", aligned[i].length},
                         {"alignment", aligned[i].mean},
-                        {"beside_length",
-                         beside_length(surface.mesh, r.plan, i,
-                                       beside_reach *
-                                           r.loops[static_cast<std::size_t>(c.outlet)].arc_length /
-                                           (2.0 * M_PI))}});
+                        {"beside_length", beside[i]}});
     }
     j["cuts"] = cuts;
     nlohmann::json relief = nlohmann::json::array();

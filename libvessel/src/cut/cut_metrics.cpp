@@ -184,30 +184,29 @@ Eigen::VectorXd harmonic_longitudinal(const Mesh& mesh, const std::vector<Bounda
     return HarmonicLongitudinal(mesh, loops).solve(geodesic);
 }
 
-double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance)
+namespace {
+
+void require_beside_distance(double distance)
 {
-    if (index >= plan.paths.size())
-        throw InvalidInputError("beside_length: cut " + std::to_string(index) + " of " +
-                                std::to_string(plan.paths.size()));
     if (!(distance >= 0.0) || !std::isfinite(distance))
         throw InvalidInputError("beside_length: distance must be finite and >= 0");
-    // Edge-path distance from the earlier cuts' vertices, up to `distance`.
-    std::vector<VertexHandle> seeds;
-    for (std::size_t i = 0; i < index; ++i)
-    {
-        const CutPath& path = plan.paths[i];
-        seeds.push_back(path.start);
-        for (auto h : path.halfedges)
-            seeds.push_back(mesh.to_vertex_handle(h));
-    }
-    detail::EdgeDistance field;
-    field.reset(mesh.n_vertices());
-    field.grow(mesh, seeds, detail::mesh_neighbours(mesh), [](int) { return true; }, distance);
-    const std::vector<double>& dist = field.dist;
-    // Within `distance`, an edge counts by the part of its length that does not bring the cut
-    // closer to the tree: a head-on approach scores ~0, a run at a constant offset its length.
+}
+
+void add_cut_vertices(const Mesh& mesh, const CutPath& path, std::vector<VertexHandle>& seeds)
+{
+    seeds.push_back(path.start);
+    for (auto h : path.halfedges)
+        seeds.push_back(mesh.to_vertex_handle(h));
+}
+
+// Within `distance` of the tree (\p dist: edge-path distance from the earlier cuts' vertices),
+// an edge counts by the part of its length that does not bring the cut closer to the tree: a
+// head-on approach scores ~0, a run at a constant offset its length.
+double run_beside(const Mesh& mesh, const CutPath& cut, const std::vector<double>& dist,
+                  double distance)
+{
     double length = 0.0;
-    for (auto h : plan.paths[index].halfedges)
+    for (auto h : cut.halfedges)
     {
         const double a = dist[mesh.from_vertex_handle(h).idx()];
         const double b = dist[mesh.to_vertex_handle(h).idx()];
@@ -215,6 +214,51 @@ double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, d
             length += std::max(0.0, mesh.calc_edge_length(h) - (a - b));
     }
     return length;
+}
+
+}  // namespace
+
+double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance)
+{
+    if (index >= plan.paths.size())
+        throw InvalidInputError("beside_length: cut " + std::to_string(index) + " of " +
+                                std::to_string(plan.paths.size()));
+    require_beside_distance(distance);
+    std::vector<VertexHandle> seeds;
+    for (std::size_t i = 0; i < index; ++i)
+        add_cut_vertices(mesh, plan.paths[i], seeds);
+    detail::EdgeDistance field;
+    field.reset(mesh.n_vertices());
+    field.grow(mesh, seeds, detail::mesh_neighbours(mesh), [](int) { return true; }, distance);
+    return run_beside(mesh, plan.paths[index], field.dist, distance);
+}
+
+std::vector<double> beside_lengths(const Mesh& mesh, const CutPlan& plan,
+                                   const std::vector<double>& distance)
+{
+    if (distance.size() != plan.paths.size())
+        throw InvalidInputError("beside_lengths: " + std::to_string(distance.size()) +
+                                " distances for " + std::to_string(plan.paths.size()) + " cuts");
+    for (double d : distance)
+        require_beside_distance(d);
+    // One field, grown by each cut's vertices after the cut is measured: the distances within
+    // each cut's bound are those of beside_length() (shortest paths; a larger bound only
+    // reaches further).
+    const double bound =
+        distance.empty() ? 0.0 : *std::max_element(distance.begin(), distance.end());
+    detail::EdgeDistance field;
+    field.reset(mesh.n_vertices());
+    std::vector<double> lengths(plan.paths.size(), 0.0);
+    std::vector<VertexHandle> seeds;
+    for (std::size_t i = 0; i < plan.paths.size(); ++i)
+    {
+        if (i > 0)
+            lengths[i] = run_beside(mesh, plan.paths[i], field.dist, distance[i]);
+        seeds.clear();
+        add_cut_vertices(mesh, plan.paths[i], seeds);
+        field.grow(mesh, seeds, detail::mesh_neighbours(mesh), [](int) { return true; }, bound);
+    }
+    return lengths;
 }
 
 PathAlignment seam_alignment(const std::vector<PathAlignment>& paths)

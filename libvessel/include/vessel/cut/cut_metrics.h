@@ -91,6 +91,12 @@ private:
 //! \throw InvalidInputError if \p index is out of range or \p distance is negative.
 double beside_length(const Mesh& mesh, const CutPlan& plan, std::size_t index, double distance);
 
+//! \brief beside_length() of every cut, cut i within \p distance[i]: the same figures, from
+//! one distance field grown cut by cut instead of one field per cut.
+//! \throw InvalidInputError if \p distance has not one entry per cut or one is negative.
+std::vector<double> beside_lengths(const Mesh& mesh, const CutPlan& plan,
+                                   const std::vector<double>& distance);
+
 //! \brief The fraction of the cuts' length (plan.paths, not the relief cuts) on the far side of
 //! their vessels from \p viewpoint: an edge is on the far side where the surface faces away
 //! from the viewpoint, i.e. where the normal n of its faces (outward, summed, area-weighted)
