@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <unordered_map>
 #include <utility>
@@ -157,7 +158,8 @@ std::optional<GraphPath> winding_bounded_path(
     // The turn onto an arc from its tail where the tail is the route's last measured vertex
     // depends on the arc alone, and a search settles a vertex in several bins of the winding
     // (about ten on Glenn split4): each is asked for once (per halfedge index).
-    std::vector<double> own_turn(mesh.n_halfedges());
+    // Left uninitialized (read only where known): its pages are touched only where asked.
+    const std::unique_ptr<double[]> own_turn(new double[mesh.n_halfedges()]);
     std::vector<char> own_known(mesh.n_halfedges(), 0);
     int found = -1;
     while (!heap.empty())
