@@ -49,6 +49,23 @@ WindingMeter::WindingMeter(const Mesh& mesh, const CutGraph* graph,
         throw InvalidInputError("WindingMeter: " + std::to_string(longitudinal.size()) +
                                 " longitudinal values for " + std::to_string(mesh.n_vertices()) +
                                 " vertices; pass one per vertex, indexed by v.idx()");
+    // The neighbour lists, from the graph's arcs where given (they keep voh_range() order, so
+    // both give the same rings in the same order, and the same sums).
+    const auto n = static_cast<int>(mesh.n_vertices());
+    neighbour_start_.assign(static_cast<std::size_t>(n) + 1, 0);
+    neighbours_.reserve(mesh.n_halfedges());
+    for (int v = 0; v < n; ++v)
+    {
+        if (graph)
+        {
+            const auto [first, last] = graph->arcs(v);
+            for (const CutGraph::Arc* a = first; a != last; ++a)
+                neighbours_.push_back(a->to);
+        }
+        else
+            detail::mesh_neighbours(mesh)(v, [&](int w) { neighbours_.push_back(w); });
+        neighbour_start_[static_cast<std::size_t>(v) + 1] = static_cast<int>(neighbours_.size());
+    }
     stamp_.assign(mesh.n_vertices(), -1);
     fit_of_.assign(mesh.n_vertices(), -1);
     rate_of_.assign(mesh.n_vertices(), -1);
@@ -71,21 +88,6 @@ WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitu
         throw InvalidInputError("WindingMeter: mean edge length " + std::to_string(mean_edge) +
                                 " must be finite and >= 0; pass mean_edge_length(graph.mesh())");
     half_width_ = options_.band * mean_edge;
-    const auto n = static_cast<int>(mesh_.n_vertices());
-    neighbour_start_.assign(static_cast<std::size_t>(n) + 1, 0);
-    for (int v = 0; v < n; ++v)
-    {
-        const auto [first, last] = graph.arcs(v);
-        neighbour_start_[static_cast<std::size_t>(v) + 1] =
-            neighbour_start_[static_cast<std::size_t>(v)] + static_cast<int>(last - first);
-    }
-    neighbours_.reserve(static_cast<std::size_t>(neighbour_start_.back()));
-    for (int v = 0; v < n; ++v)
-    {
-        const auto [first, last] = graph.arcs(v);
-        for (const CutGraph::Arc* a = first; a != last; ++a)
-            neighbours_.push_back(a->to);
-    }
 }
 
 WindingMeter::WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal,
@@ -245,22 +247,15 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const i
             ring.vertices.push_back(VertexHandle(w));
         }
     };
-    // Breadth first; the graph's arcs list the neighbours in vv_range() order, so both walks
-    // give the same ring in the same order (and the same sums below).
-    if (graph_)
+    // Breadth first.
+    const int* start = neighbour_start_.data();
+    const int* neighbour = neighbours_.data();
+    for (std::size_t head = 0; head < ring.vertices.size(); ++head)
     {
-        const int* start = neighbour_start_.data();
-        const int* neighbour = neighbours_.data();
-        for (std::size_t head = 0; head < ring.vertices.size(); ++head)
-        {
-            const int v = ring.vertices[head].idx();
-            for (int k = start[v]; k < start[v + 1]; ++k)
-                enter(neighbour[k]);
-        }
+        const int v = ring.vertices[head].idx();
+        for (int k = start[v]; k < start[v + 1]; ++k)
+            enter(neighbour[k]);
     }
-    else
-        for (std::size_t head = 0; head < ring.vertices.size(); ++head)
-            detail::mesh_neighbours(mesh_)(ring.vertices[head].idx(), enter);
     const auto n = static_cast<double>(ring.vertices.size());
     if (ring.vertices.size() < static_cast<std::size_t>(options_.min_ring_vertices))
         return false;

@@ -148,9 +148,9 @@ private:
     bool offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const;
 
     const Mesh& mesh_;
-    const CutGraph* graph_ = nullptr;  // when given, rings walk its arcs ...
-    //! ... copied as each vertex's neighbours alone, in the arcs' order (compressed rows): a
-    //! ring reads a quarter of the memory of the arcs' (head, halfedge, weight).
+    const CutGraph* graph_ = nullptr;
+    //! Each vertex's neighbours in voh_range() order (compressed rows), which the rings walk:
+    //! a quarter of the memory of the graph's arcs (head, halfedge, weight), and no circulator.
     std::vector<int> neighbour_start_, neighbours_;
     Eigen::VectorXd u_;  // a copy: the meter may outlive the caller's field
     WindingOptions options_;
