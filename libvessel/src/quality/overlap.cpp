@@ -268,7 +268,25 @@ double intersection_area(const Triangle2& a, const Triangle2& b)
     return poly.size() < 3 ? 0.0 : polygon_area(poly);
 }
 
-OverlapReport find_overlaps(const std::vector<Triangle2>& triangles)
+namespace {
+
+void require_finite_corners(const std::vector<Triangle2>& triangles)
+{
+    for (std::size_t f = 0; f < triangles.size(); ++f)
+        for (const auto& p : triangles[f])
+            if (!p.allFinite())
+                throw InvalidInputError("find_overlaps: triangle " + std::to_string(f) +
+                                        " has a non-finite corner; the map is broken");
+}
+
+double triangle_area(const Triangle2& t)
+{
+    const Eigen::Vector2d e1 = t[1] - t[0], e2 = t[2] - t[0];
+    return 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+}
+
+// find_overlaps() of triangles with finite corners: the grid search.
+OverlapReport search_overlaps(const std::vector<Triangle2>& triangles)
 {
     OverlapReport report;
     if (triangles.empty())
@@ -277,17 +295,11 @@ OverlapReport find_overlaps(const std::vector<Triangle2>& triangles)
     boxes.reserve(triangles.size());
     std::vector<OrientedTriangle> exact;
     exact.reserve(triangles.size());
-    for (std::size_t f = 0; f < triangles.size(); ++f)
+    for (const Triangle2& t : triangles)
     {
-        for (const auto& p : triangles[f])
-            if (!p.allFinite())
-                throw InvalidInputError("find_overlaps: triangle " + std::to_string(f) +
-                                        " has a non-finite corner; the map is broken");
-        boxes.push_back(box_of(triangles[f]));
-        exact.push_back(oriented(triangles[f]));
-        const Eigen::Vector2d e1 = triangles[f][1] - triangles[f][0];
-        const Eigen::Vector2d e2 = triangles[f][2] - triangles[f][0];
-        report.map_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
+        boxes.push_back(box_of(t));
+        exact.push_back(oriented(t));
+        report.map_area += triangle_area(t);
     }
 
     const Grid grid(boxes);
@@ -339,6 +351,14 @@ OverlapReport find_overlaps(const std::vector<Triangle2>& triangles)
     return report;
 }
 
+}  // namespace
+
+OverlapReport find_overlaps(const std::vector<Triangle2>& triangles)
+{
+    require_finite_corners(triangles);
+    return search_overlaps(triangles);
+}
+
 OverlapReport find_overlaps(const Mesh& mesh, const Eigen::MatrixX2d& uv)
 {
     detail::require_uv_rows(mesh, uv, "find_overlaps");
@@ -352,18 +372,12 @@ OverlapReport find_overlaps(const Mesh& mesh, const Eigen::MatrixX2d& uv)
             t[k++] = uv.row(v.idx()).transpose();
         triangles.push_back(t);
     }
-    for (const Triangle2& t : triangles)
-        for (const auto& p : t)
-            if (!p.allFinite())
-                return find_overlaps(triangles);  // which throws, naming the face
+    require_finite_corners(triangles);
     if (!certified_one_to_one(mesh, uv, triangles))
-        return find_overlaps(triangles);
+        return search_overlaps(triangles);
     OverlapReport report;
     for (const Triangle2& t : triangles)
-    {
-        const Eigen::Vector2d e1 = t[1] - t[0], e2 = t[2] - t[0];
-        report.map_area += 0.5 * std::abs(e1.x() * e2.y() - e1.y() * e2.x());
-    }
+        report.map_area += triangle_area(t);
     return report;
 }
 
