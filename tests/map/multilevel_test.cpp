@@ -57,6 +57,32 @@ bool noted(const FlattenResult& r, const std::string& text)
     });
 }
 
+// \p blocks (an operator by blocks, upper triangle) against \p product, the sparse product it
+// replaces: equal up to rounding, upper triangle only, every diagonal entry stored (the
+// corrections shift it).
+void check_upper_equals(const Eigen::SparseMatrix<double>& blocks,
+                        const Eigen::SparseMatrix<double>& product, const char* what)
+{
+    REQUIRE(blocks.rows() == product.rows());
+    REQUIRE(blocks.cols() == product.cols());
+    const Eigen::MatrixXd difference = Eigen::MatrixXd(blocks) - Eigen::MatrixXd(product);
+    MESSAGE(what << " " << blocks.rows() << " x " << blocks.cols() << ", " << blocks.nonZeros()
+                 << " entries; largest difference " << difference.cwiseAbs().maxCoeff() << " of "
+                 << Eigen::MatrixXd(product).cwiseAbs().maxCoeff());
+    CHECK(difference.norm() <= 1e-12 * Eigen::MatrixXd(product).norm());
+    CHECK(Eigen::MatrixXd(product).norm() > 0.0);
+    for (Eigen::Index c = 0; c < blocks.outerSize(); ++c)
+    {
+        bool diagonal = false;
+        for (Eigen::SparseMatrix<double>::InnerIterator it(blocks, c); it; ++it)
+        {
+            CHECK(it.row() <= c);
+            diagonal = diagonal || it.row() == c;
+        }
+        CHECK(diagonal);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("multilevel: coarsen keeps a disk, the kept vertices and the boundary's order")
@@ -273,25 +299,48 @@ TEST_CASE("multilevel: the coarse operator by blocks equals the Galerkin product
     const Eigen::SparseMatrix<double> product =
         (P.transpose() * full * P).triangularView<Eigen::Upper>();
 
-    REQUIRE(blocks.rows() == product.rows());
-    REQUIRE(blocks.cols() == product.cols());
-    const Eigen::MatrixXd difference = Eigen::MatrixXd(blocks) - Eigen::MatrixXd(product);
-    MESSAGE("coarse operator " << blocks.rows() << " x " << blocks.cols() << ", " << blocks.nonZeros()
-                               << " entries; largest difference " << difference.cwiseAbs().maxCoeff()
-                               << " of " << Eigen::MatrixXd(product).cwiseAbs().maxCoeff());
-    CHECK(difference.norm() <= 1e-12 * Eigen::MatrixXd(product).norm());
-    CHECK(Eigen::MatrixXd(product).norm() > 0.0);
-    // Upper triangle only, with every diagonal entry stored (the corrections shift it).
-    for (Eigen::Index c = 0; c < blocks.outerSize(); ++c)
-    {
-        bool diagonal = false;
-        for (Eigen::SparseMatrix<double>::InnerIterator it(blocks, c); it; ++it)
-        {
-            CHECK(it.row() <= c);
-            diagonal = diagonal || it.row() == c;
-        }
-        CHECK(diagonal);
-    }
+    check_upper_equals(blocks, product, "coarse operator");
+}
+
+TEST_CASE("multilevel: the level below's operator by blocks equals P2^T C P2, on one thread or two")
+{
+    // The corrections' operator C on a carried map of a cut cylinder, and the interpolation
+    // from a coarser level of it: the iterative corrections' operator of the level below.
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 24, 30);
+    const CoarseMesh coarse = coarsen(mesh, 300, {});
+    const CoarseMesh below = coarsen(coarse.mesh, 80, {});
+    const Eigen::MatrixX2d below_uv = coarse_map(below.mesh);
+    Eigen::MatrixX2d coarse_uv = prolongate(coarse.mesh, below, below_uv, 0.99);
+    relax_area(coarse.mesh, coarse_uv, {}, 0.99);
+    Eigen::MatrixX2d uv = prolongate(mesh, coarse, coarse_uv, 0.99);
+    relax_area(mesh, uv, {}, 0.99);
+    REQUIRE(test::count_flips(mesh, uv) == 0);
+    const int n = static_cast<int>(mesh.n_vertices());
+    std::vector<int> slot(n);
+    for (int v = 0; v < n; ++v)
+        slot[v] = v;
+    const std::vector<detail::FaceOperator> faces = detail::face_operators(mesh);
+    const Eigen::VectorXd x = detail::interleaved(uv);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows =
+        detail::coarse_interpolation(coarse.mesh, coarse.coarse_of, coarse_uv, uv);
+    const Eigen::SparseMatrix<double> C = detail::galerkin_operator(faces, slot, x.data(), 0.99, rows);
+    const Eigen::SparseMatrix<double> P2 =
+        detail::coarse_interpolation(below.mesh, below.coarse_of, below_uv, coarse_uv);
+    const Eigen::SparseMatrix<double, Eigen::RowMajor> rows2 = P2;
+
+    const Eigen::SparseMatrix<double> one = detail::galerkin_of_operator(C, rows2, 1);
+    const Eigen::SparseMatrix<double> two = detail::galerkin_of_operator(C, rows2, 2);
+    const Eigen::SparseMatrix<double> full = C.selfadjointView<Eigen::Upper>();
+    const Eigen::SparseMatrix<double> product =
+        (P2.transpose() * full * P2).triangularView<Eigen::Upper>();
+
+    check_upper_equals(one, product, "level below");
+    // Two threads: the same pattern and the same bits.
+    REQUIRE(two.nonZeros() == one.nonZeros());
+    CHECK(std::equal(one.outerIndexPtr(), one.outerIndexPtr() + one.outerSize() + 1,
+                     two.outerIndexPtr()));
+    CHECK(std::equal(one.innerIndexPtr(), one.innerIndexPtr() + one.nonZeros(), two.innerIndexPtr()));
+    CHECK(std::equal(one.valuePtr(), one.valuePtr() + one.nonZeros(), two.valuePtr()));
 }
 
 TEST_CASE("multilevel: the boundary guard keeps boundary parts a clearance apart")

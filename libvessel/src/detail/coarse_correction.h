@@ -40,10 +40,20 @@ Eigen::SparseMatrix<double> coarse_interpolation(const Mesh& coarse, const std::
 //! forming H or a sparse product: H's blocks summed per fine vertex and neighbour, then each
 //! coarse column gathered from the fine vertices it interpolates and their neighbours
 //! (Gustavson 1978, "Two fast algorithms for sparse matrices: multiplication and permuted
-//! transposition"). Equal to the product up to rounding.
+//! transposition"), the columns on two threads on large meshes (the same bits as on one).
+//! Equal to the product up to rounding.
 Eigen::SparseMatrix<double> galerkin_operator(
     const std::vector<FaceOperator>& faces, const std::vector<int>& slot, const double* x,
     double lambda, const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation);
+
+//! The upper triangle of P^T C P for a symmetric C given by its upper triangle (2|V| square,
+//! compressed) and an interpolation \p interpolation by rows with the same weights for u and v
+//! (as coarse_interpolation()): the level below's operator of the iterative corrections. By
+//! 2 x 2 blocks as galerkin_operator(), its columns on \p threads threads (1 or 2; the same
+//! bits either way). Equal to the product up to rounding.
+Eigen::SparseMatrix<double> galerkin_of_operator(
+    const Eigen::SparseMatrix<double>& upper,
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation, int threads);
 
 //! The coarse step's system C d = -P^T g (C the Galerkin operator, some unknowns held at 0) is
 //! solved either by a sparse Cholesky factorization of C, made again whenever a step holds more

@@ -61,68 +61,243 @@ void sum_over_faces(const std::vector<FaceOperator>& faces, const Make& make, co
     }
 }
 
+// A symmetric operator by 2 x 2 blocks over vertices: per vertex its diagonal block and, in a
+// segment [seg[i], seg[i] + used[i]), its neighbours j and the blocks (rows i, columns j).
+struct BlockOperator
+{
+    std::vector<int> seg, used, neighbour;
+    std::vector<Eigen::Matrix2d> diagonal, offdiagonal;
+};
+
+// An interpolation P = W (x) I_2 given by the vertex weights W (n x m; the same weight for u and
+// v), by rows (w_*) and by columns (t_*).
+struct VertexWeights
+{
+    int m = 0;
+    std::vector<int> w_first, w_coarse;
+    std::vector<double> w_weight;
+    std::vector<int> t_first, t_fine;
+    std::vector<double> t_weight;
+};
+
+// W from P's even rows and columns; rows of the vertices with slot[v] < 0 left empty (null slot:
+// none).
+VertexWeights vertex_weights(const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation,
+                             const std::vector<int>* slot)
+{
+    const int n = static_cast<int>(interpolation.rows() / 2);
+    VertexWeights W;
+    W.m = static_cast<int>(interpolation.cols() / 2);
+    W.w_first.assign(n + 1, 0);
+    for (int v = 0; v < n; ++v)
+    {
+        if (!slot || (*slot)[v] >= 0)
+            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(interpolation, 2 * v);
+                 it; ++it)
+            {
+                W.w_coarse.push_back(static_cast<int>(it.col() / 2));
+                W.w_weight.push_back(it.value());
+            }
+        W.w_first[v + 1] = static_cast<int>(W.w_coarse.size());
+    }
+    W.t_first.assign(W.m + 1, 0);
+    W.t_fine.resize(W.w_coarse.size());
+    W.t_weight.resize(W.w_coarse.size());
+    for (int a : W.w_coarse)
+        ++W.t_first[a + 1];
+    for (int a = 0; a < W.m; ++a)
+        W.t_first[a + 1] += W.t_first[a];
+    std::vector<int> next(W.t_first.begin(), W.t_first.end() - 1);
+    for (int v = 0; v < n; ++v)
+        for (int e = W.w_first[v]; e < W.w_first[v + 1]; ++e)
+        {
+            W.t_fine[next[W.w_coarse[e]]] = v;
+            W.t_weight[next[W.w_coarse[e]]++] = W.w_weight[e];
+        }
+    return W;
+}
+
+// The upper triangle of P^T H P (P = W (x) I_2) by 2 x 2 blocks (Gustavson 1978, "Two fast
+// algorithms for sparse matrices: multiplication and permuted transposition"): column a gathers
+// C_ab = sum over i of a, and j = i or a neighbour of i, of w_ia w_jb H_ij, for b <= a (C is
+// symmetric: C_ab(r, s) is the entry (2b + s, 2a + r)). The columns on up to two threads, each
+// column summed alone as on one thread: the same bits.
+Eigen::SparseMatrix<double> block_product(const BlockOperator& H, const VertexWeights& W,
+                                          int threads)
+{
+    const int m = W.m;
+    struct Part
+    {
+        std::vector<int> outer, inner;  // outer: the part's columns' ends, relative
+        std::vector<double> values;
+    };
+    std::vector<Part> parts(static_cast<std::size_t>(std::max(threads, 1)));
+    parallel_chunks(static_cast<std::size_t>(m), threads, [&](std::size_t first, std::size_t last, int t) {
+        Part& part = parts[static_cast<std::size_t>(t)];
+        std::vector<Eigen::Matrix2d> acc(m, Eigen::Matrix2d::Zero());
+        std::vector<char> seen(m, 0);
+        std::vector<int> touched;
+        const auto gather = [&](int a, double wia, int j, const Eigen::Matrix2d& block) {
+            for (int e = W.w_first[j]; e < W.w_first[j + 1]; ++e)
+            {
+                const int b = W.w_coarse[e];
+                if (b > a)
+                    continue;
+                if (!seen[b])
+                {
+                    seen[b] = 1;
+                    touched.push_back(b);
+                }
+                acc[b] += (wia * W.w_weight[e]) * block;
+            }
+        };
+        for (int a = static_cast<int>(first); a < static_cast<int>(last); ++a)
+        {
+            touched.assign(1, a);  // the diagonal block, even if nothing adds to it
+            seen[a] = 1;
+            for (int t2 = W.t_first[a]; t2 < W.t_first[a + 1]; ++t2)
+            {
+                const int i = W.t_fine[t2];
+                const double wia = W.t_weight[t2];
+                gather(a, wia, i, H.diagonal[i]);
+                for (int e = H.seg[i]; e < H.seg[i] + H.used[i]; ++e)
+                    gather(a, wia, H.neighbour[e], H.offdiagonal[e]);
+            }
+            std::sort(touched.begin(), touched.end());
+            for (int r = 0; r < 2; ++r)
+            {
+                for (int b : touched)
+                    for (int s = 0; s < 2 && (b < a || s <= r); ++s)
+                    {
+                        part.inner.push_back(2 * b + s);
+                        part.values.push_back(acc[b](r, s));
+                    }
+                part.outer.push_back(static_cast<int>(part.inner.size()));
+            }
+            for (int b : touched)
+            {
+                seen[b] = 0;
+                acc[b].setZero();
+            }
+        }
+    });
+    std::size_t entries = 0;
+    for (const Part& part : parts)
+        entries += part.inner.size();
+    Eigen::SparseMatrix<double> C(2 * m, 2 * m);
+    C.resizeNonZeros(static_cast<Eigen::Index>(entries));
+    int* outer = C.outerIndexPtr();
+    outer[0] = 0;
+    std::size_t column = 0, offset = 0;
+    for (const Part& part : parts)
+    {
+        for (int end : part.outer)
+            outer[++column] = static_cast<int>(offset) + end;
+        std::copy(part.inner.begin(), part.inner.end(), C.innerIndexPtr() + offset);
+        std::copy(part.values.begin(), part.values.end(), C.valuePtr() + offset);
+        offset += part.inner.size();
+    }
+    return C;
+}
+
+// The blocks of a symmetric operator given by its upper triangle (2|V| square, compressed).
+BlockOperator blocks_of_upper(const Eigen::SparseMatrix<double>& upper)
+{
+    const int n = static_cast<int>(upper.cols() / 2);
+    BlockOperator H;
+    H.seg.assign(n + 1, 0);
+    H.used.assign(n, 0);
+    H.diagonal.assign(n, Eigen::Matrix2d::Zero());
+    // Each block (b, a), b < a, once per column pair: counted for both vertices.
+    std::vector<int> last(n, -1);
+    for (int a = 0; a < n; ++a)
+        for (int c = 2 * a; c < 2 * a + 2; ++c)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(upper, c); it; ++it)
+            {
+                const int b = static_cast<int>(it.row() / 2);
+                if (b < a && last[b] != a)
+                {
+                    last[b] = a;
+                    ++H.seg[a + 1];
+                    ++H.seg[b + 1];
+                }
+            }
+    for (int v = 0; v < n; ++v)
+        H.seg[v + 1] += H.seg[v];
+    H.neighbour.resize(H.seg[n]);
+    H.offdiagonal.assign(H.seg[n], Eigen::Matrix2d::Zero());
+    std::fill(last.begin(), last.end(), -1);
+    // Per b < a while column pair a is read: the entries of blocks (a, b) and (b, a).
+    std::vector<int> in_a(n, -1), in_b(n, -1);
+    for (int a = 0; a < n; ++a)
+        for (int r = 0; r < 2; ++r)
+            for (Eigen::SparseMatrix<double>::InnerIterator it(upper, 2 * a + r); it; ++it)
+            {
+                const int b = static_cast<int>(it.row() / 2), s = static_cast<int>(it.row() % 2);
+                const double value = it.value();  // C(2b + s, 2a + r) = C_ab(r, s) = C_ba(s, r)
+                if (b == a)
+                {
+                    H.diagonal[a](s, r) = value;
+                    H.diagonal[a](r, s) = value;
+                    continue;
+                }
+                if (b > a)
+                    continue;  // not in an upper triangle
+                if (last[b] != a)
+                {
+                    last[b] = a;
+                    in_a[b] = H.seg[a] + H.used[a]++;
+                    in_b[b] = H.seg[b] + H.used[b]++;
+                    H.neighbour[in_a[b]] = b;
+                    H.neighbour[in_b[b]] = a;
+                }
+                H.offdiagonal[in_a[b]](r, s) = value;
+                H.offdiagonal[in_b[b]](s, r) = value;
+            }
+    return H;
+}
+
 }  // namespace
+
+Eigen::SparseMatrix<double> galerkin_of_operator(
+    const Eigen::SparseMatrix<double>& upper,
+    const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation, int threads)
+{
+    return block_product(blocks_of_upper(upper), vertex_weights(interpolation, nullptr), threads);
+}
 
 Eigen::SparseMatrix<double> galerkin_operator(
     const std::vector<FaceOperator>& faces, const std::vector<int>& slot, const double* x,
     double lambda, const Eigen::SparseMatrix<double, Eigen::RowMajor>& interpolation)
 {
     const int n = static_cast<int>(slot.size());
-    const int m = static_cast<int>(interpolation.cols() / 2);
-    // W: per free fine vertex its coarse vertices and weights (P's rows 2v, even columns).
-    std::vector<int> w_first(n + 1, 0), w_coarse;
-    std::vector<double> w_weight;
-    for (int v = 0; v < n; ++v)
-    {
-        if (slot[v] >= 0)
-            for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(interpolation, 2 * v);
-                 it; ++it)
-            {
-                w_coarse.push_back(static_cast<int>(it.col() / 2));
-                w_weight.push_back(it.value());
-            }
-        w_first[v + 1] = static_cast<int>(w_coarse.size());
-    }
-    // W^T: per coarse vertex the free fine vertices it interpolates, with the weights.
-    std::vector<int> t_first(m + 1, 0), t_fine(w_coarse.size());
-    std::vector<double> t_weight(w_coarse.size());
-    for (int a : w_coarse)
-        ++t_first[a + 1];
-    for (int a = 0; a < m; ++a)
-        t_first[a + 1] += t_first[a];
-    {
-        std::vector<int> next(t_first.begin(), t_first.end() - 1);
-        for (int v = 0; v < n; ++v)
-            for (int e = w_first[v]; e < w_first[v + 1]; ++e)
-            {
-                t_fine[next[w_coarse[e]]] = v;
-                t_weight[next[w_coarse[e]]++] = w_weight[e];
-            }
-    }
+    const VertexWeights W = vertex_weights(interpolation, &slot);
     // H by 2 x 2 blocks: per free fine vertex its diagonal block and, in a segment sized by its
     // faces (two neighbours each, shared ones once), its free neighbours' blocks, summed in face
     // order on two threads (sum_over_faces(): the faces' Hessians, whose projection is most of
     // the work, made in parallel), so the operator is the same bits as on one thread.
-    std::vector<int> seg(n + 1, 0), used(n, 0);
+    BlockOperator H;
+    H.seg.assign(n + 1, 0);
+    H.used.assign(n, 0);
     for (const FaceOperator& op : faces)
         for (int v : op.corner)
-            seg[v + 1] += 2;
+            H.seg[v + 1] += 2;
     for (int v = 0; v < n; ++v)
-        seg[v + 1] += seg[v];
-    std::vector<int> neighbour(seg[n]);
-    std::vector<Eigen::Matrix2d> offdiagonal(seg[n], Eigen::Matrix2d::Zero());
-    std::vector<Eigen::Matrix2d> diagonal(n, Eigen::Matrix2d::Zero());
+        H.seg[v + 1] += H.seg[v];
+    H.neighbour.resize(H.seg[n]);
+    H.offdiagonal.assign(H.seg[n], Eigen::Matrix2d::Zero());
+    H.diagonal.assign(n, Eigen::Matrix2d::Zero());
     const auto is_free = [&](const FaceOperator& op) {
         return slot[op.corner[0]] >= 0 || slot[op.corner[1]] >= 0 || slot[op.corner[2]] >= 0;
     };
     const int threads = face_threads(faces.size());
     sum_over_faces<FaceHessian>(
         faces,
-        [&](const FaceOperator& op, FaceHessian& H) {
+        [&](const FaceOperator& op, FaceHessian& F) {
             if (is_free(op))
-                H = FaceHessian(op, jacobian(op, x), lambda);
+                F = FaceHessian(op, jacobian(op, x), lambda);
         },
-        [&](const FaceOperator& op, const FaceHessian& H, int t) {
+        [&](const FaceOperator& op, const FaceHessian& F, int t) {
             if (!is_free(op))
                 return;
             const auto [owned_begin, owned_end] = owned_vertices(n, t, threads);
@@ -131,81 +306,25 @@ Eigen::SparseMatrix<double> galerkin_operator(
                 const int i = op.corner[k];
                 if (slot[i] < 0 || i < owned_begin || i >= owned_end)
                     continue;
-                diagonal[i] += H.block(k, k);
+                H.diagonal[i] += F.block(k, k);
                 for (int l = 0; l < 3; ++l)
                 {
                     const int j = op.corner[l];
                     if (l == k || slot[j] < 0)
                         continue;
-                    int e = seg[i];
-                    while (e < seg[i] + used[i] && neighbour[e] != j)
+                    int e = H.seg[i];
+                    while (e < H.seg[i] + H.used[i] && H.neighbour[e] != j)
                         ++e;
-                    if (e == seg[i] + used[i])
+                    if (e == H.seg[i] + H.used[i])
                     {
-                        neighbour[e] = j;
-                        ++used[i];
+                        H.neighbour[e] = j;
+                        ++H.used[i];
                     }
-                    offdiagonal[e] += H.block(k, l);
+                    H.offdiagonal[e] += F.block(k, l);
                 }
             }
         });
-    // Column a of the upper triangle by blocks: C_ab = sum over fine i of a, and j = i or a
-    // neighbour of i, of w_ia w_jb H_ij, for b <= a (C is symmetric: C_ab(r, s) is the entry
-    // (2b + s, 2a + r)).
-    std::vector<Eigen::Matrix2d> acc(m, Eigen::Matrix2d::Zero());
-    std::vector<char> seen(m, 0);
-    std::vector<int> touched;
-    std::vector<int> outer(2 * m + 1, 0), inner;
-    std::vector<double> values;
-    const auto gather = [&](int a, double wia, int j, const Eigen::Matrix2d& block) {
-        for (int e = w_first[j]; e < w_first[j + 1]; ++e)
-        {
-            const int b = w_coarse[e];
-            if (b > a)
-                continue;
-            if (!seen[b])
-            {
-                seen[b] = 1;
-                touched.push_back(b);
-            }
-            acc[b] += (wia * w_weight[e]) * block;
-        }
-    };
-    for (int a = 0; a < m; ++a)
-    {
-        touched.assign(1, a);  // the diagonal block, even if nothing adds to it
-        seen[a] = 1;
-        for (int t = t_first[a]; t < t_first[a + 1]; ++t)
-        {
-            const int i = t_fine[t];
-            const double wia = t_weight[t];
-            gather(a, wia, i, diagonal[i]);
-            for (int e = seg[i]; e < seg[i] + used[i]; ++e)
-                gather(a, wia, neighbour[e], offdiagonal[e]);
-        }
-        std::sort(touched.begin(), touched.end());
-        for (int r = 0; r < 2; ++r)
-        {
-            for (int b : touched)
-                for (int s = 0; s < 2 && (b < a || s <= r); ++s)
-                {
-                    inner.push_back(2 * b + s);
-                    values.push_back(acc[b](r, s));
-                }
-            outer[2 * a + r + 1] = static_cast<int>(inner.size());
-        }
-        for (int b : touched)
-        {
-            seen[b] = 0;
-            acc[b].setZero();
-        }
-    }
-    Eigen::SparseMatrix<double> C(2 * m, 2 * m);
-    C.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-    std::copy(outer.begin(), outer.end(), C.outerIndexPtr());
-    std::copy(inner.begin(), inner.end(), C.innerIndexPtr());
-    std::copy(values.begin(), values.end(), C.valuePtr());
-    return C;
+    return block_product(H, W, threads);
 }
 
 Eigen::SparseMatrix<double> coarse_interpolation(const Mesh& coarse, const std::vector<int>& coarse_of,
@@ -361,8 +480,7 @@ void CoarseCorrection::factorize()
         if (!analysed_)
         {
             full_ = coarse_.selfadjointView<Eigen::Upper>();
-            Eigen::SparseMatrix<double> product = below_.transpose() * full_ * below_;
-            below_base_ = product.triangularView<Eigen::Upper>();
+            below_base_ = galerkin_of_operator(coarse_, below_rows_, face_threads(faces_.size()));
             for (Eigen::Index c = 0; c < below_base_.cols(); ++c)
                 below_base_.coeffRef(c, c) += 1e-8 * mean_diagonal_;
             below_base_.makeCompressed();
