@@ -222,9 +222,19 @@ TEST_CASE("multilevel: corrections solved iteratively over two levels lower the 
 {
     // A cut cylinder carried up two levels; on the finest, the same relaxation with the
     // corrections' system factorized, and solved by conjugate gradients with V-cycles over the
-    // coarser level and the one below it (direct_correction_vertices 0).
-    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
-    const std::vector<CoarseMesh> levels = coarsen_levels(mesh, 150, {});
+    // coarser level and the one below it (direct_correction_vertices 0). The larger cylinder's
+    // V-cycles sweep on two threads (the coarser level above 4096 vertices, where the machine
+    // has two cores).
+    int around = 48, along = 60, coarse_vertices = 150;
+    SUBCASE("on one thread") {}
+    SUBCASE("on two threads")
+    {
+        around = 128;
+        along = 160;
+        coarse_vertices = 1000;
+    }
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, around, along);
+    const std::vector<CoarseMesh> levels = coarsen_levels(mesh, coarse_vertices, {});
     REQUIRE(levels.size() >= 2);
     const Eigen::MatrixX2d below_uv = coarse_map(levels[1].mesh);
     Eigen::MatrixX2d coarser_uv = prolongate(levels[0].mesh, levels[1], below_uv, 0.99);
@@ -247,7 +257,8 @@ TEST_CASE("multilevel: corrections solved iteratively over two levels lower the 
     const RelaxSummary iterative = relax_area(mesh, iterated, pins, 0.99, options, &levels[0],
                                               &coarser_uv, true, &levels[1], &below_uv);
     const double minimum = 2.0 * face_areas(mesh).sum();
-    MESSAGE("energy / minimum: carried " << swept.energy_before / minimum << ", sweeps alone "
+    MESSAGE(levels[0].mesh.n_vertices() << " coarser vertices; energy / minimum: carried "
+            << swept.energy_before / minimum << ", sweeps alone "
                                          << swept.energy_after / minimum << ", factorized "
                                          << direct.energy_after / minimum << ", iterative "
                                          << iterative.energy_after / minimum);

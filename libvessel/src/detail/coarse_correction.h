@@ -102,8 +102,11 @@ private:
     Eigen::VectorXd v_cycle(const Eigen::VectorXd& rhs);
     // Sets the held unknowns' entries of \p y (2|V_coarse|) to 0.
     void zero_held(Eigen::VectorXd& y) const;
-    // A Gauss-Seidel sweep on full_ d = rhs, over the unknowns in increasing or decreasing order.
+    // A Gauss-Seidel sweep on full_ d = rhs, over the unknowns in increasing or decreasing
+    // order; on two threads, over each half of them (Jacobi between the halves).
     void sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const;
+    // C y, on threads_ threads.
+    Eigen::VectorXd times_full(const Eigen::VectorXd& y) const;
 
     Eigen::SparseMatrix<double> coarse_;  // the coarse operator (upper triangle), once computed
     Eigen::SparseMatrix<double> system_;  // coarse_ with the held unknowns' rows made identity
@@ -117,6 +120,8 @@ private:
     Eigen::SparseMatrix<double> full_;
     Eigen::SparseMatrix<double> below_base_;      // P2^T C P2 (upper), without the springs
     Eigen::SparseMatrix<double> below_operator_;  // with the held unknowns' springs
+    int threads_ = 1;  // of the sweeps and products (face_threads() of the fine faces)
+    mutable Eigen::VectorXd before_;  // a two-thread sweep's d as it began
 };
 
 }  // namespace vessel::detail

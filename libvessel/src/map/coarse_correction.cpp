@@ -437,7 +437,8 @@ CoarseCorrection::CoarseCorrection(const std::vector<FaceOperator>& faces,
       slot_(free_slots(pinned)),
       lambda_(lambda),
       below_(std::move(below)),
-      below_rows_(below_)
+      below_rows_(below_),
+      threads_(face_threads(faces.size()))
 {
     // A pinned vertex does not move: its rows of P are emptied.
     P_.prune([&](Eigen::Index r, Eigen::Index, double) { return pinned[r / 2] < 0; });
@@ -480,7 +481,7 @@ void CoarseCorrection::factorize()
         if (!analysed_)
         {
             full_ = coarse_.selfadjointView<Eigen::Upper>();
-            below_base_ = galerkin_of_operator(coarse_, below_rows_, face_threads(faces_.size()));
+            below_base_ = galerkin_of_operator(coarse_, below_rows_, threads_);
             for (Eigen::Index c = 0; c < below_base_.cols(); ++c)
                 below_base_.coeffRef(c, c) += 1e-8 * mean_diagonal_;
             below_base_.makeCompressed();
@@ -532,24 +533,57 @@ void CoarseCorrection::zero_held(Eigen::VectorXd& y) const
 
 void CoarseCorrection::sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const
 {
-    // C is symmetric: column i holds row i.
+    // C is symmetric: column i holds row i. On two threads, each takes half of the unknowns (in
+    // vertex pairs), swept in order, and reads the other half's entries of d as they were when
+    // the sweep began (hybrid Gauss-Seidel: Gauss-Seidel within each half, Jacobi between the
+    // halves; Baker, Falgout, Kolev and Yang 2011, "Multigrid smoothers for ultraparallel
+    // computing"). The backward sweep runs each half in reverse, so a forward and a backward
+    // sweep together stay a symmetric smoother.
     const Eigen::Index n = full_.cols();
-    for (Eigen::Index k = 0; k < n; ++k)
-    {
-        const Eigen::Index i = forward ? k : n - 1 - k;
-        if (held_[i])
-            continue;
-        double sum = rhs[i], diagonal = 0.0;
-        for (Eigen::SparseMatrix<double>::InnerIterator it(full_, i); it; ++it)
-        {
-            if (it.row() == i)
-                diagonal = it.value();
-            else
-                sum -= it.value() * d[it.row()];
-        }
-        if (diagonal > 0.0)
-            d[i] = sum / diagonal;
-    }
+    const int threads = n < 8192 ? 1 : threads_;
+    if (threads > 1)
+        before_ = d;
+    parallel_chunks(static_cast<std::size_t>(n / 2), threads,
+                    [&](std::size_t first, std::size_t last, int) {
+                        const auto begin = static_cast<Eigen::Index>(2 * first);
+                        const auto end = static_cast<Eigen::Index>(2 * last);
+                        const double* outside = threads > 1 ? before_.data() : d.data();
+                        for (Eigen::Index k = 0; k < end - begin; ++k)
+                        {
+                            const Eigen::Index i = forward ? begin + k : end - 1 - k;
+                            if (held_[i])
+                                continue;
+                            double sum = rhs[i], diagonal = 0.0;
+                            for (Eigen::SparseMatrix<double>::InnerIterator it(full_, i); it; ++it)
+                            {
+                                const Eigen::Index j = it.row();
+                                if (j == i)
+                                    diagonal = it.value();
+                                else
+                                    sum -= it.value() * (j >= begin && j < end ? d[j] : outside[j]);
+                            }
+                            if (diagonal > 0.0)
+                                d[i] = sum / diagonal;
+                        }
+                    });
+}
+
+Eigen::VectorXd CoarseCorrection::times_full(const Eigen::VectorXd& y) const
+{
+    // C is symmetric: entry i of C y is column i's dot product with y, a column range per thread.
+    Eigen::VectorXd product(y.size());
+    parallel_chunks(static_cast<std::size_t>(full_.cols()), threads_,
+                    [&](std::size_t begin, std::size_t end, int) {
+                        for (auto i = static_cast<Eigen::Index>(begin);
+                             i < static_cast<Eigen::Index>(end); ++i)
+                        {
+                            double sum = 0.0;
+                            for (Eigen::SparseMatrix<double>::InnerIterator it(full_, i); it; ++it)
+                                sum += it.value() * y[it.row()];
+                            product[i] = sum;
+                        }
+                    });
+    return product;
 }
 
 Eigen::VectorXd CoarseCorrection::v_cycle(const Eigen::VectorXd& rhs)
@@ -561,7 +595,7 @@ Eigen::VectorXd CoarseCorrection::v_cycle(const Eigen::VectorXd& rhs)
     Eigen::VectorXd d = Eigen::VectorXd::Zero(rhs.size());
     for (int s = 0; s < kSmoothing; ++s)
         sweep(rhs, d, true);
-    Eigen::VectorXd residual = rhs - full_ * d;
+    Eigen::VectorXd residual = rhs - times_full(d);
     zero_held(residual);
     d += below_ * solver_.solve(below_.transpose() * residual);
     zero_held(d);
@@ -589,7 +623,7 @@ Eigen::VectorXd CoarseCorrection::solve(const Eigen::VectorXd& rhs)
     double rz = r.dot(z);
     for (int it = 0; it < kIterations && rz > 0.0; ++it)
     {
-        Eigen::VectorXd Ap = full_ * p;
+        Eigen::VectorXd Ap = times_full(p);
         zero_held(Ap);
         const double curvature = p.dot(Ap);
         if (!(curvature > 0.0))
