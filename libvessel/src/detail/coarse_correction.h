@@ -59,8 +59,9 @@ Eigen::SparseMatrix<double> galerkin_of_operator(
 //! solved either by a sparse Cholesky factorization of C, made again whenever a step holds more
 //! unknowns, or, given the interpolation P2 of a level below the coarse one, iteratively:
 //! conjugate gradients over the free unknowns, preconditioned by a V-cycle (symmetric
-//! Gauss-Seidel sweeps on C around an exact solve of P2^T C P2 with a stiff spring on each held
-//! unknown; Briggs, Henson and McCormick 2000, "A multigrid tutorial", ch. 3 and 10). A
+//! Gauss-Seidel sweeps on C, on two threads hybrid: Gauss-Seidel within each half of the
+//! unknowns, Jacobi between the halves; around an exact solve of P2^T C P2 with a stiff spring on
+//! each held unknown; Briggs, Henson and McCormick 2000, "A multigrid tutorial", ch. 3 and 10). A
 //! factorization's fill grows faster than C, so on the largest meshes it dominates the
 //! relaxation; the iterative solve costs a few sweeps over C's entries plus the factorization of
 //! an operator a quarter as large, and holding more unknowns refactorizes only that one
