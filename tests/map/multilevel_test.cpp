@@ -125,6 +125,46 @@ TEST_CASE("multilevel: coarsen keeps a disk, the kept vertices and the boundary'
     CHECK(coarse.collapses.size() == fine.n_vertices() - m.n_vertices());
 }
 
+TEST_CASE("multilevel: rounds of independent collapses carry to the same bits on two threads")
+{
+    // coarsen() records its rounds; prolongate() undoes each round's interior collapses on two
+    // threads where a round has enough of them. Without the record it undoes every collapse
+    // one after another, and the map must be the same to the bit.
+    const Mesh fine = test::cut_cylinder(1.0, 6.0, 128, 160);
+    const CoarseMesh coarse = coarsen(fine, static_cast<int>(fine.n_vertices() / 4), {});
+    REQUIRE(!coarse.rounds.empty());
+    CHECK(coarse.rounds.front() == 0);
+    CHECK(std::is_sorted(coarse.rounds.begin(), coarse.rounds.end()));
+    CHECK(coarse.rounds.back() < coarse.collapses.size());
+    // No two collapses of a round share a vertex of their stars' centres or targets.
+    std::size_t largest = 0;
+    for (std::size_t r = 0; r < coarse.rounds.size(); ++r)
+    {
+        const std::size_t end =
+            r + 1 < coarse.rounds.size() ? coarse.rounds[r + 1] : coarse.collapses.size();
+        std::set<int> ends;
+        std::size_t interior = 0;
+        for (std::size_t c = coarse.rounds[r]; c < end; ++c)
+        {
+            const Collapse& collapse = coarse.collapses[c];
+            interior += collapse.across < 0;
+            CHECK(ends.insert(collapse.v0).second);
+            CHECK(ends.insert(collapse.v1).second);
+        }
+        largest = std::max(largest, interior);
+    }
+    MESSAGE(coarse.rounds.size() << " rounds, the largest of " << largest << " interior collapses");
+    CHECK(largest >= 2048);  // enough for the two threads (prolongate())
+
+    const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
+    const Eigen::MatrixX2d parallel = prolongate(fine, coarse, coarse_uv, 0.99);
+    CoarseMesh unrecorded = coarse;
+    unrecorded.rounds.clear();
+    const Eigen::MatrixX2d serial = prolongate(fine, unrecorded, coarse_uv, 0.99);
+    CHECK(test::count_flips(fine, parallel) == 0);
+    CHECK((parallel.array() == serial.array()).all());
+}
+
 TEST_CASE("multilevel: a flip-free coarse map carries to a flip-free, one-to-one fine map")
 {
     for (const int target : {100, 400})

@@ -1,6 +1,7 @@
 #include "vessel/map/multilevel.h"
 
 #include "detail/cell_grid.h"
+#include "detail/face_jacobian.h"
 #include "detail/segments.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
@@ -113,8 +114,10 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
     std::vector<char> touched(work.n_vertices());
     std::vector<Collapse> collapses;
     collapses.reserve(work.n_vertices() - std::min(target, work.n_vertices()));
+    std::vector<std::size_t> rounds;
     while (alive > target)
     {
+        rounds.push_back(collapses.size());
         candidates.clear();
         for (auto v : work.vertices())
         {
@@ -165,7 +168,10 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
                 break;
         }
         if (collapsed == 0)
+        {
+            rounds.pop_back();
             break;
+        }
     }
     auto fine_index = OpenMesh::VProp<int>(work);
     for (auto v : work.vertices())
@@ -174,6 +180,7 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
 
     CoarseMesh coarse;
     coarse.collapses = std::move(collapses);
+    coarse.rounds = std::move(rounds);
     coarse.coarse_of.assign(fine.n_vertices(), -1);
     coarse.fine_of.resize(work.n_vertices());
     coarse.mesh.reserve(work.n_vertices(), work.n_edges(), work.n_faces());
@@ -280,14 +287,27 @@ Eigen::Vector2d fitted_position(const Mesh& fine, const Eigen::MatrixX2d& uv,
     return solve.solve(right).row(0).transpose();
 }
 
+// settle()'s buffers, kept across calls (one per thread).
+struct SettleScratch
+{
+    std::vector<detail::FaceOperator> ops;
+    std::vector<detail::Corner> corners;
+    std::vector<double> x;
+    std::vector<Eigen::Vector3d> ds;
+};
+
 // A few projected Newton steps of a re-inserted interior vertex within its star (Sander et
 // al. 2001 optimize each split vertex the same way): it leaves no sliver for the next ones.
-void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eigen::MatrixX2d& uv)
+void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eigen::MatrixX2d& uv,
+            SettleScratch& scratch)
 {
     const std::size_t n = collapse.faces.size();
-    std::vector<detail::FaceOperator> ops(n);
-    std::vector<detail::Corner> corners(n);
-    std::vector<double> x(2 * (2 * n + 1));
+    std::vector<detail::FaceOperator>& ops = scratch.ops;
+    std::vector<detail::Corner>& corners = scratch.corners;
+    std::vector<double>& x = scratch.x;
+    ops.resize(n);
+    corners.resize(n);
+    x.resize(2 * (2 * n + 1));
     const auto p = [&](int v) { return to_eigen(fine.point(VertexHandle(v))); };
     x[0] = uv(collapse.v0, 0);
     x[1] = uv(collapse.v0, 1);
@@ -303,7 +323,7 @@ void settle(const Mesh& fine, const Collapse& collapse, double area_weight, Eige
         corners[i] = {static_cast<int>(i), 0};
     }
     const detail::VertexEnergy energy(ops, area_weight);
-    std::vector<Eigen::Vector3d> ds;
+    std::vector<Eigen::Vector3d>& ds = scratch.ds;
     const auto any = [](const Eigen::Vector2d&) { return true; };
     for (int step = 0; step < 3; ++step)
         if (detail::vertex_newton_step(energy, corners.data(), corners.data() + n, x.data(), 0,
@@ -452,9 +472,9 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
     // there, near its collapse target along a direction into the star's wedge at the target
     // (every face of the star is positive there; Sander et al. 2001, "Texture mapping
     // progressive meshes").
-    for (auto it = coarse.collapses.rbegin(); it != coarse.collapses.rend(); ++it)
-    {
-        const Collapse& collapse = *it;
+    // One collapse undone; an interior one (across < 0) reads its star and writes its own row
+    // of uv alone (settle()'s scratch is the caller's).
+    const auto undo = [&](const Collapse& collapse, SettleScratch& scratch) {
         const Eigen::Vector2d target = uv.row(collapse.v1).transpose();
         if (collapse.across >= 0)
         {
@@ -502,7 +522,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             if (placed)
             {
                 boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
-                continue;
+                return;
             }
             // Where the coarse boundary turns sharply at the target, no point of the edge
             // keeps the star positive: the point of the star's kernel nearest the edge's,
@@ -533,15 +553,15 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             {
                 uv.row(collapse.v0) = chosen.transpose();
                 boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
-                continue;
+                return;
             }
         }
         const Eigen::Vector2d fitted = fitted_position(fine, uv, collapse);
         uv.row(collapse.v0) = fitted.transpose();
         if (collapse.across < 0 && star_positive(uv, collapse))
         {
-            settle(fine, collapse, area_weight, uv);
-            continue;
+            settle(fine, collapse, area_weight, uv, scratch);
+            return;
         }
         // Near the target, only the faces (v0, v1, b) and (v0, a, v1) can flip: each asks the
         // direction d of v0 from v1 to keep b - v1 clockwise and a - v1 counter-clockwise of it.
@@ -577,9 +597,44 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             placed = star_positive(uv, collapse);
         }
         if (placed && collapse.across < 0)
-            settle(fine, collapse, area_weight, uv);
+            settle(fine, collapse, area_weight, uv, scratch);
         if (collapse.across >= 0)
             boundary.split(uv, collapse.v0, collapse.v1, collapse.across);
+    };
+    // Round by round, the last first. No two collapses of a round are within one ring of each
+    // other (coarsen()), so none reads a vertex another one of its round places: the boundary
+    // vertices one after another (they share the growing boundary's grid), then the interior
+    // ones on two threads, to the same map as one after another.
+    // Without a valid record of the rounds (a CoarseMesh not made by coarsen()), each
+    // collapse is a round of its own.
+    const std::vector<std::size_t>& made = coarse.rounds;
+    const std::size_t total = coarse.collapses.size();
+    const bool recorded = !made.empty() && made.front() == 0 && made.back() < total &&
+                          std::is_sorted(made.begin(), made.end());
+    std::vector<std::size_t> single;
+    if (!recorded)
+        for (std::size_t c = 0; c < total; ++c)
+            single.push_back(c);
+    const std::vector<std::size_t>& rounds = recorded ? made : single;
+    std::vector<SettleScratch> scratch(2);
+    std::vector<const Collapse*> interior;
+    for (std::size_t r = rounds.size(); r-- > 0;)
+    {
+        const std::size_t begin = rounds[r];
+        const std::size_t end = r + 1 < rounds.size() ? rounds[r + 1] : total;
+        interior.clear();
+        for (std::size_t c = end; c-- > begin;)
+        {
+            if (coarse.collapses[c].across >= 0)
+                undo(coarse.collapses[c], scratch[0]);
+            else
+                interior.push_back(&coarse.collapses[c]);
+        }
+        detail::parallel_chunks(interior.size(), interior.size() < 2048 ? 1 : 2,
+                                [&](std::size_t first, std::size_t last, int t) {
+                                    for (std::size_t i = first; i < last; ++i)
+                                        undo(*interior[i], scratch[static_cast<std::size_t>(t)]);
+                                });
     }
     return uv;
 }
