@@ -104,10 +104,13 @@ private:
     // Sets the held unknowns' entries of \p y (2|V_coarse|) to 0.
     void zero_held(Eigen::VectorXd& y) const;
     // A Gauss-Seidel sweep on full_ d = rhs, over the unknowns in increasing or decreasing
-    // order; on two threads, over each half of them (Jacobi between the halves).
+    // order; on two threads (full_threads()), over each half of them (Jacobi between them).
     void sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, bool forward) const;
-    // C y, on threads_ threads.
+    // C y, on full_threads() threads.
     Eigen::VectorXd times_full(const Eigen::VectorXd& y) const;
+    // Threads of the sweeps and products over full_: threads_, but one below 8192 unknowns (as
+    // face_threads() keeps small meshes on one).
+    int full_threads() const { return full_.cols() < 8192 ? 1 : threads_; }
 
     Eigen::SparseMatrix<double> coarse_;  // the coarse operator (upper triangle), once computed
     Eigen::SparseMatrix<double> system_;  // coarse_ with the held unknowns' rows made identity

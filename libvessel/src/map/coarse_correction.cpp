@@ -540,7 +540,7 @@ void CoarseCorrection::sweep(const Eigen::VectorXd& rhs, Eigen::VectorXd& d, boo
     // computing"). The backward sweep runs each half in reverse, so a forward and a backward
     // sweep together stay a symmetric smoother.
     const Eigen::Index n = full_.cols();
-    const int threads = n < 8192 ? 1 : threads_;
+    const int threads = full_threads();
     if (threads > 1)
         before_ = d;
     parallel_chunks(static_cast<std::size_t>(n / 2), threads,
@@ -572,7 +572,7 @@ Eigen::VectorXd CoarseCorrection::times_full(const Eigen::VectorXd& y) const
 {
     // C is symmetric: entry i of C y is column i's dot product with y, a column range per thread.
     Eigen::VectorXd product(y.size());
-    parallel_chunks(static_cast<std::size_t>(full_.cols()), threads_,
+    parallel_chunks(static_cast<std::size_t>(full_.cols()), full_threads(),
                     [&](std::size_t begin, std::size_t end, int) {
                         for (auto i = static_cast<Eigen::Index>(begin);
                              i < static_cast<Eigen::Index>(end); ++i)

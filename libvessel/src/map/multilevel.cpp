@@ -616,7 +616,8 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
         for (std::size_t c = 0; c < total; ++c)
             single.push_back(c);
     const std::vector<std::size_t>& rounds = recorded ? made : single;
-    std::vector<SettleScratch> scratch(2);
+    const int threads = detail::face_threads(fine.n_faces());  // 1 or 2
+    std::vector<SettleScratch> scratch(static_cast<std::size_t>(threads));
     std::vector<const Collapse*> interior;
     for (std::size_t r = rounds.size(); r-- > 0;)
     {
@@ -630,7 +631,7 @@ Eigen::MatrixX2d prolongate(const Mesh& fine, const CoarseMesh& coarse,
             else
                 interior.push_back(&coarse.collapses[c]);
         }
-        detail::parallel_chunks(interior.size(), interior.size() < 2048 ? 1 : 2,
+        detail::parallel_chunks(interior.size(), interior.size() < 2048 ? 1 : threads,
                                 [&](std::size_t first, std::size_t last, int t) {
                                     for (std::size_t i = first; i < last; ++i)
                                         undo(*interior[i], scratch[static_cast<std::size_t>(t)]);

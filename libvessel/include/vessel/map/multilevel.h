@@ -80,7 +80,7 @@ struct CoarseMesh
     Mesh mesh;
     std::vector<Collapse> collapses;  //!< in the order made
     //! Index in `collapses` of each round's first collapse: no two collapses of a round are
-    //! within one ring of each other (prolongate() undoes a round's on two threads).
+    //! within one ring of each other (prolongate() undoes a round's interior ones on two threads).
     std::vector<std::size_t> rounds;
     std::vector<int> fine_of;    //!< per coarse vertex, its fine vertex index
     std::vector<int> coarse_of;  //!< per fine vertex, its coarse vertex index or -1 (removed)
