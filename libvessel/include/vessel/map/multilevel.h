@@ -52,11 +52,12 @@ struct MultilevelOptions
     //! carried from the coarsest mesh). 0 = iteratively wherever the level below is given.
     int direct_correction_vertices = 50000;
     //! A carried map whose relaxed energy (relax_area()'s, at the finest level) ends above
-    //! this multiple of its isometric minimum (twice the surface area) is refused, and the
-    //! map solved again as after a carry that crosses: the coarse solve stopped far from its
-    //! minimum (SLIM's scaffold steps stalling on a decimated many-outlet tree) and local
-    //! steps cannot recover it. Accepted maps end near 1, refused ones several times above
-    //! (docs/benchmarks.md "Coarse-to-fine"). Must be > 1.
+    //! this multiple of its isometric minimum (twice the surface area) is polished at full
+    //! resolution (FlattenOptions::area_polish, the boundary kept simple), whose Newton steps
+    //! remove what local steps and coarse-grid corrections stall on; still above, it is
+    //! refused and the map solved again as after a carry that crosses (the coarse solve stopped
+    //! far from its minimum: SLIM's scaffold steps stalling on a decimated many-outlet tree).
+    //! Relaxed maps mostly end near 1 (docs/benchmarks.md "Coarse-to-fine"). Must be > 1.
     double max_energy_ratio = 1.05;
     //! Called by relax_area() after each sweep with the number of sweeps made (progress).
     std::function<void(int sweeps)> on_sweep;
