@@ -88,9 +88,10 @@ bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
     return true;
 }
 
-}  // namespace
-
-CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep)
+// coarsen() into \p coarse (empty on entry): an OpenMesh mesh has no move constructor, so a
+// CoarseMesh returned and then moved into a vector would copy its mesh.
+void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep,
+                  CoarseMesh& coarse)
 {
     DecimationMesh work;
     work.reserve(fine.n_vertices(), fine.n_edges(), fine.n_faces());
@@ -178,7 +179,6 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
         fine_index[v] = v.idx();
     work.garbage_collection();
 
-    CoarseMesh coarse;
     coarse.collapses = std::move(collapses);
     coarse.rounds = std::move(rounds);
     coarse.coarse_of.assign(fine.n_vertices(), -1);
@@ -196,6 +196,14 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
         coarse.mesh.add_face(VertexHandle(h.from().idx()), VertexHandle(h.to().idx()),
                              VertexHandle(h.next().to().idx()));
     }
+}
+
+}  // namespace
+
+CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep)
+{
+    CoarseMesh coarse;
+    coarsen_into(fine, target_vertices, keep, coarse);
     return coarse;
 }
 
@@ -209,6 +217,9 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
     // length, which Gauss-Seidel removes in a few tens of sweeps.
     constexpr std::size_t kRatio = 4;
     std::vector<CoarseMesh> levels;
+    // Room for every level (a quarter each: 32 levels are 4^32 vertices): `above` points into
+    // the vector, and a reallocation would copy every level's mesh.
+    levels.reserve(32);
     for (const Mesh* above = &fine;;)
     {
         std::vector<VertexHandle> level_keep = keep;
@@ -221,13 +232,16 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
         if (above->n_vertices() <= floor)
             break;
         const std::size_t target = std::max(floor, above->n_vertices() / kRatio);
-        CoarseMesh level = coarsen(*above, static_cast<int>(target), level_keep);
+        CoarseMesh& level = levels.emplace_back();
+        coarsen_into(*above, static_cast<int>(target), level_keep, level);
         if (level.mesh.n_vertices() == above->n_vertices())
+        {
+            levels.pop_back();
             break;  // nothing could be collapsed
+        }
         for (VertexHandle& v : keep)
             v = VertexHandle(level.coarse_of[v.idx()]);
-        levels.push_back(std::move(level));
-        above = &levels.back().mesh;
+        above = &level.mesh;
     }
     return levels;
 }
