@@ -410,13 +410,15 @@ TEST_CASE("cli: --look-retry force redoes a restarted map with --look-retry-pull
 
 TEST_CASE("cli: --look-retry-inversions sets how many walk inversions make a look broken")
 {
-    // The 10-outlet tree phantom (seed 11)'s restarted map has no outlet below the inlet and 1
+    // The 10-outlet tree phantom (seed 3)'s restarted map has no outlet below the inlet and 1
     // walk inversion in 45 outlet pairs (2%): under the default fraction (0.05) its look holds
     // and is not retried; with 0 that one inversion breaks it, with 1 none can. The aligned
-    // route's cuts (--no-natural-cuts), whose map has that one inversion.
+    // route's cuts (--no-natural-cuts), whose map has that one inversion. Seed 3 keeps it under
+    // a hierarchy whose edge-length ties break otherwise (seed 11 then has an outlet below the
+    // inlet: docs/benchmarks.md, "Tried, not kept").
     const std::string dir = temp_dir("flags_look_inversions");
     const std::string tree = dir + "/tree10.ply";
-    REQUIRE(run(std::string(VESSEL_PHANTOM_EXE) + " tree --outlets 10 --seed 11 --edge-length 0.75 -o " +
+    REQUIRE(run(std::string(VESSEL_PHANTOM_EXE) + " tree --outlets 10 --seed 3 --edge-length 0.75 -o " +
                 tree) == 0);
     const auto by_default = flatten_report(dir, "default", tree, "--no-natural-cuts");
     const auto strict = 
