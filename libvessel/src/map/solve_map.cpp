@@ -441,9 +441,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 polish.area_weight = lambda;  // the energy the bound is held on
                 polish.keep_boundary_simple = keep_simple;
                 const AreaPolishSummary polished = area_polish(above, uv, pins, polish);
-                MultilevelOptions measure = multilevel;
-                measure.relax_sweeps = 1;
-                measure.coarse_corrections = 0;
+                MultilevelOptions measure = multilevel;  // no sweep: the energy alone
+                measure.relax_sweeps = 0;
                 energy = relax_area(above, uv, pins, lambda, measure).energy_after;
                 std::snprintf(line, sizeof line,
                               "coarse-to-fine: above the bound, polished (%d steps): "
