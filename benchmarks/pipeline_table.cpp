@@ -6,6 +6,7 @@
 // `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
 #include "cgal_peer.h"
 #include "common/quality_json.h"
+#include "common/huge_pages.h"
 #include "vessel/map/arap.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_metrics.h"
@@ -1070,6 +1071,9 @@ std::string base_name(const std::string& path)
 
 int main(int argc, char** argv)
 {
+    // The meshes' children are forked from this process and keep its malloc: with huge pages,
+    // as vessel-flatten runs a large mesh (tools/common/huge_pages.h).
+    vessel::cli::restart_with_huge_pages(argv);
     CLI::App app{"vessel-bench-table: run the whole flatten() pipeline per mesh several times and "
                  "print the median (min-max) seconds per stage in the columns of the paper's "
                  "Table 1, with reading time and peak RSS (each mesh runs in its own child "

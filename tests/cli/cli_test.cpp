@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include "common/error_text.h"
+#include "common/huge_pages.h"
 #include "vessel_flatten/case_process.h"
 #include "vessel_flatten/memory_budget.h"
 
@@ -1211,12 +1212,16 @@ TEST_CASE("cli: a batch's memory budget refuses a mesh above it and runs large o
     CHECK_FALSE(fs::exists(dir + "/out/b.obj"));
 }
 
-TEST_CASE("cli: a batch's mesh processes ask glibc's malloc for huge pages unless told otherwise")
+TEST_CASE("cli: the tools' processes ask glibc's malloc for huge pages unless told otherwise")
 {
-    using vessel::cli::child_environment;
+    using vessel::cli::huge_page_environment;
     const auto env = [](std::vector<const char*> entries) {
         entries.push_back(nullptr);
-        return child_environment(entries.data());
+        return huge_page_environment(entries.data());
+    };
+    const auto named = [](std::vector<const char*> entries) {
+        entries.push_back(nullptr);
+        return vessel::cli::names_huge_pages(entries.data());
     };
     using Strings = std::vector<std::string>;
     CHECK(env({"HOME=/root", "PATH=/bin"}) ==
@@ -1228,6 +1233,10 @@ TEST_CASE("cli: a batch's mesh processes ask glibc's malloc for huge pages unles
           Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"});
     CHECK(env({"GLIBC_TUNABLES="}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
     CHECK(env({}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
+    // restart_with_huge_pages() starts the program again only where the tunable is not named.
+    CHECK_FALSE(named({"HOME=/root", "GLIBC_TUNABLES=glibc.malloc.arena_max=2"}));
+    CHECK(named({"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"}));
+    CHECK(named({"A=b", "GLIBC_TUNABLES=glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1"}));
 }
 
 TEST_CASE("cli: the memory watchdog stops the admitted mesh furthest above its estimate, not one "

@@ -1,5 +1,7 @@
 #include "case_process.h"
 
+#include "common/huge_pages.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <csignal>
@@ -14,27 +16,6 @@
 extern char** environ;
 
 namespace vessel::cli {
-
-std::vector<std::string> child_environment(const char* const* parent)
-{
-    static const std::string tunables = "GLIBC_TUNABLES=", huge = "glibc.malloc.hugetlb";
-    std::vector<std::string> out;
-    bool set = false;
-    for (const char* const* e = parent; e && *e; ++e)
-    {
-        std::string entry = *e;
-        if (entry.rfind(tunables, 0) == 0)
-        {
-            if (entry.find(huge) == std::string::npos)
-                entry += (entry.size() > tunables.size() ? ":" : "") + huge + "=1";
-            set = true;
-        }
-        out.push_back(std::move(entry));
-    }
-    if (!set)
-        out.push_back(tunables + huge + "=1");
-    return out;
-}
 
 namespace {
 
@@ -86,7 +67,7 @@ ChildProcess::ChildProcess(const std::string& exe, const std::vector<std::string
     for (const auto& a : args)
         argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    std::vector<std::string> environment = child_environment(environ);
+    std::vector<std::string> environment = huge_page_environment(environ);
     std::vector<char*> envp;
     for (auto& e : environment)
         envp.push_back(e.data());

@@ -22,15 +22,6 @@
 
 namespace vessel::cli {
 
-//! \brief The environment of a mesh's process: \p parent's, with glibc's malloc asked to use
-//! transparent huge pages (`glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
-//! set to it) unless \p parent already sets that tunable (a user's `glibc.malloc.hugetlb=0`
-//! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
-//! array faulted in by 4 kB pages (figures in docs/benchmarks.md, "Machine and conditions");
-//! glibc reads its tunables at start-up only, so the batch, which starts each process anyway,
-//! sets it. Other C libraries and glibc before 2.35 ignore it.
-std::vector<std::string> child_environment(const char* const* parent);
-
 //! A child process started from \p exe with \p args (args[0] is its name), in a process group of
 //! its own (a terminal's interrupt reaches the batch, which decides), with a pipe to its standard
 //! input and one from its file descriptor 3 (its messages to the batch; its standard output and
