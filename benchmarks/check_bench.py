@@ -83,6 +83,21 @@ def check_area_ratio(where, quality):
            f"{where}: area ratio {ratio}, not within {AREA_RATIO_TOLERANCE} of 1")
 
 
+def expected_huge_pages():
+    """Whether vessel-bench-table's process has glibc's malloc on transparent huge pages: the
+    environment's own setting where it names one, else whether the kernel gives them (the bench
+    then starts itself again with them)."""
+    tunables = os.environ.get("GLIBC_TUNABLES", "")
+    if "glibc.malloc.hugetlb=" in tunables:
+        value = tunables.split("glibc.malloc.hugetlb=", 1)[1][:1]
+        return value in ("1", "2")
+    try:
+        with open("/sys/kernel/mm/transparent_hugepage/enabled") as f:
+            return "[never]" not in f.readline()
+    except OSError:
+        return False
+
+
 def check_table(exe, mesh, workdir):
     os.makedirs(workdir, exist_ok=True)
     # The paper's whole method (its F and its cut rule) is the like-for-like run beside the peer.
@@ -95,6 +110,9 @@ def check_table(exe, mesh, workdir):
         with open(out) as f:
             doc = json.load(f)
         expect(doc["runs"] == 2, f"{method}: runs {doc['runs']}")
+        expect(doc["huge_pages"] == expected_huge_pages(),
+               f"{method}: huge_pages {doc['huge_pages']}, not what the bench's start-up "
+               f"(restart_with_huge_pages) should have set")
         expect(len(doc["results"]) == 1, f"{method}: {len(doc['results'])} results for one mesh")
         r = doc["results"][0]
         where = f"{method} --cuts {cuts} {r['name']}"

@@ -1264,6 +1264,7 @@ int main(int argc, char** argv)
         json doc{{"date", now_utc()},
                  {"cpu", cpu_model()},
                  {"logical_cpus", sysconf(_SC_NPROCESSORS_ONLN)},
+                 {"huge_pages", vessel::cli::asks_huge_pages(environ)},
                  {"runs", s.runs},
                  {"mode", curves ? "solver-curves" : solvers ? "solvers" : "table"},
                  {"results", results}};

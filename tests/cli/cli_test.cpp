@@ -1239,6 +1239,35 @@ TEST_CASE("cli: the tools' processes ask glibc's malloc for huge pages unless to
     CHECK(named({"A=b", "GLIBC_TUNABLES=glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1"}));
 }
 
+TEST_CASE("cli: an input of 128 kB or more runs with huge pages, unless the user opts out")
+{
+    // restart_with_huge_pages(): the program starts itself again with the tunable, which the
+    // report's timings say; a small input, or a user's own setting, runs as it is.
+    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string modes;
+    const bool kernel_gives =
+        std::getline(thp, modes) && modes.find("[never]") == std::string::npos;
+    const auto dir = temp_dir("cli_huge_pages");
+    const std::string demo =
+        std::string(VESSEL_SHARED_DATA) + "/simvascular-tests/demo-model-open.ply";
+    const std::string small = std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply";
+    REQUIRE(std::filesystem::file_size(demo) >= vessel::cli::kHugePageInputBytes);
+    REQUIRE(std::filesystem::file_size(small) < vessel::cli::kHugePageInputBytes);
+    const auto huge_pages = [&](const std::string& environment, const std::string& input) {
+        const std::string report = dir + "/r.json";
+        std::filesystem::remove(report);
+        REQUIRE(run("env -u GLIBC_TUNABLES " + environment + " " + kFlatten + " " + input +
+                    " -o " + dir + "/flat.obj --report " + report + " -q") == 0);
+        return nlohmann::json::parse(read_bytes(report))["timings"]["huge_pages"].get<bool>();
+    };
+    CHECK(huge_pages("", demo) == kernel_gives);
+    CHECK_FALSE(huge_pages("GLIBC_TUNABLES=glibc.malloc.hugetlb=0", demo));
+    CHECK_FALSE(huge_pages("", small));
+    CHECK(huge_pages("GLIBC_TUNABLES=glibc.malloc.hugetlb=1", small));
+    // Other tunables are kept and the pages added.
+    CHECK(huge_pages("GLIBC_TUNABLES=glibc.malloc.arena_max=4", demo) == kernel_gives);
+}
+
 TEST_CASE("cli: the memory watchdog stops the admitted mesh furthest above its estimate, not one "
           "waiting for room")
 {

@@ -55,6 +55,24 @@ inline bool names_huge_pages(const char* const* parent)
     return false;
 }
 
+//! Whether \p parent's GLIBC_TUNABLES asks glibc's malloc for transparent huge pages
+//! (`glibc.malloc.hugetlb=1`, or `=2` for the kernel's preallocated ones).
+inline bool asks_huge_pages(const char* const* parent)
+{
+    for (const char* const* e = parent; e && *e; ++e)
+    {
+        const std::string entry = *e;
+        if (entry.rfind("GLIBC_TUNABLES=", 0) != 0)
+            continue;
+        const std::size_t at = entry.find("glibc.malloc.hugetlb=");
+        if (at == std::string::npos)
+            return false;
+        const char value = entry[at + std::string("glibc.malloc.hugetlb=").size()];
+        return value == '1' || value == '2';
+    }
+    return false;
+}
+
 //! Inputs from this size (bytes) on are run with huge pages: below it the second start of the
 //! program (about 50 ms here, most of it loading the shared libraries) costs about what the
 //! pages save (the VaMPy artery, 7.5k triangles in 144 kB: 0.83 -> 0.75 s with them).

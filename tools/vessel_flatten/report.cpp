@@ -1,5 +1,6 @@
 #include "report.h"
 
+#include "common/huge_pages.h"
 #include "common/quality_json.h"
 
 #include "vessel/cut/cut_metrics.h"
@@ -67,7 +68,8 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     }
     const auto& t = r.timings;
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
-                    {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s}};
+                    {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s},
+                    {"huge_pages", asks_huge_pages(environ)}};
     nlohmann::json loops = nlohmann::json::array();
     for (std::size_t l = 0; l < r.loops.size(); ++l)
         loops.push_back({{"role", l == 0 ? "inlet" : "outlet"},
