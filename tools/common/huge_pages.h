@@ -18,9 +18,9 @@ namespace vessel::cli {
 //! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
 //! set to it, unless \p parent already sets that tunable (a user's `glibc.malloc.hugetlb=0`
 //! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
-//! array faulted in by 4 kB pages; with huge pages carotid-300k's run takes a fifth less time,
-//! the same bits (docs/benchmarks.md, "Machine and conditions"). Other C libraries and glibc
-//! before 2.35 ignore the tunable.
+//! array faulted in by 4 kB pages; huge pages make the same computation faster
+//! (docs/benchmarks.md, "Machine and conditions"). Other C libraries and glibc before 2.35
+//! ignore the tunable.
 inline std::vector<std::string> huge_page_environment(const char* const* parent)
 {
     static const std::string tunables = "GLIBC_TUNABLES=", huge = "glibc.malloc.hugetlb";
@@ -73,16 +73,16 @@ inline bool asks_huge_pages(const char* const* parent)
     return false;
 }
 
-//! Inputs from this size (bytes) on are run with huge pages: below it the second start of the
-//! program (about 50 ms here, most of it loading the shared libraries) costs about what the
-//! pages save (the VaMPy artery, 7.5k triangles in 144 kB: 0.83 -> 0.75 s with them).
+//! Inputs from this size (bytes) on are run with huge pages: below it a second start of the
+//! program (loading its shared libraries again) costs about what the pages save
+//! (docs/benchmarks.md, "Machine and conditions").
 constexpr std::uintmax_t kHugePageInputBytes = 128 * 1024;
 
 //! \brief Starts this program again in place (execve(2) of /proc/self/exe: the same process,
 //! arguments and open descriptors) with huge_page_environment(), where the environment does not
 //! name the tunable yet, glibc is the C library and the kernel gives transparent huge pages on
 //! request (`enabled` not `[never]`). Returns where it does not, or where the exec fails: the
-//! run then goes on as it is. Call it before any output or thread.
+//! run then goes on as it is. Call it before any output (the new start prints it again).
 inline void restart_with_huge_pages(char** argv)
 {
 #if defined(__linux__) && defined(__GLIBC__)
