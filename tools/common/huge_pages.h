@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -14,63 +15,58 @@ extern char** environ;
 
 namespace vessel::cli {
 
-//! \brief \p parent (an environment, null-terminated) with glibc's malloc asked to use
-//! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
-//! set to it, unless \p parent already sets that tunable (a user's `glibc.malloc.hugetlb=0`
-//! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
-//! array faulted in by 4 kB pages; huge pages make the same computation faster
-//! (docs/benchmarks.md, "Machine and conditions"). Other C libraries and glibc before 2.35
-//! ignore the tunable.
-inline std::vector<std::string> huge_page_environment(const char* const* parent)
+//! The value of \p parent's GLIBC_TUNABLES (an environment, null-terminated), or null.
+inline const char* glibc_tunables(const char* const* parent)
 {
-    static const std::string tunables = "GLIBC_TUNABLES=", huge = "glibc.malloc.hugetlb";
-    std::vector<std::string> out;
-    bool set = false;
+    static const std::string name = "GLIBC_TUNABLES=";
     for (const char* const* e = parent; e && *e; ++e)
-    {
-        std::string entry = *e;
-        if (entry.rfind(tunables, 0) == 0)
-        {
-            if (entry.find(huge) == std::string::npos)
-                entry += (entry.size() > tunables.size() ? ":" : "") + huge + "=1";
-            set = true;
-        }
-        out.push_back(std::move(entry));
-    }
-    if (!set)
-        out.push_back(tunables + huge + "=1");
-    return out;
+        if (std::strncmp(*e, name.c_str(), name.size()) == 0)
+            return *e + name.size();
+    return nullptr;
 }
 
 //! Whether \p parent's GLIBC_TUNABLES names `glibc.malloc.hugetlb` (set either way).
 inline bool names_huge_pages(const char* const* parent)
 {
-    for (const char* const* e = parent; e && *e; ++e)
-    {
-        const std::string entry = *e;
-        if (entry.rfind("GLIBC_TUNABLES=", 0) == 0 &&
-            entry.find("glibc.malloc.hugetlb") != std::string::npos)
-            return true;
-    }
-    return false;
+    const char* tunables = glibc_tunables(parent);
+    return tunables && std::strstr(tunables, "glibc.malloc.hugetlb");
 }
 
 //! Whether \p parent's GLIBC_TUNABLES asks glibc's malloc for transparent huge pages
 //! (`glibc.malloc.hugetlb=1`, or `=2` for the kernel's preallocated ones).
 inline bool asks_huge_pages(const char* const* parent)
 {
+    static const char setting[] = "glibc.malloc.hugetlb=";
+    const char* tunables = glibc_tunables(parent);
+    const char* at = tunables ? std::strstr(tunables, setting) : nullptr;
+    return at && (at[sizeof setting - 1] == '1' || at[sizeof setting - 1] == '2');
+}
+
+//! \brief \p parent (an environment, null-terminated) with glibc's malloc asked to use
+//! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
+//! set to it, unless \p parent already names that tunable (a user's `glibc.malloc.hugetlb=0`
+//! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
+//! array faulted in by 4 kB pages; huge pages make the same computation faster
+//! (docs/benchmarks.md, "Machine and conditions"). Other C libraries and glibc before 2.35
+//! ignore the tunable.
+inline std::vector<std::string> huge_page_environment(const char* const* parent)
+{
+    std::vector<std::string> out;
     for (const char* const* e = parent; e && *e; ++e)
-    {
-        const std::string entry = *e;
-        if (entry.rfind("GLIBC_TUNABLES=", 0) != 0)
-            continue;
-        const std::size_t at = entry.find("glibc.malloc.hugetlb=");
-        if (at == std::string::npos)
-            return false;
-        const char value = entry[at + std::string("glibc.malloc.hugetlb=").size()];
-        return value == '1' || value == '2';
-    }
-    return false;
+        out.emplace_back(*e);
+    if (names_huge_pages(parent))
+        return out;
+    const char* tunables = glibc_tunables(parent);
+    if (!tunables)
+        out.emplace_back("GLIBC_TUNABLES=glibc.malloc.hugetlb=1");
+    else
+        for (std::string& entry : out)
+            if (entry.rfind("GLIBC_TUNABLES=", 0) == 0)
+            {
+                entry += std::string(*tunables ? ":" : "") + "glibc.malloc.hugetlb=1";
+                break;
+            }
+    return out;
 }
 
 //! Inputs from this size (bytes) on are run with huge pages: below it a second start of the
