@@ -53,6 +53,23 @@ struct DecimationTraits : public OpenMesh::DefaultTraits
 using DecimationMesh = OpenMesh::TriMesh_ArrayKernelT<DecimationTraits>;
 using DecimationHalfedge = OpenMesh::SmartHalfedgeHandle;
 
+// Whether collapsing h (v0 into v1, v1 on the boundary) joins v1 to a boundary vertex it is not
+// joined to yet by an interior edge: every neighbour of v0 becomes one of v1's, and only the one
+// across a boundary v0 (its other boundary neighbour) is joined to v1 by a boundary edge.
+bool makes_chord(const DecimationMesh& mesh, DecimationHalfedge h)
+{
+    const auto v0 = h.from(), v1 = h.to();
+    OpenMesh::SmartVertexHandle across;
+    if (v0.is_boundary())
+        for (auto out : v0.outgoing_halfedges())
+            if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != v1)
+                across = out.to();
+    for (auto w : v0.vertices())
+        if (w != v1 && w != across && w.is_boundary() && !mesh.find_halfedge(v1, w).is_valid())
+            return true;
+    return false;
+}
+
 // Whether collapsing h (its start into its end) keeps every face that stays within 60 degrees
 // of its normal and non-degenerate, and keeps the boundary on the fine boundary: a boundary
 // vertex goes only along a boundary edge.
@@ -69,6 +86,14 @@ bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
     if (v0.is_boundary() && mesh.status(v1).locked())
         return false;
     if (!mesh.is_collapse_ok(h))
+        return false;
+    // No new chord (an interior edge between two boundary vertices). The coarse map starts
+    // from Tutte's embedding into the layout circle, one-to-one with chords too (Floater 2003,
+    // "One-to-one piecewise linear mappings over triangulations"), but a face whose three
+    // corners are boundary vertices lies there between the circle and a chord of it: a sliver
+    // where the face is wide in 3D (an outlet's tube end triangulated across), whose energy
+    // held SLIM's first steps to nothing (docs/benchmarks.md "Coarse-to-fine").
+    if (v1.is_boundary() && makes_chord(mesh, h))
         return false;
     const OpenMesh::Vec3d p1 = mesh.point(v1);
     for (auto f : v0.faces())

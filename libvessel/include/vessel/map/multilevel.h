@@ -91,7 +91,10 @@ struct CoarseMesh
 //! collapses on independent sets (the kept vertices spread evenly over the surface), each
 //! keeping the topology (a disk stays a disk) and turning no face normal by more than 60
 //! degrees. Boundary vertices are removed only along the boundary, so the coarse boundary is a
-//! subsequence of the fine one; those in \p keep are never removed.
+//! subsequence of the fine one; those in \p keep are never removed. No collapse joins two
+//! boundary vertices by a new interior edge (a chord; the fine mesh's own chords stay): in the
+//! coarse map's start on the layout circle such a face would be a sliver (docs/benchmarks.md
+//! "No new chords").
 //! The coarse mesh carries none of the fine mesh's custom properties.
 CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep);
 
