@@ -231,7 +231,7 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel
     // alone, and alternating with corrections from the level it was carried from.
     const Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
-    const CoarseMesh coarse = coarsen(mesh, 200, {});
+    const CoarseMesh coarse = coarsen(mesh, 300, {});
     const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
     const Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_uv, 0.99);
     REQUIRE(test::count_flips(mesh, carried) == 0);
@@ -514,38 +514,42 @@ TEST_CASE("multilevel: coarsen_levels shrinks by levels, keeps corners, carries 
     CHECK(flat_quality(fine, uv).mean_abs_log_area < 0.02);
 }
 
-TEST_CASE("multilevel: coarsening joins no two boundary vertices by a new interior edge")
+TEST_CASE("multilevel: coarsening asked for no new chords joins no two boundary vertices anew")
 {
     // A chord's face lies between the layout circle and the chord in the coarse map's Tutte
-    // start: a sliver wherever the face is wide in 3D. Every level's chords are ones the level
-    // above had already; the cut tree phantom's outlets are tube ends that the decimation would
-    // otherwise triangulate across.
+    // start: a sliver wherever the face is wide in 3D. Asked, every level's chords are ones the
+    // level above had already; the cut tree phantom's outlets are tube ends that the decimation
+    // otherwise triangulates across (the unasked hierarchy's new chords show it).
     FlattenOptions cut_only;
     cut_only.refinement = Refinement::None;
     const Mesh fine = flatten(test::test_tree_phantom(10), cut_only).mesh;
-    const std::vector<CoarseMesh> levels = coarsen_levels(fine, 1000, {});
-    REQUIRE(levels.size() >= 2);
-    const Mesh* above = &fine;
-    for (const CoarseMesh& level : levels)
-    {
-        const Mesh& m = level.mesh;
-        int chords = 0, new_chords = 0;
-        for (auto e : m.edges())
+    const auto new_chords = [&](const std::vector<CoarseMesh>& levels) {
+        int made = 0;
+        const Mesh* above = &fine;
+        for (const CoarseMesh& level : levels)
         {
-            if (m.is_boundary(e) || !m.is_boundary(e.v0()) || !m.is_boundary(e.v1()))
-                continue;
-            ++chords;
-            const auto h = above->find_halfedge(VertexHandle(level.fine_of[e.v0().idx()]),
-                                                VertexHandle(level.fine_of[e.v1().idx()]));
-            if (!h.is_valid() || above->is_boundary(above->edge_handle(h)))
-                ++new_chords;
+            const Mesh& m = level.mesh;
+            for (auto e : m.edges())
+            {
+                if (m.is_boundary(e) || !m.is_boundary(e.v0()) || !m.is_boundary(e.v1()))
+                    continue;
+                const auto h = above->find_halfedge(VertexHandle(level.fine_of[e.v0().idx()]),
+                                                    VertexHandle(level.fine_of[e.v1().idx()]));
+                if (!h.is_valid() || above->is_boundary(above->edge_handle(h)))
+                    ++made;
+            }
+            above = &m;
         }
-        MESSAGE(m.n_vertices() << " vertices: " << chords << " chords, " << new_chords << " new");
-        CHECK(new_chords == 0);
-        CHECK(m.n_vertices() < above->n_vertices());
-        above = &m;
-    }
+        return made;
+    };
+    const std::vector<CoarseMesh> levels = coarsen_levels(fine, 1000, {}, 0, true);
+    REQUIRE(levels.size() >= 2);
     CHECK(levels.back().mesh.n_vertices() <= 1100);
+    const std::vector<CoarseMesh> unasked = coarsen_levels(fine, 1000, {});
+    const int made = new_chords(unasked);
+    MESSAGE("new chords: " << new_chords(levels) << " asked, " << made << " unasked");
+    CHECK(new_chords(levels) == 0);
+    CHECK(made > 0);
 }
 
 TEST_CASE("multilevel: levels that keep the boundary insert interior vertices only")

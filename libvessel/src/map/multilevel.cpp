@@ -73,7 +73,7 @@ bool makes_chord(const DecimationMesh& mesh, DecimationHalfedge h)
 // Whether collapsing h (its start into its end) keeps every face that stays within 60 degrees
 // of its normal and non-degenerate, and keeps the boundary on the fine boundary: a boundary
 // vertex goes only along a boundary edge.
-bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
+bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h, bool no_new_chords)
 {
     const auto v0 = h.from(), v1 = h.to();
     if (mesh.status(v0).locked())
@@ -87,13 +87,8 @@ bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
         return false;
     if (!mesh.is_collapse_ok(h))
         return false;
-    // No new chord (an interior edge between two boundary vertices). The coarse map starts
-    // from Tutte's embedding into the layout circle, one-to-one with chords too (Floater 2003,
-    // "One-to-one piecewise linear mappings over triangulations"), but a face whose three
-    // corners are boundary vertices lies there between the circle and a chord of it: a sliver
-    // where the face is wide in 3D (an outlet's tube end triangulated across), whose energy
-    // held SLIM's first steps to nothing (docs/benchmarks.md "Coarse-to-fine").
-    if (v1.is_boundary() && makes_chord(mesh, h))
+    // No new chord where asked (coarsen(), `no_new_chords`).
+    if (no_new_chords && v1.is_boundary() && makes_chord(mesh, h))
         return false;
     const OpenMesh::Vec3d p1 = mesh.point(v1);
     for (auto f : v0.faces())
@@ -116,7 +111,7 @@ bool collapse_allowed(DecimationMesh& mesh, DecimationHalfedge h)
 // coarsen() into \p coarse (empty on entry): an OpenMesh mesh has no move constructor, so a
 // CoarseMesh returned and then moved into a vector would copy its mesh.
 void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep,
-                  CoarseMesh& coarse)
+                  bool no_new_chords, CoarseMesh& coarse)
 {
     DecimationMesh work;
     work.reserve(fine.n_vertices(), fine.n_edges(), fine.n_faces());
@@ -173,7 +168,7 @@ void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<Verte
         {
             const auto h = OpenMesh::make_smart(work.halfedge_handle(index), work);
             if (work.status(h).deleted() || touched[h.from().idx()] || touched[h.to().idx()] ||
-                !collapse_allowed(work, h))
+                !collapse_allowed(work, h, no_new_chords))
                 continue;
             const auto v0 = h.from(), v1 = h.to();
             Collapse record{v0.idx(), v1.idx(), -1, {}};
@@ -225,15 +220,17 @@ void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<Verte
 
 }  // namespace
 
-CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep)
+CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep,
+                   bool no_new_chords)
 {
     CoarseMesh coarse;
-    coarsen_into(fine, target_vertices, keep, coarse);
+    coarsen_into(fine, target_vertices, keep, no_new_chords, coarse);
     return coarse;
 }
 
 std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
-                                       std::vector<VertexHandle> keep, std::size_t boundary_levels)
+                                       std::vector<VertexHandle> keep, std::size_t boundary_levels,
+                                       bool no_new_chords)
 {
     if (coarse_vertices < 3)
         throw InvalidInputError("coarsen_levels: coarse_vertices must be >= 3, got " +
@@ -258,7 +255,7 @@ std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
             break;
         const std::size_t target = std::max(floor, above->n_vertices() / kRatio);
         CoarseMesh& level = levels.emplace_back();
-        coarsen_into(*above, static_cast<int>(target), level_keep, level);
+        coarsen_into(*above, static_cast<int>(target), level_keep, no_new_chords, level);
         if (level.mesh.n_vertices() == above->n_vertices())
         {
             levels.pop_back();

@@ -107,6 +107,13 @@ int outlet_count(const LayoutInput& input)
 // retry ahead").
 constexpr int kPulledAheadOutlets = 16;
 
+// The fewest outlets for which the hierarchy makes no new chords (coarsen()'s
+// `no_new_chords`): on 30-outlet tree phantoms a chord's sliver in the coarse map's start held
+// SLIM to steps of nothing and the map was solved again at full resolution; on the carotid
+// phantoms (two outlets) chords did not raise the start's energy, and without them the
+// finest level's relaxation took longer (docs/benchmarks.md "No new chords on many-outlet trees").
+constexpr int kChordFreeOutlets = 16;
+
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
 // \param unpulled if not null and the look retry kept its pulled map: the map it replaced.
 // \param on_retry called when the look retry is going to be made (retry_look()).
@@ -644,7 +651,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     }
     const MultilevelOptions& multilevel = options.multilevel;
     const std::vector<CoarseMesh> levels =
-        coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels);
+        coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels,
+                       outlet_count(input) >= kChordFreeOutlets);
     const Mesh& coarsest = levels.back().mesh;
     const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
 

@@ -91,12 +91,17 @@ struct CoarseMesh
 //! collapses on independent sets (the kept vertices spread evenly over the surface), each
 //! keeping the topology (a disk stays a disk) and turning no face normal by more than 60
 //! degrees. Boundary vertices are removed only along the boundary, so the coarse boundary is a
-//! subsequence of the fine one; those in \p keep are never removed. No collapse joins two
-//! boundary vertices by a new interior edge (a chord; the fine mesh's own chords stay): in the
-//! coarse map's start on the layout circle such a face would be a sliver (docs/benchmarks.md
-//! "No new chords").
+//! subsequence of the fine one; those in \p keep are never removed.
 //! The coarse mesh carries none of the fine mesh's custom properties.
-CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep);
+//! \param no_new_chords if true, no collapse joins two boundary vertices by a new interior edge
+//! (a chord; the fine mesh's own chords stay). A face with its three corners on the boundary is
+//! a sliver in a Tutte start on a circle, where it is wide in 3D (an outlet's tube end
+//! triangulated across): on many-outlet trees such slivers held the coarse SLIM's first steps
+//! to nothing. On the carotid phantoms chords did not raise the start's energy, and without
+//! them the finest level's relaxation took longer (docs/benchmarks.md "No new chords on
+//! many-outlet trees").
+CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<VertexHandle>& keep,
+                   bool no_new_chords = false);
 
 //! \brief A hierarchy of coarsen() calls, each level about a quarter of the vertices of the one
 //! above it, down to \p coarse_vertices: levels[0] coarsens \p fine, levels[l] coarsens
@@ -108,11 +113,13 @@ CoarseMesh coarsen(const Mesh& fine, int target_vertices, const std::vector<Vert
 //! that carrying a map up to them inserts interior vertices only: the carried map keeps the
 //! coarser map's boundary polygon, and with it its simplicity, as long as no boundary vertex
 //! moves (a flip-free map of a disk with a simple boundary is one-to-one). On those levels
-//! \p coarse_vertices counts the vertices besides the boundary's.
+//! \p coarse_vertices counts the vertices besides the boundary's. \p no_new_chords as in
+//! coarsen(), on every level.
 //! \throw InvalidInputError if \p coarse_vertices < 3.
 std::vector<CoarseMesh> coarsen_levels(const Mesh& fine, int coarse_vertices,
                                        std::vector<VertexHandle> keep,
-                                       std::size_t boundary_levels = 0);
+                                       std::size_t boundary_levels = 0,
+                                       bool no_new_chords = false);
 
 //! \brief Carry a map of the coarse mesh to every fine vertex: kept vertices keep their coarse
 //! (u, v); the collapses are undone in reverse order (Sander et al. 2001, "Texture mapping
