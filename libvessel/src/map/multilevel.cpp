@@ -53,17 +53,24 @@ struct DecimationTraits : public OpenMesh::DefaultTraits
 using DecimationMesh = OpenMesh::TriMesh_ArrayKernelT<DecimationTraits>;
 using DecimationHalfedge = OpenMesh::SmartHalfedgeHandle;
 
+// For a collapse of h on a boundary v0: v0's other boundary neighbour (the one not h's end),
+// which the collapse joins to h's end by a boundary edge; invalid for an interior v0.
+OpenMesh::SmartVertexHandle boundary_across(DecimationHalfedge h)
+{
+    OpenMesh::SmartVertexHandle across;
+    for (auto out : h.from().outgoing_halfedges())
+        if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != h.to())
+            across = out.to();
+    return across;
+}
+
 // Whether collapsing h (v0 into v1, v1 on the boundary) joins v1 to a boundary vertex it is not
 // joined to yet by an interior edge: every neighbour of v0 becomes one of v1's, and only the one
-// across a boundary v0 (its other boundary neighbour) is joined to v1 by a boundary edge.
+// across a boundary v0 (boundary_across()) is joined to v1 by a boundary edge.
 bool makes_chord(const DecimationMesh& mesh, DecimationHalfedge h)
 {
     const auto v0 = h.from(), v1 = h.to();
-    OpenMesh::SmartVertexHandle across;
-    if (v0.is_boundary())
-        for (auto out : v0.outgoing_halfedges())
-            if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != v1)
-                across = out.to();
+    const OpenMesh::SmartVertexHandle across = boundary_across(h);
     for (auto w : v0.vertices())
         if (w != v1 && w != across && w.is_boundary() && !mesh.find_halfedge(v1, w).is_valid())
             return true;
@@ -171,14 +178,10 @@ void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<Verte
                 !collapse_allowed(work, h, no_new_chords))
                 continue;
             const auto v0 = h.from(), v1 = h.to();
-            Collapse record{v0.idx(), v1.idx(), -1, {}};
+            Collapse record{v0.idx(), v1.idx(), boundary_across(h).idx(), {}};
             for (auto out : v0.outgoing_halfedges())
-            {
                 if (!out.is_boundary())
                     record.faces.push_back({out.to().idx(), out.next().to().idx()});
-                if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != v1)
-                    record.across = out.to().idx();
-            }
             collapses.push_back(std::move(record));
             work.collapse(h);
             ++collapsed;
