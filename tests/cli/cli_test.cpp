@@ -1243,10 +1243,7 @@ TEST_CASE("cli: an input of 128 kB or more runs with huge pages, unless the user
 {
     // restart_with_huge_pages(): the program starts itself again with the tunable, which the
     // report's timings say; a small input, or a user's own setting, runs as it is.
-    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string modes;
-    const bool kernel_gives =
-        std::getline(thp, modes) && modes.find("[never]") == std::string::npos;
+    const bool kernel_gives = vessel::cli::kernel_gives_huge_pages();
     const auto dir = temp_dir("cli_huge_pages");
     const std::string demo =
         std::string(VESSEL_SHARED_DATA) + "/simvascular-tests/demo-model-open.ply";

@@ -74,6 +74,15 @@ inline std::vector<std::string> huge_page_environment(const char* const* parent)
 //! (docs/benchmarks.md, "Machine and conditions").
 constexpr std::uintmax_t kHugePageInputBytes = 128 * 1024;
 
+//! Whether the kernel gives transparent huge pages on request: its THP mode (`enabled`) is
+//! not `[never]`.
+inline bool kernel_gives_huge_pages()
+{
+    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
+    std::string modes;
+    return std::getline(thp, modes) && modes.find("[never]") == std::string::npos;
+}
+
 //! \brief Starts this program again in place (execve(2) of /proc/self/exe: the same process,
 //! arguments and open descriptors) with huge_page_environment(), where the environment does not
 //! name the tunable yet, glibc is the C library and the kernel gives transparent huge pages on
@@ -82,11 +91,7 @@ constexpr std::uintmax_t kHugePageInputBytes = 128 * 1024;
 inline void restart_with_huge_pages(char** argv)
 {
 #if defined(__linux__) && defined(__GLIBC__)
-    if (names_huge_pages(environ))
-        return;
-    std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
-    std::string modes;
-    if (!std::getline(thp, modes) || modes.find("[never]") != std::string::npos)
+    if (names_huge_pages(environ) || !kernel_gives_huge_pages())
         return;
     std::vector<std::string> env = huge_page_environment(environ);
     std::vector<char*> envp;
