@@ -13,6 +13,8 @@
 #include "vessel/quality/metrics.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <limits>
 #include <set>
 #include <string>
@@ -55,6 +57,27 @@ bool noted(const FlattenResult& r, const std::string& text)
     return std::any_of(r.notes.begin(), r.notes.end(), [&](const std::string& note) {
         return note.find(text) != std::string::npos;
     });
+}
+
+// The energy / minimum before and after of every relaxation note of \p r that is \p prefix and
+// then its sweeps ("coarse-to-fine: N relaxation sweeps, ..., energy / minimum A -> B"), in
+// order.
+std::vector<std::pair<double, double>> relaxed_ratios(const FlattenResult& r,
+                                                       const std::string& prefix)
+{
+    std::vector<std::pair<double, double>> ratios;
+    for (const std::string& note : r.notes)
+    {
+        const std::size_t at = note.find("energy / minimum ");
+        if (note.rfind(prefix, 0) != 0 || at == std::string::npos || note.size() <= prefix.size() ||
+            !std::isdigit(static_cast<unsigned char>(note[prefix.size()])))
+            continue;
+        double before = 0.0, after = 0.0;
+        REQUIRE(std::sscanf(note.c_str() + at, "energy / minimum %lf -> %lf", &before, &after) ==
+                2);
+        ratios.emplace_back(before, after);
+    }
+    return ratios;
 }
 
 // The carried map was kept (no fallback noted), one-to-one.
@@ -649,6 +672,11 @@ TEST_CASE("multilevel: with overlaps kept the map is carried, the inlet's pins h
     CHECK_FALSE(noted(r, "solved again at full resolution"));
     CHECK_FALSE(noted(r, "tried again with the whole boundary"));
     CHECK(r.quality.flipped_triangles == 0);
+    // Its carry's sweeps converge below 1.002 times the minimum: not relaxed further.
+    const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
+    REQUIRE(carried.size() == 1);
+    CHECK(carried[0].second <= 1.002);
+    CHECK_FALSE(noted(r, "relaxed further"));
 }
 
 TEST_CASE("multilevel: a coarse SLIM whose clamped direction stops descending goes on and is carried")
@@ -662,6 +690,25 @@ TEST_CASE("multilevel: a coarse SLIM whose clamped direction stops descending go
     const FlattenResult r = flatten(mesh, FlattenOptions{});
     CHECK(noted(r, "coarse-to-fine: the map solved on 4000 of"));
     CHECK(noted(r, "steps along the true gradient"));
+    check_carry_kept(r);
+    CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
+}
+
+TEST_CASE("multilevel: a carry whose relaxation stops short of its minimum is relaxed further")
+{
+    // The 30-outlet tree phantom, seed 1 (edge 0.5): its coarse map moves far from the layout
+    // circle, and the finest level's 16 sweeps end above 1.002 times the isometric minimum,
+    // where the sweeps are still lowering it; the carry then relaxes that level further, and
+    // the map is kept.
+    const Mesh mesh = test::test_tree_phantom(30, 1, 0.5);
+    const FlattenResult r = flatten(mesh, FlattenOptions{});
+    const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
+    const auto further = relaxed_ratios(r, "coarse-to-fine: relaxed further: ");
+    REQUIRE(carried.size() == 1);
+    CHECK(carried[0].second > 1.002);
+    REQUIRE(further.size() == 1);
+    CHECK(further[0].first == doctest::Approx(carried[0].second).epsilon(1e-4));
+    CHECK(further[0].second < carried[0].second);
     check_carry_kept(r);
     CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
 }

@@ -16,19 +16,40 @@ struct ScaffoldMesh
                                                    //!< vertex j is `first_steiner + j`
 };
 
+//! The area polish's scaffold shape bound (area_polish()), CGAL's default: sin^2 of the
+//! smallest angle, 20.7 degrees, the largest bound for which Delaunay refinement is known to
+//! end (Shewchuk 2002, "Delaunay refinement algorithms for triangular mesh generation"). The
+//! polish's scaffold is made once and its Newton steps end where a scaffold triangle would
+//! flip, so slivers shorten them.
+constexpr double kPolishScaffoldShape = 0.125;
+//! SLIM's scaffold angle bound (injective_refine()), degrees: its steps are line-searched up to
+//! the first flip, and a step that a scaffold triangle stopped goes on over a new
+//! triangulation, so the triangles need only bound the step; a coarser bound means fewer
+//! Steiner vertices, and each new triangulation and the symbolic analysis of the system it
+//! changes cost less (docs/benchmarks.md "The scaffold's angle bound").
+constexpr double kSlimScaffoldAngle = 10.0;
+
+//! sin^2 of \p smallest_angle_deg: CGAL's shape bound for that smallest angle.
+double scaffold_shape_bound(double smallest_angle_deg);
+
 //! \brief Triangulates the free space between a map's boundary polygon and a box around it
 //! (the scaffold of Jiang et al. 2017, "Simplicial complex augmentation framework for bijective
 //! maps"): a constrained Delaunay triangulation whose constraints are the boundary edges and the
 //! box's sides, refined in the free space (CGAL's Delaunay mesher, boundary edges never split)
-//! until no triangle has an angle below ~20 degrees, keeping the triangles between the two.
+//! until no triangle has an angle below the one \p shape_bound gives, keeping the triangles
+//! between the two.
 //! \param x positions [u_0, v_0, u_1, v_1, ...] of every vertex, the box corners included.
 //! \param boundary the map's boundary polygon (vertex indices into x, in order).
 //! \param box the four box corners' vertex indices, counter-clockwise.
 //! \param inside a point strictly inside the map (e.g. a face's centroid).
 //! \param first_steiner index given to the first Steiner vertex.
+//! \param shape_bound CGAL's shape bound, sin^2 of the smallest angle kept, in (0,
+//! kPolishScaffoldShape]: scaffold_shape_bound(kSlimScaffoldAngle) for SLIM,
+//! kPolishScaffoldShape for the area polish.
+//! \throw InvalidInputError if \p shape_bound is outside that range.
 //! \throw SolverError if the boundary crosses itself (the scaffold needs a simple polygon).
 ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>& boundary,
                                 const std::array<int, 4>& box, const Eigen::Vector2d& inside,
-                                int first_steiner);
+                                int first_steiner, double shape_bound);
 
 }  // namespace vessel::detail

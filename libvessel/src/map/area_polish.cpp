@@ -220,7 +220,8 @@ std::vector<FaceOperator> scaffold_faces(const std::vector<int>& boundary, int n
     for (int c = 0; c < 4; ++c)
         x.segment<2>(2 * (n + c)) = corners[c];
     const detail::ScaffoldMesh free_space =
-        detail::scaffold_triangles(x, boundary, {n, n + 1, n + 2, n + 3}, inside, n + 4);
+        detail::scaffold_triangles(x, boundary, {n, n + 1, n + 2, n + 3}, inside, n + 4,
+                                   detail::kPolishScaffoldShape);
     const int steiner = static_cast<int>(free_space.steiner.size());
     x.conservativeResize(2 * (n + 4 + steiner));
     for (int j = 0; j < steiner; ++j)

@@ -10,7 +10,9 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
+#include <cmath>
 #include <queue>
+#include <string>
 
 namespace vessel::detail {
 
@@ -72,8 +74,11 @@ void mark_depths(Cdt& cdt)
 
 ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>& boundary,
                                 const std::array<int, 4>& box, const Eigen::Vector2d& inside,
-                                int first_steiner)
+                                int first_steiner, double shape_bound)
 {
+    if (!(shape_bound > 0.0 && shape_bound <= kPolishScaffoldShape))
+        throw InvalidInputError("scaffold: the shape bound must be in (0, 0.125], got " +
+                                std::to_string(shape_bound));
     Cdt cdt;
     const auto insert = [&](int v) {
         auto handle = cdt.insert(Kernel::Point_2(x[2 * v], x[2 * v + 1]));
@@ -104,7 +109,7 @@ ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>
     // Quality refinement of the free space only (the map's inside is excluded by a seed); the
     // boundary edges are never split, as they are the map's own edges.
     using Criteria = CGAL::Delaunay_mesh_size_criteria_2<Cdt>;
-    CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria> mesher(cdt, Criteria(0.125));
+    CGAL::Delaunay_mesher_no_edge_refinement_2<Cdt, Criteria> mesher(cdt, Criteria(shape_bound));
     const std::array<Kernel::Point_2, 1> seeds = {Kernel::Point_2(inside.x(), inside.y())};
     mesher.set_seeds(seeds.begin(), seeds.end(), false);
     mesher.refine_mesh();
@@ -123,6 +128,12 @@ ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>
         if (f->info() == 1)  // CGAL's faces are counter-clockwise
             scaffold.triangles.push_back({index(f->vertex(0)), index(f->vertex(1)), index(f->vertex(2))});
     return scaffold;
+}
+
+double scaffold_shape_bound(double smallest_angle_deg)
+{
+    const double sine = std::sin(smallest_angle_deg * 3.14159265358979323846 / 180.0);
+    return sine * sine;
 }
 
 }  // namespace vessel::detail

@@ -380,6 +380,32 @@ double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& rela
     return minimum;
 }
 
+// More of carry_up()'s relaxation of the fine map \p uv (twice relax_sweeps and
+// coarse_corrections, from levels[0] and its map \p below), holding \p pins (none: the map of
+// a restart). The relaxation stops at relax_sweeps on trees whose carry starts far from the
+// minimum (Glenn split4: energy / minimum 1.50 -> 1.0067), and a few more sweeps come nearer
+// it at a fraction of the cost of Newton steps at full resolution (polish_carried()); one note.
+RelaxSummary relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
+                           const Eigen::MatrixX2d& below, const FlattenOptions& options,
+                           Eigen::MatrixX2d& uv, FlattenResult& result, const Pins& pins = {})
+{
+    MultilevelOptions further = options.multilevel;
+    further.relax_sweeps *= 2;
+    further.coarse_corrections *= 2;
+    const double lambda = relax_weight(options);
+    const RelaxSummary relaxed = relax_area(mesh, uv, pins, lambda, further, &levels[0], &below,
+                                            options.overlaps != OverlapPolicy::Keep);
+    relax_note("coarse-to-fine: relaxed further: ", mesh, relaxed, result);
+    return relaxed;
+}
+
+// The finest level's relaxed energy, as a multiple of its isometric minimum, above which the
+// carry's relaxation stopped at MultilevelOptions::relax_sweeps short of where its sweeps lead,
+// and is relaxed further (relax_further()). Carries whose sweeps have converged end well below
+// it; those above are many-outlet trees whose coarse map moved far, whose area distortion the
+// further sweeps still lower (docs/benchmarks.md "Relaxed further where the carry stops short").
+constexpr double kRelaxFurtherRatio = 1.002;
+
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
 // \param below if not null: the map of levels[0].mesh the fine map was carried from (for
@@ -439,6 +465,18 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
         {
             const double minimum = relax_note("coarse-to-fine: ", mesh, relaxed, result);
             double energy = relaxed.energy_after;
+            // Not a pulled map (the look retry's, or with FlattenOptions::look_pull): the
+            // relaxation has no look terms, and the look retry's full-resolution check relaxes
+            // its map further where its bound asks for it (recheck_look_retry()).
+            const bool pulled = options.look_pull.weight > 0.0 || result.look_retry.kept;
+            if (!pulled && energy > kRelaxFurtherRatio * minimum &&
+                energy <= multilevel.max_energy_ratio * minimum)
+            {
+                energy = relax_further(mesh, levels, coarser_uv, options, uv, result, pins)
+                             .energy_after;
+                if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
+                    return "the relaxed map's boundary crosses itself";
+            }
             if (!(energy <= multilevel.max_energy_ratio * minimum))
             {
                 // Local steps and coarse-grid corrections can stall on what is left of such a
@@ -474,23 +512,6 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     }
     result.uv = std::move(uv);
     return "";
-}
-
-// More of carry_up()'s relaxation of the fine map \p uv (twice relax_sweeps and
-// coarse_corrections, from levels[0] and its map \p below), without pins: the map of a
-// restart. The relaxation stops at relax_sweeps on trees whose carry starts far from the
-// minimum (Glenn split4: energy / minimum 1.50 -> 1.0067), and a few more sweeps come nearer
-// it at a fraction of the cost of Newton steps at full resolution (polish_carried()); one note.
-void relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
-                   const Eigen::MatrixX2d& below, const FlattenOptions& options,
-                   Eigen::MatrixX2d& uv, FlattenResult& result)
-{
-    MultilevelOptions further = options.multilevel;
-    further.relax_sweeps *= 2;
-    further.coarse_corrections *= 2;
-    const double lambda = relax_weight(options);
-    relax_note("coarse-to-fine: relaxed further: ", mesh,
-               relax_area(mesh, uv, {}, lambda, further, &levels[0], &below), result);
 }
 
 // The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full

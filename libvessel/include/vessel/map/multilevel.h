@@ -37,7 +37,10 @@ struct MultilevelOptions
     //! sweep (with the coarse-grid correction after it, if any) lowers the energy by less than
     //! `tolerance` of its excess over the isometric minimum. The sweeps remove the carry's
     //! short-wavelength error; the corrections the long-wavelength error that sweeps alone remove
-    //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine").
+    //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine"). Stage F's carry
+    //! relaxes its finest level for twice as many sweeps and corrections more where the energy
+    //! still ends above 1.002 times its isometric minimum: there the sweeps stopped short
+    //! (docs/benchmarks.md "Relaxed further where the carry stops short").
     int relax_sweeps = 16;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
     //! Coarse-grid corrections of relax_area() on each level, at most: one after every second
