@@ -249,6 +249,30 @@ MultilevelOptions six_sweeps()
 
 }  // namespace
 
+TEST_CASE("multilevel: relax_area reports its last sweep's decrease")
+{
+    // Five sweeps and six from the same carried map (sweeps alone, no early stop): the sixth
+    // run's last_decrease is what its sixth sweep lowered, the difference of the two ends.
+    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 32, 40);
+    const CoarseMesh coarse = coarsen(mesh, 150, {});
+    const Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_map(coarse.mesh), 0.99);
+    const VertexHandle held = test::boundary_vertices(mesh).front();
+    const Pins pins = {{held, carried.row(held.idx()).transpose()}};
+    MultilevelOptions options = six_sweeps();
+    options.coarse_corrections = 0;
+    Eigen::MatrixX2d six = carried;
+    const RelaxSummary after_six = relax_area(mesh, six, pins, 0.99, options);
+    options.relax_sweeps = 5;
+    Eigen::MatrixX2d five = carried;
+    const RelaxSummary after_five = relax_area(mesh, five, pins, 0.99, options);
+    REQUIRE(after_six.sweeps == 6);
+    REQUIRE(after_five.sweeps == 5);
+    CHECK(after_six.last_decrease > 0.0);
+    CHECK(after_six.last_decrease ==
+          doctest::Approx(after_five.energy_after - after_six.energy_after).epsilon(1e-6));
+    CHECK(after_six.last_decrease < after_five.last_decrease);  // the sweeps converge
+}
+
 TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the sweeps alone")
 {
     // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel

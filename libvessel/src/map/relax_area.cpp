@@ -225,6 +225,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                 lowered += by;
             }
         }
+        summary.last_decrease = lowered;
         if (options.on_sweep)
             options.on_sweep(summary.sweeps);
         if (lowered <= options.tolerance * std::max(current - minimum, 0.0))

@@ -38,9 +38,10 @@ struct MultilevelOptions
     //! `tolerance` of its excess over the isometric minimum. The sweeps remove the carry's
     //! short-wavelength error; the corrections the long-wavelength error that sweeps alone remove
     //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine"). Stage F's carry
-    //! relaxes its finest level for twice as many sweeps and corrections more where the energy
-    //! still ends above 1.002 times its isometric minimum: there the sweeps stopped short
-    //! (docs/benchmarks.md "Relaxed further where the carry stops short").
+    //! relaxes its finest level for twice as many sweeps and corrections more where they
+    //! stopped short: the energy still above 1.002 times its isometric minimum, and the last
+    //! sweep still lowering it by more than a hundredth of that excess (docs/benchmarks.md
+    //! "Relaxed further where the carry stops short").
     int relax_sweeps = 16;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
     //! Coarse-grid corrections of relax_area() on each level, at most: one after every second
@@ -153,6 +154,10 @@ struct RelaxSummary
     int sweeps = 0;
     int corrections = 0;  //!< coarse-grid corrections made
     double energy_before = 0.0, energy_after = 0.0;  //!< the energy of area_polish.h
+    //! What the last sweep (with the coarse-grid correction after it, if any) lowered the
+    //! energy by: against energy_after's excess over the isometric minimum, how far from
+    //! converged the sweeps stopped.
+    double last_decrease = 0.0;
 };
 
 //! \brief Lower the area-weighted distortion energy of area_polish() (weight \p area_weight) of
