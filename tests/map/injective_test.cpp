@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "detail/scaffold.h"
 #include "support/meshes.h"
 #include "vessel/core/errors.h"
 #include "vessel/map/injective.h"
@@ -8,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <vector>
 
 using namespace vessel;
 
@@ -110,4 +112,61 @@ TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
         make_bad(bad);
         CHECK_THROWS_AS(bad.validate(), InvalidInputError);
     }
+}
+
+TEST_CASE("scaffold: a coarser angle bound fills the same free space with fewer Steiner vertices")
+{
+    // A wavy polygon (a five-petal flower) inside a box: the scaffold's triangles turn
+    // counter-clockwise and cover exactly the box minus the polygon, whichever the bound; the
+    // SLIM scaffold's 10 degrees need fewer Steiner vertices than the polish's 20.7.
+    constexpr int n = 120;
+    Eigen::VectorXd x(2 * (n + 4));
+    std::vector<int> boundary;
+    double polygon_area = 0.0;
+    for (int i = 0; i < n; ++i)
+    {
+        const double t = 2.0 * M_PI * i / n, r = 1.0 + 0.4 * std::sin(5.0 * t);
+        x.segment<2>(2 * i) << r * std::cos(t), r * std::sin(t);
+        boundary.push_back(i);
+    }
+    for (int i = 0; i < n; ++i)
+    {
+        const int j = (i + 1) % n;
+        polygon_area += 0.5 * (x[2 * i] * x[2 * j + 1] - x[2 * j] * x[2 * i + 1]);
+    }
+    const std::array<int, 4> box = {n, n + 1, n + 2, n + 3};
+    x.segment<2>(2 * n) << -3.0, -3.0;
+    x.segment<2>(2 * (n + 1)) << 3.0, -3.0;
+    x.segment<2>(2 * (n + 2)) << 3.0, 3.0;
+    x.segment<2>(2 * (n + 3)) << -3.0, 3.0;
+    std::array<std::size_t, 2> steiner{};
+    const std::array<double, 2> bounds = {
+        detail::scaffold_shape_bound(detail::kSlimScaffoldAngle), detail::kPolishScaffoldShape};
+    for (int k = 0; k < 2; ++k)
+    {
+        const detail::ScaffoldMesh scaffold =
+            detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, bounds[k]);
+        steiner[k] = scaffold.steiner.size();
+        const auto at = [&](int v) -> Eigen::Vector2d {
+            return v < n + 4 ? Eigen::Vector2d(x.segment<2>(2 * v)) : scaffold.steiner[v - n - 4];
+        };
+        double covered = 0.0;
+        int clockwise = 0;
+        for (const auto& t : scaffold.triangles)
+        {
+            const Eigen::Vector2d a = at(t[0]), b = at(t[1]), c = at(t[2]);
+            const double area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+            clockwise += area <= 0.0;
+            covered += area;
+        }
+        CHECK(clockwise == 0);
+        CHECK(covered == doctest::Approx(36.0 - polygon_area).epsilon(1e-12));
+    }
+    CHECK(detail::scaffold_shape_bound(20.7048) == doctest::Approx(0.125).epsilon(1e-4));
+    CHECK(steiner[0] < steiner[1]);
+    MESSAGE("Steiner vertices: 10 degrees " << steiner[0] << ", 20.7 degrees " << steiner[1]);
+    CHECK_THROWS_AS(detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, 0.2),
+                    InvalidInputError);
+    CHECK_THROWS_AS(detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, 0.0),
+                    InvalidInputError);
 }
