@@ -140,8 +140,7 @@ TEST_CASE("scaffold: a coarser angle bound fills the same free space with fewer 
     x.segment<2>(2 * (n + 2)) << 3.0, 3.0;
     x.segment<2>(2 * (n + 3)) << -3.0, 3.0;
     std::array<std::size_t, 2> steiner{};
-    const std::array<double, 2> bounds = {
-        detail::scaffold_shape_bound(detail::kSlimScaffoldAngle), detail::kPolishScaffoldShape};
+    const std::array<double, 2> bounds = {detail::kSlimScaffoldShape, detail::kPolishScaffoldShape};
     for (int k = 0; k < 2; ++k)
     {
         const detail::ScaffoldMesh scaffold =
@@ -162,7 +161,11 @@ TEST_CASE("scaffold: a coarser angle bound fills the same free space with fewer 
         CHECK(clockwise == 0);
         CHECK(covered == doctest::Approx(36.0 - polygon_area).epsilon(1e-12));
     }
-    CHECK(detail::scaffold_shape_bound(20.7048) == doctest::Approx(0.125).epsilon(1e-4));
+    // The two bounds' smallest angles (CGAL: sin^2 of the angle).
+    CHECK(std::asin(std::sqrt(detail::kSlimScaffoldShape)) * 180.0 / M_PI ==
+          doctest::Approx(10.0).epsilon(1e-12));
+    CHECK(std::asin(std::sqrt(detail::kPolishScaffoldShape)) * 180.0 / M_PI ==
+          doctest::Approx(20.7048).epsilon(1e-5));
     CHECK(steiner[0] < steiner[1]);
     MESSAGE("Steiner vertices: 10 degrees " << steiner[0] << ", 20.7 degrees " << steiner[1]);
     CHECK_THROWS_AS(detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, 0.2),

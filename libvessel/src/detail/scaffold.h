@@ -22,15 +22,12 @@ struct ScaffoldMesh
 //! polish's scaffold is made once and its Newton steps end where a scaffold triangle would
 //! flip, so slivers shorten them.
 constexpr double kPolishScaffoldShape = 0.125;
-//! SLIM's scaffold angle bound (injective_refine()), degrees: its steps are line-searched up to
-//! the first flip, and a step that a scaffold triangle stopped goes on over a new
-//! triangulation, so the triangles need only bound the step; a coarser bound means fewer
+//! SLIM's scaffold shape bound (injective_refine()): sin^2 of 10 degrees. Its steps are
+//! line-searched up to the first flip, and a step that a scaffold triangle stopped goes on over
+//! a new triangulation, so the triangles need only bound the step; a coarser bound means fewer
 //! Steiner vertices, and each new triangulation and the symbolic analysis of the system it
 //! changes cost less (docs/benchmarks.md "The scaffold's angle bound").
-constexpr double kSlimScaffoldAngle = 10.0;
-
-//! sin^2 of \p smallest_angle_deg: CGAL's shape bound for that smallest angle.
-double scaffold_shape_bound(double smallest_angle_deg);
+constexpr double kSlimScaffoldShape = 0.030153689607045803;
 
 //! \brief Triangulates the free space between a map's boundary polygon and a box around it
 //! (the scaffold of Jiang et al. 2017, "Simplicial complex augmentation framework for bijective
@@ -44,8 +41,8 @@ double scaffold_shape_bound(double smallest_angle_deg);
 //! \param inside a point strictly inside the map (e.g. a face's centroid).
 //! \param first_steiner index given to the first Steiner vertex.
 //! \param shape_bound CGAL's shape bound, sin^2 of the smallest angle kept, in (0,
-//! kPolishScaffoldShape]: scaffold_shape_bound(kSlimScaffoldAngle) for SLIM,
-//! kPolishScaffoldShape for the area polish.
+//! kPolishScaffoldShape]: kSlimScaffoldShape for SLIM, kPolishScaffoldShape for the area
+//! polish.
 //! \throw InvalidInputError if \p shape_bound is outside that range.
 //! \throw SolverError if the boundary crosses itself (the scaffold needs a simple polygon).
 ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>& boundary,

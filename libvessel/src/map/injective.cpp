@@ -427,8 +427,7 @@ public:
         for (int v : inside_face_)
             inside += x.segment<2>(2 * v) / 3.0;
         detail::ScaffoldMesh scaffold =
-            detail::scaffold_triangles(x, boundary_, box, inside, n_ + 4,
-                                       detail::scaffold_shape_bound(detail::kSlimScaffoldAngle));
+            detail::scaffold_triangles(x, boundary_, box, inside, n_ + 4, detail::kSlimScaffoldShape);
         x.conservativeResize(2 * (n_ + 4 + static_cast<int>(scaffold.steiner.size())));
         for (std::size_t j = 0; j < scaffold.steiner.size(); ++j)
             x.segment<2>(2 * (n_ + 4 + j)) = scaffold.steiner[j];

@@ -10,7 +10,6 @@
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
-#include <cmath>
 #include <queue>
 #include <string>
 
@@ -128,12 +127,6 @@ ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>
         if (f->info() == 1)  // CGAL's faces are counter-clockwise
             scaffold.triangles.push_back({index(f->vertex(0)), index(f->vertex(1)), index(f->vertex(2))});
     return scaffold;
-}
-
-double scaffold_shape_bound(double smallest_angle_deg)
-{
-    const double sine = std::sin(smallest_angle_deg * 3.14159265358979323846 / 180.0);
-    return sine * sine;
 }
 
 }  // namespace vessel::detail
