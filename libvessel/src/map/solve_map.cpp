@@ -406,7 +406,7 @@ RelaxSummary relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& leve
 // ratio on the carotids and most trees; above it, many-outlet trees whose coarse map moved far
 // are still moving, a surface of intrinsic distortion (an aneurysm's sac) is not
 // (docs/benchmarks.md "Relaxed further where the carry stops short").
-constexpr double kRelaxFurtherRatio = 1.002;
+constexpr double kRelaxFurtherRatio = 1.001;
 constexpr double kRelaxFurtherProgress = 0.01;
 
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <new>
 #include <string>
 #include <thread>
@@ -23,6 +24,81 @@ void dtrsm_(const char* side, const char* uplo, const char* transa, const char* 
 }
 
 namespace vessel::detail {
+
+namespace {
+
+// Blocks of at most this many multiply-adds are made by the loops below instead of BLAS. Most
+// supernodes of a surface mesh's factor are a few columns wide, and on such a block a BLAS call
+// costs more than its arithmetic: OpenBLAS's level-3 routines take a process-wide lock around
+// their buffer at every call, which two threads factorizing at once (the two sets here, or two
+// solvers on their own threads) contend for; larger blocks amortize it, and BLAS's kernels are
+// faster there.
+constexpr long kSmallBlock = 8192;
+
+// C(i, j) = sum_k S(i, k) S(j, k) for j < inside and j <= i < below, C column-major with
+// leading dimension `below`: dsyrk's lower triangle and dgemm's rows below it, in one pass.
+void small_update(int inside, int below, int width, const double* S, int ld, double* C)
+{
+    for (int j = 0; j < inside; ++j)
+    {
+        double* c = C + static_cast<long>(j) * below;
+        std::fill(c + j, c + below, 0.0);
+        for (int k = 0; k < width; ++k)
+        {
+            const double* column = S + static_cast<long>(k) * ld;
+            const double sj = column[j];
+            for (int i = j; i < below; ++i)
+                c[i] += column[i] * sj;
+        }
+    }
+}
+
+// dpotrf("L") of the width x width block A (leading dimension ld): 0, or as LAPACK's info the
+// 1-based column whose pivot is not positive.
+int small_cholesky(int width, double* A, int ld)
+{
+    const auto at = [A, ld](int i, int k) -> double& { return A[i + static_cast<long>(k) * ld]; };
+    for (int j = 0; j < width; ++j)
+    {
+        double pivot = at(j, j);
+        for (int k = 0; k < j; ++k)
+            pivot -= at(j, k) * at(j, k);
+        if (!(pivot > 0.0))
+            return j + 1;
+        pivot = std::sqrt(pivot);
+        at(j, j) = pivot;
+        for (int i = j + 1; i < width; ++i)
+        {
+            double value = at(i, j);
+            for (int k = 0; k < j; ++k)
+                value -= at(i, k) * at(j, k);
+            at(i, j) = value / pivot;
+        }
+    }
+    return 0;
+}
+
+// B := B L^-T (dtrsm "R", "L", "T", "N"): B of `rest` rows and L of width x width, both with
+// leading dimension ld.
+void small_solve(int rest, int width, const double* L, int ld, double* B)
+{
+    for (int j = 0; j < width; ++j)
+    {
+        double* bj = B + static_cast<long>(j) * ld;
+        for (int k = 0; k < j; ++k)
+        {
+            const double l = L[j + static_cast<long>(k) * ld];
+            const double* bk = B + static_cast<long>(k) * ld;
+            for (int r = 0; r < rest; ++r)
+                bj[r] -= bk[r] * l;
+        }
+        const double pivot = L[j + static_cast<long>(j) * ld];
+        for (int r = 0; r < rest; ++r)
+            bj[r] /= pivot;
+    }
+}
+
+}  // namespace
 
 SubtreeFactorization::SubtreeFactorization(const cholmod_sparse& A, const cholmod_factor& L)
 {
@@ -198,12 +274,18 @@ void SubtreeFactorization::run(int part, Context& context, Context& scratch,
                 const int inside = middle - begin, below = pi[d + 1] - begin;
                 const double* source = Lx + px[d] + (begin - pi[d]);
                 double* C = scratch.update.data();
-                dsyrk_("L", "N", &inside, &d_width, &one, source, &d_height, &zero, C, &below);
-                if (below > inside)
+                if (static_cast<long>(below) * inside * d_width <= kSmallBlock)
+                    small_update(inside, below, d_width, source, d_height, C);
+                else
                 {
-                    const int rest = below - inside;
-                    dgemm_("N", "T", &rest, &inside, &d_width, &one, source + inside, &d_height,
-                           source, &d_height, &zero, C + inside, &below);
+                    dsyrk_("L", "N", &inside, &d_width, &one, source, &d_height, &zero, C,
+                           &below);
+                    if (below > inside)
+                    {
+                        const int rest = below - inside;
+                        dgemm_("N", "T", &rest, &inside, &d_width, &one, source + inside,
+                               &d_height, source, &d_height, &zero, C + inside, &below);
+                    }
                 }
                 for (int j = 0; j < inside; ++j)
                 {
@@ -223,7 +305,11 @@ void SubtreeFactorization::run(int part, Context& context, Context& scratch,
                 update_from(lists);
 
         int info = 0;
-        dpotrf_("L", &width, block, &height, &info);
+        const bool small = static_cast<long>(width) * width * height <= kSmallBlock;
+        if (small)
+            info = small_cholesky(width, block, height);
+        else
+            dpotrf_("L", &width, block, &height, &info);
         if (info != 0)
         {
             int seen = failed.load();
@@ -235,8 +321,11 @@ void SubtreeFactorization::run(int part, Context& context, Context& scratch,
         if (height > width)
         {
             const int rest = height - width;
-            dtrsm_("R", "L", "T", "N", &rest, &width, &one, block, &height, block + width,
-                   &height);
+            if (small)
+                small_solve(rest, width, block, height, block + width);
+            else
+                dtrsm_("R", "L", "T", "N", &rest, &width, &one, block, &height, block + width,
+                       &height);
             wait(s, width);
         }
     }

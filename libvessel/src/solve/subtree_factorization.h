@@ -16,12 +16,15 @@ namespace vessel::detail {
 //! CHOLMOD's symbolic analysis as it is (supernodes, row lists, the value layout, so that
 //! cholmod_solve() and the SubtreeSolver read the result as CHOLMOD's own) and computes the
 //! values left-looking, as CHOLMOD does: per supernode, A's entries, then the updates of its
-//! descendants (dsyrk/dgemm), then dpotrf and dtrsm. The supernodal tree is split into two sets
-//! of whole subtrees of about equal work and the few supernodes above them (the "top", as in
-//! SubtreeSolver): the two sets share no column, so each runs on its own thread; the top runs
-//! after both. One thread runs the same steps in the same order, so the result does not depend
-//! on the thread count (it differs from cholmod_factorize()'s in the last bits: the updates of a
-//! top supernode are summed in another order).
+//! descendants (dsyrk/dgemm), then dpotrf and dtrsm; blocks of a few thousand multiply-adds by
+//! plain loops instead, as a BLAS call costs more than their arithmetic (OpenBLAS locks a
+//! process-wide buffer at every level-3 call, a lock that two factorizing threads contend
+//! for). The supernodal tree is split into two sets of whole subtrees of about equal work and
+//! the few supernodes above them (the "top", as in SubtreeSolver): the two sets share no
+//! column, so each runs on its own thread; the top runs after both. One thread runs the same
+//! steps in the same order, so the result does not depend on the thread count (it differs
+//! from cholmod_factorize()'s in the last bits: the updates of a top supernode are summed in
+//! another order, and the small blocks' sums too).
 //!
 //! A's entries are scattered straight into the factor's blocks through a map made once per
 //! symbolic analysis (CHOLMOD permutes A into a transposed copy at every factorization).

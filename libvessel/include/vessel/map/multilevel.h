@@ -39,7 +39,7 @@ struct MultilevelOptions
     //! short-wavelength error; the corrections the long-wavelength error that sweeps alone remove
     //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine"). Stage F's carry
     //! relaxes its finest level for twice as many sweeps and corrections more where they
-    //! stopped short: the energy still above 1.002 times its isometric minimum, and the last
+    //! stopped short: the energy still above 1.001 times its isometric minimum, and the last
     //! sweep still lowering it by more than a hundredth of that excess (docs/benchmarks.md
     //! "Relaxed further where the carry stops short").
     int relax_sweeps = 16;
