@@ -7,12 +7,13 @@
 
 #include "detail/face_jacobian.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
 
 #include <Eigen/Sparse>
 
 #include <algorithm>
+#include <cmath>
 #include <array>
 #include <vector>
 
@@ -28,31 +29,51 @@ inline Eigen::Matrix2d polish_face_gradient(const Eigen::Matrix2d& J, double lam
            lambda * (1.0 - 1.0 / (D * D)) * cof;
 }
 
-// The 4 x 4 Hessian of one face's energy with respect to J = [[a, b], [c, d]] as (a, b, c, d),
-// its negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005). With D = det J,
-// g = dD/dJ = (d, -c, -b, a) and H_D = d2D/dJ2 (1 at (a, d), -1 at (b, c)):
-// ||J||^2 / D has Hessian 2 I / D - 2 (j g^T + g j^T) / D^2 + 2 ||J||^2 g g^T / D^3 - ||J||^2 H_D / D^2,
-// D + 1 / D has Hessian 2 g g^T / D^3 + (1 - 1 / D^2) H_D.
+// The 4 x 4 Hessian of one face's energy per unit area, psi(J) = (1 - lambda) ||J||^2 / det J
+// + lambda (det J + 1 / det J), with respect to J = [[a, b], [c, d]] as (a, b, c, d), its
+// negative eigenvalues clamped to 0 (projected Newton, Teran et al. 2005), from its analytic
+// eigensystem (Smith, De Goes and Kim 2019, "Analytic eigensystems for isotropic distortion
+// energies"): with J = U diag(s, t) V^T (det J > 0, so s, t > 0), the eigenvectors are
+// U M V^T for M the twist [[0, -1], [1, 0]] / sqrt 2, the flip [[0, 1], [1, 0]] / sqrt 2 and the
+// two eigenvectors (x, y) of the Hessian of psi(s, t) as diag(x, y). With D = s t, the twist's
+// eigenvalue (psi_s + psi_t) / (s + t) = lambda (1 - 1 / D^2) - (1 - lambda) (s - t)^2 / D^2 and
+// the flip's (psi_s - psi_t) / (s - t) = (1 - lambda) (s + t)^2 / D^2 + lambda (1 / D^2 - 1),
+// both without a division by s - t. No 4 x 4 eigensolver: most faces' Hessians are indefinite
+// (det J is an indefinite quadratic of J).
 inline Eigen::Matrix4d projected_face_hessian(const Eigen::Matrix2d& J, double lambda)
 {
-    const Eigen::Vector4d j(J(0, 0), J(0, 1), J(1, 0), J(1, 1));
-    const Eigen::Vector4d g(J(1, 1), -J(1, 0), -J(0, 1), J(0, 0));
-    Eigen::Matrix4d HD = Eigen::Matrix4d::Zero();
-    HD(0, 3) = HD(3, 0) = 1.0;
-    HD(1, 2) = HD(2, 1) = -1.0;
-    const double D = J.determinant(), F = j.squaredNorm();
-    const Eigen::Matrix4d shape = 2.0 / D * Eigen::Matrix4d::Identity() -
-                                  2.0 / (D * D) * (j * g.transpose() + g * j.transpose()) +
-                                  2.0 * F / (D * D * D) * g * g.transpose() - F / (D * D) * HD;
-    const Eigen::Matrix4d area = 2.0 / (D * D * D) * g * g.transpose() + (1.0 - 1.0 / (D * D)) * HD;
-    const Eigen::Matrix4d H = (1.0 - lambda) * shape + lambda * area;
-    // Most faces' Hessians are already positive definite: a 4 x 4 Cholesky says so for a
-    // fraction of the eigensolver's cost, and the projection leaves such a matrix as it is.
-    if (Eigen::LLT<Eigen::Matrix4d>(H).info() == Eigen::Success)
-        return H;
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(H);
-    return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-           eig.eigenvectors().transpose();
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd(J, Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const double s = svd.singularValues()(0), t = svd.singularValues()(1);
+    const double D = s * t, w = 1.0 - lambda;
+    const double inv_D2 = 1.0 / (D * D);
+    const Eigen::Matrix2d& U = svd.matrixU();
+    const Eigen::Matrix2d& V = svd.matrixV();
+    // vec(U M V^T) in J's (a, b, c, d) order.
+    const auto mode = [&](const Eigen::Matrix2d& M) {
+        const Eigen::Matrix2d F = U * M * V.transpose();
+        return Eigen::Vector4d(F(0, 0), F(0, 1), F(1, 0), F(1, 1));
+    };
+    Eigen::Matrix4d H = Eigen::Matrix4d::Zero();
+    const auto add = [&H](double value, const Eigen::Vector4d& q) {
+        if (value > 0.0)
+            H.noalias() += value * q * q.transpose();
+    };
+    const double half = std::sqrt(0.5);
+    Eigen::Matrix2d M;
+    M << 0.0, -half, half, 0.0;
+    add(lambda * (1.0 - inv_D2) - w * (s - t) * (s - t) * inv_D2, mode(M));
+    M << 0.0, half, half, 0.0;
+    add(w * (s + t) * (s + t) * inv_D2 + lambda * (inv_D2 - 1.0), mode(M));
+    // The Hessian of psi(s, t): (1 - lambda) (s / t + t / s) + lambda (s t + 1 / (s t)).
+    Eigen::Matrix2d scaling;
+    scaling(0, 0) = w * 2.0 * t / (s * s * s) + lambda * 2.0 / (s * s * s * t);
+    scaling(1, 1) = w * 2.0 * s / (t * t * t) + lambda * 2.0 / (s * t * t * t);
+    scaling(0, 1) = scaling(1, 0) = -w * (1.0 / (t * t) + 1.0 / (s * s)) + lambda * (1.0 + inv_D2);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
+    eig.computeDirect(scaling);
+    for (int k = 0; k < 2; ++k)
+        add(eig.eigenvalues()(k), mode(eig.eigenvectors().col(k).asDiagonal()));
+    return H;
 }
 
 // One face's projected Hessian with respect to its corners' (u, v), as the 3 x 3 matrices of
