@@ -12,8 +12,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <functional>
+#include <random>
 #include <vector>
 
 using namespace vessel;

@@ -13,8 +13,8 @@
 #include <Eigen/Sparse>
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace vessel::detail {
