@@ -242,9 +242,6 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
                 block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
             }
     }
-    const auto dof = [&](std::size_t f, int l) {
-        return 2 * ops[f].corner[M.blocks[f].corner[l / 2]] + l % 2;
-    };
     // The pattern, built directly (no triplets to sort): vertex I couples with vertex J >= I
     // when they share a face; then the u and v of both couple, upper triangle only.
     std::vector<int> vertex_start(n + 1, 0);
@@ -264,6 +261,10 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
                     vertex_rows[fill[J]++] = ops[f].corner[M.blocks[f].corner[l]];
                 }
     }
+    // Per vertex J, its distinct neighbours I < J, sorted: column 2J + k (k = 0 for u, 1 for
+    // v) holds rows 2I and 2I + 1 of each, then 2J, and for k = 1 also 2J + 1. An entry's value
+    // index therefore follows from the rank of I among J's neighbours alone.
+    std::vector<int> distinct(n);  // per vertex J, how many distinct neighbours I < J
     std::vector<int> outer(2 * n + 1, 0), inner;
     inner.reserve(4 * vertex_rows.size() + 3 * n);
     for (int J = 0; J < n; ++J)
@@ -272,6 +273,7 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
         auto end = vertex_rows.begin() + vertex_start[J + 1];
         std::sort(begin, end);
         end = std::unique(begin, end);
+        distinct[J] = static_cast<int>(end - begin);
         for (int k = 0; k < 2; ++k)  // columns 2J (u) and 2J + 1 (v)
         {
             for (auto I = begin; I != end; ++I)
@@ -290,21 +292,34 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
     std::copy(outer.begin(), outer.end(), M.A.outerIndexPtr());
     std::copy(inner.begin(), inner.end(), M.A.innerIndexPtr());
     std::fill(M.A.valuePtr(), M.A.valuePtr() + inner.size(), 0.0);
-    const auto index_of = [&](int row, int col) {
-        const int* begin = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col];
-        const int* end = M.A.innerIndexPtr() + M.A.outerIndexPtr()[col + 1];
-        return static_cast<int>(std::lower_bound(begin, end, row) - M.A.innerIndexPtr());
+    // The rank of vertex I among the distinct neighbours I' < J of vertex J.
+    const auto rank = [&](int I, int J) {
+        const auto first = vertex_rows.begin() + vertex_start[J];
+        return static_cast<int>(std::lower_bound(first, first + distinct[J], I) - first);
     };
     for (std::size_t f = 0; f < ops.size(); ++f)
     {
+        std::array<int, 3> vertex{};  // the face's corners in increasing order
+        for (int k = 0; k < 3; ++k)
+            vertex[k] = ops[f].corner[M.blocks[f].corner[k]];
+        // Where the rows of the sorted corner l start in the column of sorted corner k (l < k),
+        // and where the column's own vertex starts (l = k).
+        std::array<std::array<int, 3>, 3> start{};
+        for (int k = 0; k < 3; ++k)
+        {
+            start[k][k] = 2 * distinct[vertex[k]];
+            for (int l = 0; l < k; ++l)
+                start[k][l] = 2 * rank(vertex[l], vertex[k]);
+        }
         int s = 0;
-        for (int a = 0; a < 6; ++a)
+        for (int a = 0; a < 6; ++a)  // local column: corner a / 2, u or v by a % 2
             for (int b = 0; b <= a; ++b)
-                M.blocks[f].slot[s++] = index_of(dof(f, b), dof(f, a));
+                M.blocks[f].slot[s++] =
+                    outer[2 * vertex[a / 2] + a % 2] + start[a / 2][b / 2] + b % 2;
     }
     M.diagonal.resize(2 * n);
     for (int i = 0; i < 2 * n; ++i)
-        M.diagonal[i] = index_of(i, i);
+        M.diagonal[i] = outer[i] + 2 * distinct[i / 2] + i % 2;
     return M;
 }
 
