@@ -71,6 +71,20 @@ double hinge_residual(const CentrePull& pull, const Eigen::MatrixX2d& uv)
     return (b.x() * a.y() - b.y() * a.x()) / pull.length - pull.margin;
 }
 
+// The segments of a map of six vertices: the inlet (0, 1), outlets 1 (2), 2 (3, 4) and 3 (5),
+// in walk order.
+std::vector<BoundarySegment> three_outlets()
+{
+    std::vector<BoundarySegment> segments(4);
+    for (int loop = 0; loop < 4; ++loop)
+        segments[loop].loop = loop;
+    segments[0].vertices = {VertexHandle(0), VertexHandle(1)};
+    segments[1].vertices = {VertexHandle(2)};
+    segments[2].vertices = {VertexHandle(3), VertexHandle(4)};
+    segments[3].vertices = {VertexHandle(5)};
+    return segments;
+}
+
 }  // namespace
 
 TEST_CASE("centre pull: SLIM moves a pulled centre onto its line at no cost in shape")
@@ -163,15 +177,7 @@ TEST_CASE(
     // to right, and outlet 3 nearly on the inlet's line (less than the margin above it).
     Eigen::MatrixX2d uv(6, 2);
     uv << 1, 0, -1, 0, -2, 2, 2, 2, 2, 4, 5, 0.01;
-    std::vector<BoundarySegment> segments(4);
-    segments[0].loop = 0;
-    segments[0].vertices = {VertexHandle(0), VertexHandle(1)};
-    segments[1].loop = 1;
-    segments[1].vertices = {VertexHandle(2)};
-    segments[2].loop = 2;
-    segments[2].vertices = {VertexHandle(3), VertexHandle(4)};
-    segments[3].loop = 3;
-    segments[3].vertices = {VertexHandle(5)};
+    std::vector<BoundarySegment> segments = three_outlets();
     const std::vector<CentrePull> pulls = look_pulls(segments, uv, 2.5, LookPullForm::Hinges, 5.0);
     // The inlet's 3 (each half's height, the centre along the chord); above: 3; order: (1, 2),
     // (2, 3).
@@ -202,6 +208,38 @@ TEST_CASE(
     CHECK(hinge_residual(pulls[5], swapped) < 0.0);  // outlet 2 above
     segments[0].loop = 2;                            // no inlet
     CHECK_THROWS_AS(look_pulls(segments, uv, 1.0, LookPullForm::Hinges), InvalidInputError);
+}
+
+TEST_CASE(
+    "centre pull: look_pulls with HingeMargin::Whole asks a map that lost its look for the "
+    "whole margin")
+{
+    // As above, but outlet 3 below the inlet's line (its centre at height -0.5).
+    Eigen::MatrixX2d uv(6, 2);
+    uv << 1, 0, -1, 0, -2, 2, 2, 2, 2, 4, 5, -0.5;
+    const std::vector<BoundarySegment> segments = three_outlets();
+    const double margin = 5.0;
+    const std::vector<CentrePull> start =
+        look_pulls(segments, uv, 2.5, LookPullForm::Hinges, margin);
+    const std::vector<CentrePull> whole = look_pulls(segments, uv, 2.5, LookPullForm::Hinges,
+                                                     margin, 0.0, HingeMargin::Whole);
+    REQUIRE(start.size() == 8);
+    REQUIRE(whole.size() == 8);
+    const double least_sine = std::sin(margin * M_PI / 180.0);
+    // Outlet 3's hinge: from the broken map itself it asks only for the line (margin 0), so
+    // that the soft hinge cannot lift the outlet above it; Whole asks for the margin.
+    REQUIRE(start[7].kind == PullKind::HalfPlane);
+    CHECK(start[7].margin == 0.0);
+    CHECK(hinge_residual(start[7], uv) == doctest::Approx(-0.5));
+    CHECK(whole[7].margin == doctest::Approx(least_sine * std::sqrt(25.0 + 0.25)));
+    CHECK(hinge_residual(whole[7], uv) < -0.5);
+    // Where the map has the whole margin, both ask the same.
+    CHECK(whole[3].margin == doctest::Approx(start[3].margin));
+    for (std::size_t i = 0; i < whole.size(); ++i)
+    {
+        CHECK(whole[i].kind == start[i].kind);
+        CHECK(whole[i].margin >= start[i].margin);
+    }
 }
 
 TEST_CASE("centre pull: bad pulls are refused")

@@ -122,7 +122,7 @@ void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::stri
 
 std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
                                    const Eigen::MatrixX2d& uv, double weight, LookPullForm form,
-                                   double margin_deg, double hold_weight)
+                                   double margin_deg, double hold_weight, HingeMargin margins)
 {
     std::map<int, std::vector<int>> loops;  // loop index -> its vertices (0 = inlet)
     std::vector<int> walk_order;            // the outlets' loops, in walk order
@@ -197,12 +197,14 @@ std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
         pulls.push_back(make_pull(PullKind::Line, part, mean(part), up, hold));
     pulls.push_back(make_pull(PullKind::Line, walk, inlet, right, hold));
     const double least_sine = std::sin(margin_deg * M_PI / 180.0);
+    const bool whole = margins == HingeMargin::Whole;
     for (std::size_t i = 0; i < walk_order.size(); ++i)
     {
         const std::vector<int>& here = loops[walk_order[i]];
         const Eigen::Vector2d a = mean(here) - origin;
         CentrePull above = make_pull(PullKind::HalfPlane, here, origin, up, weight);
-        above.margin = std::min(least_sine * a.norm(), std::max(up.dot(a), 0.0));
+        above.margin = whole ? least_sine * a.norm()
+                             : std::min(least_sine * a.norm(), std::max(up.dot(a), 0.0));
         pulls.push_back(above);
         if (i + 1 == walk_order.size())
             continue;
@@ -214,7 +216,8 @@ std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
         CentrePull order = make_pull(PullKind::Order, here, origin, up, weight);
         order.second = next;
         order.length = length;
-        order.margin = std::min(least_sine * length, std::max(cross(b, a) / length, 0.0));
+        order.margin = whole ? least_sine * length
+                             : std::min(least_sine * length, std::max(cross(b, a) / length, 0.0));
         pulls.push_back(order);
     }
     return pulls;

@@ -523,7 +523,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
 // if > 0; one note.
 AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
                                  const FlattenOptions& options, bool pulled, Eigen::MatrixX2d& uv,
-                                 FlattenResult& result, int newton_steps = 0)
+                                 FlattenResult& result, int newton_steps = 0,
+                                 HingeMargin margins = HingeMargin::AtMostTheMap)
 {
     AreaPolishOptions polish = options.area_polish;
     polish.keep_boundary_simple = true;
@@ -532,7 +533,7 @@ AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
     if (pulled)
         polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
                                          options.look_pull.form, options.look_pull.margin_deg,
-                                         options.look_pull.hold);
+                                         options.look_pull.hold, margins);
     AreaPolishSummary summary = area_polish(mesh, uv, {}, polish);
     result.notes.push_back("coarse-to-fine: " + summary.report);
     return summary;
@@ -614,14 +615,17 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         result.notes.push_back("coarse-to-fine: look retry at full resolution: the carry broke "
                                "the pulled map's look; polished with the pulls until it is whole");
         const AreaPolishOptions& polish = options.area_polish;
+        // The hinges ask for the look's whole margin: made from the broken map, they would
+        // pull an outlet below the inlet's line only onto it (HingeMargin).
+        constexpr HingeMargin whole = HingeMargin::Whole;
         if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
-            polish_carried(mesh, input, options, true, uv, result);
+            polish_carried(mesh, input, options, true, uv, result, 0, whole);
         else
         {
             const int chunk = std::max(polish.newton_chunk_iterations, 1);
             for (int made = 0; made < polish.newton_max_iterations; made += chunk)
-                if (polish_carried(mesh, input, options, true, uv, result, chunk).iterations <
-                        chunk ||
+                if (polish_carried(mesh, input, options, true, uv, result, chunk, whole)
+                            .iterations < chunk ||
                     !broken(uv))
                     break;
         }

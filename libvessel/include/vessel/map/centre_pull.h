@@ -51,6 +51,19 @@ enum class LookPullForm
     Hinges,
 };
 
+//! How look_pulls() sets its hinges' margins (LookPullForm::Hinges).
+enum class HingeMargin
+{
+    //! At most what the map given has, so that the hinges cost nothing there: for a start that
+    //! has the look (the layout circle), which the hinges then keep.
+    AtMostTheMap,
+    //! The whole margin, also where the map given has less or has lost the look: for a map
+    //! whose look is to be mended. With AtMostTheMap an outlet below the inlet's line would be
+    //! pulled only onto the line, and the soft hinge, balanced by the map's own energy, leaves
+    //! it short of it.
+    Whole,
+};
+
 //! The soft look terms that keep a restarted map's look while SLIM and the area polish run
 //! (FlattenOptions::look_pull; look_pulls() below).
 struct LookPullOptions
@@ -86,8 +99,9 @@ void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::stri
 //! middle of the inlet's chord in \p uv (map_look.h's frame), every outlet's centre kept above
 //! the chord's line and every two outlets consecutive along the walk kept in that clockwise
 //! order, each with a margin of \p margin_deg (as the sine of an angle; less where \p uv itself
-//! has less, so the hinges cost nothing at \p uv). Meant for a start that has the layout's
-//! look (the layout circle, layout_circle.h).
+//! has less, so the hinges cost nothing at \p uv, unless \p margins is HingeMargin::Whole).
+//! Meant for a start that has the layout's look (the layout circle, layout_circle.h), or with
+//! HingeMargin::Whole for a map whose look is to be mended.
 //! \param segments the cut mesh's boundary segments (BoundarySegment::loop 0 = inlet; the
 //! inlet's first vertex is its right end, its last its left end; the walk order is theirs).
 //! \param weight every pull's CentrePull::weight: the energy is weight x the sum of the squared
@@ -99,6 +113,7 @@ void validate_centre_pulls(const std::vector<CentrePull>& pulls, const std::stri
 std::vector<CentrePull> look_pulls(const std::vector<BoundarySegment>& segments,
                                    const Eigen::MatrixX2d& uv, double weight,
                                    LookPullForm form = LookPullForm::Rays, double margin_deg = 2.0,
-                                   double hold_weight = 0.0);
+                                   double hold_weight = 0.0,
+                                   HingeMargin margins = HingeMargin::AtMostTheMap);
 
 }  // namespace vessel
