@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "detail/cost_to_tree.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_cost.h"
 #include "vessel/cut/cut_graph.h"
@@ -165,6 +166,63 @@ TEST_CASE("winding_bound: no route within the bound, a loose bound, and what is 
     PathQuery short_targets = query;
     short_targets.is_target.resize(3);
     CHECK_THROWS_AS(winding_bounded_path(graph, short_targets, turn), InvalidInputError);
+}
+
+TEST_CASE("winding_bound: the planner's cost to the tree, grown or made at once, leads the search "
+          "to the same path")
+{
+    // The cut planner keeps one A* bound over its searches (detail::CostToTree), grown as cuts
+    // add targets. Grown from half the targets to all of them it must equal the field made
+    // from all of them at once (a decrease-only Dijkstra), be consistent on every arc, and lead
+    // the search to the path it finds with its own bound.
+    const TwistedTube tube;
+    CutGraph graph(tube.mesh, tube.weights);
+    const WindingMeter meter(tube.mesh, tube.u);
+    const auto turn = [&meter](VertexHandle last, VertexHandle w, bool gap) {
+        return meter.step(last, w, gap);
+    };
+    const PathQuery query = tube.up();
+    std::vector<char> half = query.is_target;
+    const std::vector<VertexHandle>& top = tube.loops[1].vertices;
+    for (std::size_t i = 0; i < top.size(); i += 2)
+        half[top[i].idx()] = 0;
+
+    detail::CostToTree grown(graph);
+    const std::vector<double> before = grown.to(half);
+    const std::vector<double>& after = grown.to(query.is_target);
+    detail::CostToTree at_once(graph);
+    CHECK(after == at_once.to(query.is_target));
+    int lowered = 0, reached = 0;
+    for (std::size_t v = 0; v < after.size(); ++v)
+    {
+        lowered += after[v] < before[v] ? 1 : 0;
+        reached += std::isfinite(after[v]) ? 1 : 0;
+        CHECK(after[v] <= before[v]);
+    }
+    CHECK(lowered > 0);
+    CHECK(reached == static_cast<int>(tube.mesh.n_vertices()));
+    for (auto h : tube.mesh.halfedges())
+        CHECK(after[tube.mesh.from_vertex_handle(h).idx()] <=
+              graph.weight(h) + after[tube.mesh.to_vertex_handle(h).idx()]);
+    // Dropping a target (the planner moving from the inlet to the tree) makes it again.
+    CHECK(grown.to(half) == before);
+
+    for (double limit : {10.0, 30.0})
+    {
+        CAPTURE(limit);
+        WindingBoundOptions options;
+        options.limit_deg = limit;
+        const auto own = winding_bounded_path(graph, query, turn, options);
+        const auto given = winding_bounded_path(graph, query, turn, options, {}, &after);
+        REQUIRE(own);
+        REQUIRE(given);
+        CHECK(given->halfedges == own->halfedges);
+        CHECK(given->cost == own->cost);
+        CHECK(given->winding_rad == own->winding_rad);
+    }
+    const std::vector<double> short_field(3, 0.0);
+    CHECK_THROWS_AS(winding_bounded_path(graph, query, turn, {}, {}, &short_field),
+                    InvalidInputError);
 }
 
 TEST_CASE("winding_bound: the rings fitted ahead on a second thread give the same path")

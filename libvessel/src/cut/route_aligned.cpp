@@ -1,5 +1,6 @@
 #include "vessel/cut/cut_route.h"
 
+#include "detail/cost_to_tree.h"
 #include "detail/streamline_tracer.h"
 #include "vessel/core/errors.h"
 #include "vessel/cut/cut_metrics.h"
@@ -87,7 +88,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
                                     const Eigen::MatrixX3d& winding_rate, const WindingMeter& meter,
                                     const GraphPath& current, bool traced,
                                     const Eigen::MatrixX3d& stream_field,
-                                    const CutPlanOptions& options, Finish finish,
+                                    const CutPlanOptions& options,
+                                    detail::CostToTree& tree_cost, Finish finish,
                                     FinishHeld finish_held)
 {
     const Mesh& mesh = graph.mesh();
@@ -182,7 +184,7 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
             [&meter, carry](VertexHandle last, VertexHandle w, bool gap) {
                 return meter.step(last, w, gap, carry);
             },
-            bound, [&ahead](VertexHandle v) { ahead.hint(v); });
+            bound, [&ahead](VertexHandle v) { ahead.hint(v); }, &tree_cost.to(query.is_target));
         if (bounded)
         {
             // A later cut that would run beside the tree is cut back and bridged to it
@@ -252,7 +254,7 @@ public:
             {
                 std::optional<GraphPath> held = steer_path(
                     *context.graph, step.query(), *context.winding_rate, *reader, cut.path,
-                    cut.traced, stream_field, options,
+                    cut.traced, stream_field, options, tree_cost(*context.graph),
                     [&step](GraphPath p) { return step.join(std::move(p)); },
                     [&step](GraphPath p) { return step.join_held(std::move(p)); });
                 if (held)
@@ -267,8 +269,17 @@ public:
     void added(const CutStep& step, const CutPath& cut) override { tracer_.added(step, cut); }
 
 private:
+    // The bounded searches' A* bound, one field grown over the plan's cuts.
+    detail::CostToTree& tree_cost(const CutGraph& graph)
+    {
+        if (!tree_cost_)
+            tree_cost_.emplace(graph);
+        return *tree_cost_;
+    }
+
     detail::StreamlineTracer tracer_;
     std::optional<WindingMeter> meter_;
+    std::optional<detail::CostToTree> tree_cost_;
 };
 
 }  // namespace

@@ -100,14 +100,25 @@ private:
 std::optional<GraphPath> winding_bounded_path(
     const CutGraph& graph, const PathQuery& query,
     const std::function<double(VertexHandle, VertexHandle, bool)>& turn,
-    const WindingBoundOptions& options, const std::function<void(VertexHandle)>& settled)
+    const WindingBoundOptions& options, const std::function<void(VertexHandle)>& settled,
+    const std::vector<double>* cost_to_targets)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
     const std::size_t nv = mesh.n_vertices();
     detail::check_path_query(mesh, query, "winding_bounded_path");
+    if (cost_to_targets && cost_to_targets->size() != nv)
+        throw InvalidInputError("winding_bounded_path: " +
+                                std::to_string(cost_to_targets->size()) +
+                                " costs to the targets for " + std::to_string(nv) +
+                                " vertices; pass one per vertex, indexed by v.idx()");
 
-    CostToTargets to_target(graph, query);
+    std::optional<CostToTargets> own;  // the bound, unless given
+    if (!cost_to_targets)
+        own.emplace(graph, query);
+    const auto to_target = [&](int v) {
+        return cost_to_targets ? (*cost_to_targets)[static_cast<std::size_t>(v)] : (*own)(v);
+    };
     const bool any_blocked = !query.is_blocked.empty();
     const double limit = options.limit_deg * M_PI / 180.0;
     const double width = 2.0 * limit / options.bins;

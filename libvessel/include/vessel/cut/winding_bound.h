@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <vector>
 
 namespace vessel {
 
@@ -45,6 +46,13 @@ struct WindingBoundOptions
 //! \param settled if set, called with the vertex of each label the search settles (whose arcs
 //! it follows next): e.g. WindingMeter::Prefetch::hint(), so that the turns it asks for next
 //! are made ready on another thread.
+//! \param cost_to_targets if set, the A* bound per vertex (|V| entries, `v.idx()`) instead of
+//! the search's own Dijkstra from the targets: a lower bound of the cost of every route from
+//! the vertex to the query's targets, consistent (for every arc v -> w, bound(v) <= the arc's
+//! weight + bound(w)) and infinite only where no target is reached; e.g. the unconstrained
+//! cost to the same targets with fewer vertices blocked. The path is then the same (but for
+//! ties of equal cost): the bound only orders the search. A planner whose targets only grow
+//! keeps one such field up to date over its searches instead of a Dijkstra per search.
 //! \return the path (cost = sum of the graph's weights, winding_rad = its summed turns), or
 //! nothing if no route stays within the bound.
 //! \throw InvalidInputError as CutGraph::shortest_path(), or if the options are invalid.
@@ -52,6 +60,7 @@ std::optional<GraphPath> winding_bounded_path(
     const CutGraph& graph, const PathQuery& query,
     const std::function<double(VertexHandle, VertexHandle, bool)>& turn,
     const WindingBoundOptions& options = {},
-    const std::function<void(VertexHandle)>& settled = {});
+    const std::function<void(VertexHandle)>& settled = {},
+    const std::vector<double>* cost_to_targets = nullptr);
 
 }  // namespace vessel
