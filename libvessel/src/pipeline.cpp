@@ -185,8 +185,9 @@ DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
     return stage;
 }
 
-HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
-                               const FlattenOptions& options)
+// The cost options' weights, before the facing price (price_facing()) of CostOptions::viewpoint.
+HalfedgeWeights unpriced_weights(const Mesh& mesh, const DirectionStage& zstage,
+                                 const FlattenOptions& options)
 {
     const Eigen::MatrixX3d& z = zstage.z;
     if (options.cost.custom)
@@ -204,6 +205,15 @@ HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
                                                  options.cost.blend});
     }
     throw InvalidInputError("flatten: unknown cost kind");
+}
+
+HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
+                               const FlattenOptions& options)
+{
+    HalfedgeWeights weights = unpriced_weights(mesh, zstage, options);
+    if (options.cost.viewpoint)
+        price_facing(mesh, *options.cost.viewpoint, options.cost.facing_weight, weights);
+    return weights;
 }
 
 // One pass of steps 4-7 on \p mesh (uncut, with stage Z's properties); with \p forced_plan the

@@ -203,6 +203,7 @@ const std::map<std::string, Setter>& setters()
                                                  "got " + std::to_string(p.size()));
              o.flatten.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
                  Eigen::Vector3d(p[0], p[1], p[2]));
+             o.flatten.cost.viewpoint = Eigen::Vector3d(p[0], p[1], p[2]);
          }},
         {"alpha", number<double>([](CallOptions& o) -> double& { return o.flatten.alpha_deg; })},
         {"layout", [](CallOptions& o, const std::string& name, py::handle value) {

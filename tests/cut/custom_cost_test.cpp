@@ -4,8 +4,13 @@
 #include "support/meshes.h"
 #include "vessel/core/properties.h"
 #include "vessel/cut/boundary.h"
+#include "vessel/core/errors.h"
 #include "vessel/cut/cut_cost.h"
+#include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
+
+#include <algorithm>
+#include <cmath>
 
 using namespace vessel;
 using vessel::test::test_tree_phantom;
@@ -89,4 +94,42 @@ TEST_CASE("custom cost: a cost without the fields is taken as before")
     const FlattenResult r = flatten(tree, options);
     CHECK(calls == static_cast<int>(tree.n_halfedges()));
     CHECK(r.plan.paths.size() == 3);
+}
+
+TEST_CASE("custom cost: price_facing makes the wall facing the viewpoint dearer, the far wall not")
+{
+    // A straight tube along z (outward normals), seen from far out on +x: the halfedges on the
+    // +x side cost up to 1 + weight times as much, those on the -x side as much as before.
+    HelicalTubeOptions straight;
+    straight.helix_radius = 0.0;
+    const Mesh tube = helical_tube(straight);
+    const HalfedgeWeights base = evaluate_cost(tube, LengthCost{1.0});
+    HalfedgeWeights priced = base;
+    const Eigen::Vector3d viewpoint(100.0, 0.0, 6.0);
+    price_facing(tube, viewpoint, 30.0, priced);
+    double front = 0.0;
+    for (auto h : tube.halfedges())
+    {
+        const double x = 0.5 * (tube.point(h.from())[0] + tube.point(h.to())[0]);
+        const double ratio = priced[h.idx()] / base[h.idx()];
+        CHECK(ratio >= 1.0);
+        CHECK(ratio <= 31.0 + 1e-12);
+        if (x < -0.1)
+            CHECK(ratio == 1.0);
+        if (x > 0.9)
+            front = std::max(front, ratio);
+    }
+    CHECK(front > 25.0);
+    HalfedgeWeights free(tube.n_halfedges(), 0.0);
+    price_facing(tube, viewpoint, 30.0, free);
+    CHECK(*std::max_element(free.begin(), free.end()) == 0.0);
+
+    HalfedgeWeights short_weights(3, 1.0);
+    CHECK_THROWS_AS(price_facing(tube, viewpoint, 30.0, short_weights), InvalidInputError);
+    CHECK_THROWS_AS(price_facing(tube, Eigen::Vector3d::Constant(NAN), 30.0, priced),
+                    InvalidInputError);
+    CHECK_THROWS_AS(price_facing(tube, viewpoint, -1.0, priced), InvalidInputError);
+    CostOptions bad;
+    bad.facing_weight = -1.0;
+    CHECK_THROWS_AS(bad.validate(), InvalidInputError);
 }

@@ -834,6 +834,7 @@ int run(Args& a, int argc, char** argv)
         {
             view = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
             options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view);
+            options.cost.viewpoint = view;
         }
         if (!batch.inputs.empty() && !split_at.empty())
             throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
