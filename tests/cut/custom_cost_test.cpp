@@ -2,9 +2,9 @@
 #include <doctest/doctest.h>
 
 #include "support/meshes.h"
+#include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
 #include "vessel/cut/boundary.h"
-#include "vessel/core/errors.h"
 #include "vessel/cut/cut_cost.h"
 #include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"

@@ -1,5 +1,6 @@
 #include "vessel/cut/winding_bound.h"
 
+#include "detail/cost_to_tree.h"
 #include "detail/path_query.h"
 #include "detail/quad_heap.h"
 #include "vessel/core/errors.h"
@@ -49,43 +50,24 @@ public:
             if (query.is_target[v])
             {
                 cost_[v] = 0.0;
-                detail::heap_lower(heap_, slot_, static_cast<int>(v), 0.0, closer);
+                detail::heap_lower(heap_, slot_, static_cast<int>(v), 0.0,
+                                   detail::nearer_target);
             }
     }
 
     //! The cost from \p v; infinite where no target is reached.
     double operator()(int v)
     {
+        const auto blocked = [this](int u) { return any_blocked_ && query_.is_blocked[u]; };
         while (!settled_[static_cast<std::size_t>(v)] && !heap_.empty())
-            settle_next();
+        {
+            const int x = detail::settle_from_targets(graph_, cost_, slot_, heap_, blocked);
+            settled_[static_cast<std::size_t>(x)] = 1;
+        }
         return cost_[static_cast<std::size_t>(v)];
     }
 
 private:
-    static bool closer(const detail::HeapItem& a, const detail::HeapItem& b)
-    {
-        return a.first < b.first;
-    }
-
-    void settle_next()
-    {
-        const int x = detail::heap_pop(heap_, slot_, closer).second;
-        settled_[static_cast<std::size_t>(x)] = 1;
-        const auto [first, last] = graph_.arcs(x);
-        for (const CutGraph::Arc* a = first; a != last; ++a)
-        {
-            const int u = a->to;
-            if (any_blocked_ && query_.is_blocked[u])
-                continue;
-            const double nd = cost_[x] + graph_.weight(HalfedgeHandle(a->halfedge ^ 1));
-            if (nd < cost_[u])
-            {
-                cost_[u] = nd;
-                detail::heap_lower(heap_, slot_, u, nd, closer);
-            }
-        }
-    }
-
     const CutGraph& graph_;
     const PathQuery& query_;
     bool any_blocked_;

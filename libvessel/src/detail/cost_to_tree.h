@@ -1,7 +1,8 @@
 #pragma once
 
 // The A* bound of the cut planner's bounded searches (winding_bound.h): the unconstrained cost
-// from every vertex to the cut tree, kept up to date as the tree grows.
+// from every vertex to the cut tree, kept up to date as the tree grows, and the Dijkstra step
+// it shares with the search's own bound.
 
 #include "detail/quad_heap.h"
 #include "vessel/cut/cut_graph.h"
@@ -10,6 +11,35 @@
 #include <vector>
 
 namespace vessel::detail {
+
+// The heap order of a cost-to-targets Dijkstra: by cost alone.
+inline bool nearer_target(const HeapItem& a, const HeapItem& b) { return a.first < b.first; }
+
+// One step of a Dijkstra from the targets over the cut graph's arcs walked backwards (the arc
+// u -> x from x: the weight of the halfedge opposite x -> u): pops the vertex x nearest the
+// targets, whose \p cost is then final, and lowers the cost of every u with an arc into x that
+// \p skip(u) does not exclude. Returns x. Both the search's own bound (winding_bound.cpp,
+// settled as far as the search asks, blocked vertices skipped) and CostToTree settle by it.
+template <class Skip>
+int settle_from_targets(const CutGraph& graph, std::vector<double>& cost, std::vector<int>& slot,
+                        std::vector<HeapItem>& heap, Skip skip)
+{
+    const int x = heap_pop(heap, slot, nearer_target).second;
+    const auto [first, last] = graph.arcs(x);
+    for (const CutGraph::Arc* a = first; a != last; ++a)
+    {
+        const int u = a->to;
+        if (skip(u))
+            continue;
+        const double d = cost[x] + graph.weight(HalfedgeHandle(a->halfedge ^ 1));
+        if (d < cost[u])
+        {
+            cost[u] = d;
+            heap_lower(heap, slot, u, d, nearer_target);
+        }
+    }
+    return x;
+}
 
 // The cost from every vertex to the nearest target over the cut graph's arcs (the arc u -> x
 // walked backwards from x: the weight of the halfedge opposite x -> u), no vertex blocked: a
@@ -48,29 +78,15 @@ public:
                 if (cost_[v] > 0.0)
                 {
                     cost_[v] = 0.0;
-                    heap_lower(heap_, slot_, static_cast<int>(v), 0.0, closer);
+                    heap_lower(heap_, slot_, static_cast<int>(v), 0.0, nearer_target);
                 }
             }
         while (!heap_.empty())
-        {
-            const int x = heap_pop(heap_, slot_, closer).second;
-            const auto [first, last] = graph_.arcs(x);
-            for (const CutGraph::Arc* a = first; a != last; ++a)
-            {
-                const double d = cost_[x] + graph_.weight(HalfedgeHandle(a->halfedge ^ 1));
-                if (d < cost_[a->to])
-                {
-                    cost_[a->to] = d;
-                    heap_lower(heap_, slot_, a->to, d, closer);
-                }
-            }
-        }
+            settle_from_targets(graph_, cost_, slot_, heap_, [](int) { return false; });
         return cost_;
     }
 
 private:
-    static bool closer(const HeapItem& a, const HeapItem& b) { return a.first < b.first; }
-
     const CutGraph& graph_;
     std::vector<double> cost_;
     std::vector<char> target_;

@@ -115,12 +115,11 @@ struct CostOptions
     //! 1 + facing_weight x its facing (price_facing()), so that a cut runs on the far side of
     //! its vessel along its length, not only at its ends. None = costs as they are.
     std::optional<Eigen::Vector3d> viewpoint;
-    //! How much dearer a halfedge on the wall facing the viewpoint is than one facing away.
-    //! 30: on five real trees, two views each, the fraction of the seam on the far side went
-    //! from 0.74-0.98 (the ends alone) to 0.86-1.00, the largest cut winding staying within
-    //! 45 degrees; 10 left the pulmonary Glenn tree at 0.86-0.90, 100 made the SimVascular demo's
-    //! and the AneuRisk tree's cuts wind 21-23 degrees on average (docs/results.md, "Cuts behind
-    //! the vessels"). >= 0.
+    //! How much dearer a halfedge on the wall facing the viewpoint is than one facing away,
+    //! >= 0 (0 = the ends alone). The price trades the seam's far side against its winding: a
+    //! smaller weight leaves cuts in front on branching trees, a larger one makes them wind
+    //! more; 30 is where the real trees' cuts gained their far side and stayed natural
+    //! (docs/results.md, "Cuts behind the vessels").
     double facing_weight = 30.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
