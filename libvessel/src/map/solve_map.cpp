@@ -8,6 +8,7 @@
 #include "detail/face_jacobian.h"
 #include "detail/segments.h"
 #include "detail/refine_map.h"
+#include "detail/vertex_order.h"
 #include "vessel/map/area_polish.h"
 #include "vessel/map/centre_pull.h"
 #include "vessel/map/embedding.h"
@@ -789,14 +790,13 @@ bool refine_by_policy(const Mesh& mesh, const LayoutInput* input, const LayoutRe
     return at_layout;
 }
 
-bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
-               const FlattenOptions& options, FlattenResult& result)
+namespace {
+
+// The coarse-to-fine map (solve_map()'s path for large cut meshes).
+bool solve_multilevel(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+                      const FlattenOptions& options, FlattenResult& result)
 {
     const MultilevelOptions& multilevel = options.multilevel;
-    if (options.refiner || options.refinement != Refinement::Injective ||
-        multilevel.coarse_vertices == 0 ||
-        mesh.n_vertices() <= 2 * static_cast<std::size_t>(multilevel.coarse_vertices))
-        return solve_single_level(mesh, input, placed, options, result);
     // First with the whole boundary kept on the finest level only: the boundary is decimated
     // below it, so the coarse map is solved on few vertices, and the finest carry, whose
     // vertices are the most and the closest together, inserts no boundary vertex. Where a
@@ -843,6 +843,67 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     const bool at_layout = solve_single_level(mesh, input, placed, options, full);
     result.notes.insert(result.notes.end(), full.notes.begin(), full.notes.end());
     take_map(result, std::move(full));
+    return at_layout;
+}
+
+// The fewest cut-mesh vertices for which stage F renumbers a mesh whose vertex order scatters
+// neighbours through memory, and how much farther apart, on average over the edges, the input
+// order puts an edge's two ends than the space-filling curve does. Glenn split4 (142k vertices:
+// the surface split 1 -> 4, each new vertex after all the old ones) puts them 78 times as far
+// apart, and its relaxation sweeps and decimation, which read every vertex's neighbours, take
+// about a fifth less in the curve's order; the tree phantoms (30k, 10 times as far) and AneuRisk
+// (14k, 16 times) gain nothing beyond the noise, their arrays fitting the cache either way; the
+// carotid phantoms and pulmonary Glenn are within twice the curve's gap already
+// (docs/benchmarks.md, "Coarse-to-fine").
+constexpr std::size_t kRenumberVertices = 50000;
+constexpr double kScatteredGap = 4.0;
+
+// \p pins with each vertex v as `new_of[v]`.
+Pins renumbered_pins(const Pins& pins, const std::vector<int>& new_of)
+{
+    Pins out = pins;
+    for (Pin& pin : out)
+        pin.vertex = VertexHandle(new_of[static_cast<std::size_t>(pin.vertex.idx())]);
+    return out;
+}
+
+}  // namespace
+
+bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+               const FlattenOptions& options, FlattenResult& result)
+{
+    const MultilevelOptions& multilevel = options.multilevel;
+    if (options.refiner || options.refinement != Refinement::Injective ||
+        multilevel.coarse_vertices == 0 ||
+        mesh.n_vertices() <= 2 * static_cast<std::size_t>(multilevel.coarse_vertices))
+        return solve_single_level(mesh, input, placed, options, result);
+    if (mesh.n_vertices() < kRenumberVertices)
+        return solve_multilevel(mesh, input, placed, options, result);
+    const std::vector<int> old_of = space_filling_order(mesh);
+    std::vector<int> new_of(old_of.size());
+    for (std::size_t k = 0; k < old_of.size(); ++k)
+        new_of[static_cast<std::size_t>(old_of[k])] = static_cast<int>(k);
+    if (!(mean_edge_index_gap(mesh) > kScatteredGap * mean_edge_index_gap(mesh, new_of)))
+        return solve_multilevel(mesh, input, placed, options, result);
+    // The same problem on the renumbered mesh, the map read back in the mesh's own order.
+    const Mesh renumbered = renumbered_mesh(mesh, old_of);
+    LayoutInput renumbered_input = input;
+    renumbered_input.mesh = &renumbered;
+    for (std::size_t k = 0; k < old_of.size(); ++k)
+        renumbered_input.origin[k] = input.origin[static_cast<std::size_t>(old_of[k])];
+    for (BoundarySegment& segment : renumbered_input.segments)
+        for (VertexHandle& v : segment.vertices)
+            v = VertexHandle(new_of[static_cast<std::size_t>(v.idx())]);
+    LayoutResult renumbered_placed = placed;
+    renumbered_placed.inlet = renumbered_pins(placed.inlet, new_of);
+    renumbered_placed.outlets = renumbered_pins(placed.outlets, new_of);
+    result.notes.push_back("the cut mesh renumbered along a space-filling curve for stage F");
+    const bool at_layout =
+        solve_multilevel(renumbered, renumbered_input, renumbered_placed, options, result);
+    Eigen::MatrixX2d uv(result.uv.rows(), 2);
+    for (std::size_t v = 0; v < new_of.size(); ++v)
+        uv.row(static_cast<Eigen::Index>(v)) = result.uv.row(new_of[v]);
+    result.uv = std::move(uv);
     return at_layout;
 }
 
