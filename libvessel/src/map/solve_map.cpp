@@ -889,8 +889,9 @@ bool solve_map(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     const Mesh renumbered = renumbered_mesh(mesh, old_of);
     LayoutInput renumbered_input = input;
     renumbered_input.mesh = &renumbered;
-    for (std::size_t k = 0; k < old_of.size(); ++k)
-        renumbered_input.origin[k] = input.origin[static_cast<std::size_t>(old_of[k])];
+    if (input.origin.size() == old_of.size())  // per cut-mesh vertex (empty: none given)
+        for (std::size_t k = 0; k < old_of.size(); ++k)
+            renumbered_input.origin[k] = input.origin[static_cast<std::size_t>(old_of[k])];
     for (BoundarySegment& segment : renumbered_input.segments)
         for (VertexHandle& v : segment.vertices)
             v = VertexHandle(new_of[static_cast<std::size_t>(v.idx())]);
