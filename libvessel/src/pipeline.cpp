@@ -222,6 +222,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
                            const CutPlan* forced_plan)
 {
     FlattenResult result;
+    result.viewpoint = options.cost.viewpoint;
     // A copied mesh's arrays are exactly full, so the seam split's first new vertex would
     // reallocate them all (O(V)) inside the cut stage; make room for the duplicates up front.
     mesh.reserve(mesh.n_vertices() + mesh.n_vertices() / 8 + 64,
@@ -367,7 +368,14 @@ FlattenOptions with_progress(const FlattenOptions& options)
 FlattenResult flatten(Mesh mesh, const FlattenOptions& caller_options)
 {
     caller_options.validate();
-    const FlattenOptions options = detail::with_progress(caller_options);
+    FlattenOptions options = detail::with_progress(caller_options);
+    if (options.cost.face_on)
+    {
+        options.cost.viewpoint = face_on_viewpoint(mesh);
+        options.cost.face_on = false;
+        if (!options.cuts.endpoints)
+            options.cuts.endpoints = std::make_shared<FarSideEndpoints>(*options.cost.viewpoint);
+    }
     if (boundary_loops(mesh).size() == 1)  // a disk already: no cuts, no relief cuts
         return detail::flatten_disk(std::move(mesh), options);
     const ReliefCutOptions& relief = options.relief;

@@ -197,7 +197,16 @@ const std::map<std::string, Setter>& setters()
         {"blend", number<double>([](CallOptions& o) -> double& { return o.flatten.cost.blend; })},
         {"viewpoint",
          [](CallOptions& o, const std::string& name, py::handle value) {
-             const auto p = option_value<std::vector<double>>(name, value, "3 numbers");
+             if (py::isinstance<py::str>(value))
+             {
+                 const std::string word = value.cast<std::string>();
+                 if (word != "face-on")
+                     throw vessel::InvalidInputError("option viewpoint must be 3 numbers (x, y, "
+                                                     "z) or \"face-on\", got \"" + word + "\"");
+                 o.flatten.cost.face_on = true;
+                 return;
+             }
+             const auto p = option_value<std::vector<double>>(name, value, "3 numbers or \"face-on\"");
              if (p.size() != 3)
                  throw vessel::InvalidInputError("option viewpoint must be 3 numbers (x, y, z), "
                                                  "got " + std::to_string(p.size()));

@@ -1,6 +1,6 @@
 """Type stubs of the vessel package (docstrings in vessel/__init__.py)."""
 
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -65,7 +65,7 @@ def flatten(
     *,
     cost: str = ...,
     blend: float = ...,
-    viewpoint: Sequence[float] = ...,
+    viewpoint: Union[Sequence[float], Literal["face-on"]] = ...,
     alpha: float = ...,
     layout: str = ...,
     curvature_scale: float = ...,

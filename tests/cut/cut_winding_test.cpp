@@ -7,6 +7,7 @@
 #include "vessel/cut/cut_plan.h"
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/cut/cut_winding.h"
+#include "vessel/cut/endpoints.h"
 #include "vessel/direction/curvature.h"
 #include "vessel/direction/direction.h"
 #include "vessel/core/errors.h"
@@ -372,8 +373,11 @@ struct SideApart
     double mean_deg = 0.0, measured_fraction = 0.0;
 };
 
+// \p face_on: each resolution's cuts planned behind the vessels seen from its own
+// face_on_viewpoint(), as `--viewpoint face-on` plans them.
 std::vector<SideApart> sides_apart_at_two_resolutions(const std::string& name,
-                                                     const CutPlanOptions& cuts = FlattenOptions().cuts)
+                                                     const CutPlanOptions& cuts = FlattenOptions().cuts,
+                                                     bool face_on = false)
 {
     const RawMesh raw = read_raw_mesh(std::string(VESSEL_SHARED_DATA) + "/" + name);
     const TreeSurface native = make_tree_surface(raw);
@@ -391,9 +395,17 @@ std::vector<SideApart> sides_apart_at_two_resolutions(const std::string& name,
         REQUIRE(found != at.end());
         return found->second;
     };
+    const auto plan = [&](const Mesh& mesh, Eigen::VectorXd& longitudinal) {
+        if (!face_on)
+            return default_plan(mesh, cuts, longitudinal);
+        const Eigen::Vector3d viewpoint = face_on_viewpoint(mesh);
+        CutPlanOptions behind = cuts;
+        behind.endpoints = std::make_shared<FarSideEndpoints>(viewpoint);
+        return default_plan(mesh, behind, longitudinal, &viewpoint);
+    };
     Eigen::VectorXd H, H_native;
-    const CutPlan coarse_plan = default_plan(native.mesh, cuts, H_native);
-    const CutPlan fine_plan = default_plan(fine.mesh, cuts, H);
+    const CutPlan coarse_plan = plan(native.mesh, H_native);
+    const CutPlan fine_plan = plan(fine.mesh, H);
     REQUIRE(coarse_plan.paths.size() == fine_plan.paths.size());
     const WindingMeter meter(fine.mesh, H);
     std::vector<SideApart> apart;
@@ -425,8 +437,9 @@ std::vector<SideApart> sides_apart_at_two_resolutions(const std::string& name,
             weighted += std::abs(angle) * 180.0 / M_PI * step;
             measured += step;
         }
-        REQUIRE(measured > 0.0);
-        apart.push_back({path.outlet, weighted / measured, measured / total});
+        // No vertex measured (a short cut across a junction or a sac): no side to compare.
+        apart.push_back({path.outlet, measured > 0.0 ? weighted / measured : NAN,
+                         measured / total});
     }
     return apart;
 }
@@ -537,6 +550,39 @@ TEST_CASE("cut_winding: the VaMPy artery's aligned-route cuts stay on the same s
         CHECK(cut.mean_deg <= 10.0);
         CHECK(cut.measured_fraction >= 0.5);
     }
+}
+
+TEST_CASE("cut_winding: --viewpoint face-on cuts each vessel on the same half at two resolutions")
+{
+    // Issue 32's resolution target with the side set by the shape and the mesh's frame
+    // (face_on_viewpoint(), which the split leaves where it was): per cut the mean angle apart
+    // around its vessel between the tree and the same surface split 1 -> 4. Measured 0.3-63
+    // degrees per cut (mean 10 over the 16 cuts of six trees); by default, where the cheapest
+    // point of each loop sets the side, 1-157 (mean 64; docs/results.md "Cuts at two
+    // resolutions"). Held here: every measured cut on the same half of its vessel, and the
+    // mean within 20 degrees.
+    double sum = 0.0;
+    int cuts = 0;
+    for (const std::string name : {"vampy/artery.ply", "simvascular-tests/demo-model-open.ply",
+                                   "vmtk-test-data/aorta-surface-open-ends.ply",
+                                   "vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply",
+                                   "x-ray-angio-data/coronary-clinical-branch-fine.ply",
+                                   "x-ray-angio-data/coronary-phantom-tri3-coarse.ply"})
+        for (const SideApart& cut :
+             sides_apart_at_two_resolutions(name, FlattenOptions().cuts, true))
+        {
+            CAPTURE(name);
+            CAPTURE(cut.outlet);
+            MESSAGE(name << " outlet " << cut.outlet << ": " << cut.mean_deg
+                         << " degrees apart, " << cut.measured_fraction << " of it measured");
+            if (cut.measured_fraction == 0.0)
+                continue;  // no side to compare (a short cut across a junction or a sac)
+            CHECK(cut.mean_deg < 90.0);
+            sum += cut.mean_deg;
+            ++cuts;
+        }
+    REQUIRE(cuts >= 15);  // 16 measured
+    CHECK(sum / cuts <= 20.0);
 }
 
 TEST_CASE("cut_winding: by default every cut of every valid real tree is held to the bound")

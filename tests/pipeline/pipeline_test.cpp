@@ -397,6 +397,7 @@ TEST_CASE("cli: every policy option runs and gives a disk on a real artery")
     const std::string dir = temp_dir("policies");
     const std::vector<std::string> variants = {
         "--cost geodesic", "--cost blend --blend 0.3", "--viewpoint 0 0 100",
+        "--viewpoint face-on",
         "--alpha 30", "--curvature-scale 3", "--init spectral", "--init tutte",
         "--refine arap --arap-solver ceres --arap-iterations 20",
         "--refine arap --arap-solver local-global", "--tie-tolerance 0"};
@@ -414,5 +415,7 @@ TEST_CASE("cli: every policy option runs and gives a disk on a real artery")
             CHECK(c.flipped == 0);  // the default refinement never flips; plain ARAP may
     }
     CHECK(run(kFlatten + " " + input + " -o " + dir + "/x.obj --cost nonsense 2> /dev/null") != 0);
+    CHECK(run(kFlatten + " " + input + " -o " + dir + "/x.obj --viewpoint face 2> /dev/null") != 0);
+    CHECK(run(kFlatten + " " + input + " -o " + dir + "/x.obj --viewpoint 1 2 2> /dev/null") != 0);
     CHECK(run(kFlatten + " --help > /dev/null") == 0);
 }

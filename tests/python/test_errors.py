@@ -87,6 +87,8 @@ def test_bad_options(tube):
         vessel.flatten(tube, preset="fancy")
     with pytest.raises(vessel.InvalidInputError, match="viewpoint must be 3 numbers"):
         vessel.flatten(tube, viewpoint=(1, 2))
+    with pytest.raises(vessel.InvalidInputError, match='or "face-on", got "sideways"'):
+        vessel.flatten(tube, viewpoint="sideways")
 
 
 def test_unreadable_files(tmp_path):

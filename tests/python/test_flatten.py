@@ -83,6 +83,21 @@ def test_phantom_same_map_as_cli_with_options(carotid, flatten_exe, tmp_path):
     assert default.uv.shape != flat.uv.shape or not np.allclose(default.uv, flat.uv)
 
 
+def test_face_on_viewpoint_same_map_as_cli(carotid, flatten_exe, tmp_path):
+    surface = vessel.read(carotid)
+    flat = vessel.flatten(surface, viewpoint="face-on")
+    check_result(flat, surface)
+    obj, report = tmp_path / "carotid.obj", tmp_path / "carotid.json"
+    done = run_cli(flatten_exe, carotid, obj, "--viewpoint", "face-on", "--report", str(report))
+    assert done.returncode == 0, done.stderr
+    assert_same_map_as_cli(flat, obj, surface.points)
+    cli = json.loads(report.read_text())
+    # The viewpoint taken from the mesh, two bounding-box diagonals from its centre, and the
+    # cuts behind the vessels from there.
+    assert flat.report["cuts_viewpoint"] == cli["cuts_viewpoint"]
+    assert cli["quality"]["seam_far_side_fraction"] >= 0.8
+
+
 @pytest.mark.parametrize("name", REAL_TREES)
 def test_real_tree_same_map_as_cli(name, real_data, flatten_exe, tmp_path):
     mesh = real_data / name

@@ -132,7 +132,7 @@ auto naming_input(const std::string& input, const std::string& context, const st
 struct Args
 {
     std::string input, output, report_path, html, layout = "fan", preset = "default";
-    std::vector<double> viewpoint;
+    std::vector<std::string> viewpoint;
     std::vector<std::vector<int>> split_at;
     vessel::cli::ImageRequest images;
     bool quiet = false;
@@ -314,7 +314,7 @@ void add_field_options(CLI::App& app, Args& a, const Groups& g, CLI::Option* bat
 // Cut: cost, viewpoint, pieces, relief cuts, and the cut planner's tuning.
 void add_cut_options(CLI::App& app, Args& a, const Groups& g)
 {
-    std::vector<double>& viewpoint = a.viewpoint;
+    std::vector<std::string>& viewpoint = a.viewpoint;
     std::vector<std::vector<int>>& split_at = a.split_at;
     vessel::FlattenOptions& options = a.options;
     const std::string& cut_group = g.cut;
@@ -328,9 +328,10 @@ void add_cut_options(CLI::App& app, Args& a, const Groups& g)
         ->group(cut_group);
     app.add_option("--viewpoint", viewpoint,
                    "Put the cuts on the far side of the vessels from this "
-                   "3D point X Y Z (e.g. the camera)")
-        ->expected(3)
-        ->option_text("X Y Z")
+                   "3D point X Y Z (e.g. the camera), or from face-on: the tree seen along "
+                   "its axis of least spread (the same side of each vessel at any resolution)")
+        ->expected(1, 3)
+        ->option_text("X Y Z|face-on")
         ->group(cut_group);
     app.add_option("--split-at", split_at,
                    "Flatten the subtree of these outlets (e.g. 3,5) as "
@@ -632,15 +633,13 @@ void show_progress(vessel::FlattenOptions& options, bool quiet)
 }
 
 // One INPUT (not --batch): read and check it, flatten it (or each --split-at piece) and write
-// every output. \p out_ext: the output's extension; \p view: --viewpoint.
-int flatten_input(Args& a, const std::string& out_ext, const std::optional<Eigen::Vector3d>& view,
-                  int argc, char** argv)
+// every output. \p out_ext: the output's extension.
+int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv)
 {
     std::string& input = a.input;
     std::string& output = a.output;
     std::string& report_path = a.report_path;
     std::string& html = a.html;
-    std::vector<double>& viewpoint = a.viewpoint;
     std::vector<std::vector<int>>& split_at = a.split_at;
     vessel::cli::ImageRequest& images = a.images;
     bool& quiet = a.quiet;
@@ -746,8 +745,7 @@ int flatten_input(Args& a, const std::string& out_ext, const std::optional<Eigen
             view.flatten_command =
                 vessel::cli::command_without_viewpoint("vessel-flatten", argc, argv);
             view.view_command = vessel::cli::join_quoted({"vessel-view", input, "-o", html});
-            if (!viewpoint.empty())
-                view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+            view.viewpoint = result.viewpoint;
             std::vector<vessel::ViewerField> shown = {vessel::geodesic_field(result)};
             for (auto& f : vessel::cli::viewer_fields(cut_fields, cut_series))
                 shown.push_back(std::move(f));
@@ -760,7 +758,7 @@ int flatten_input(Args& a, const std::string& out_ext, const std::optional<Eigen
         if (!report.empty())
             vessel::write_text_file(
                 report,
-                vessel::cli::report_json(input, piece, result, read_s, write_s, view)
+                vessel::cli::report_json(input, piece, result, read_s, write_s)
                     .dump(2) +
                 "\n");
         if (!quiet)
@@ -808,7 +806,7 @@ int run(Args& a, int argc, char** argv)
     std::string& input = a.input;
     std::string& output = a.output;
     std::string& layout = a.layout;
-    std::vector<double>& viewpoint = a.viewpoint;
+    std::vector<std::string>& viewpoint = a.viewpoint;
     std::vector<std::vector<int>>& split_at = a.split_at;
     bool& quiet = a.quiet;
     vessel::FlattenOptions& options = a.options;
@@ -829,10 +827,32 @@ int run(Args& a, int argc, char** argv)
                                             "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
         options.layout = vessel::make_layout(layout, options.alpha_deg);
-        std::optional<Eigen::Vector3d> view;  // --viewpoint
-        if (!viewpoint.empty())
+        std::optional<Eigen::Vector3d> view;  // --viewpoint X Y Z
+        if (viewpoint.size() == 1 && viewpoint[0] == "face-on")
+            options.cost.face_on = true;  // flatten() takes the viewpoint from each mesh
+        else if (!viewpoint.empty())
         {
-            view = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
+            if (viewpoint.size() != 3)
+                throw vessel::InvalidInputError(
+                    "--viewpoint takes a point X Y Z or the word face-on, got " +
+                    vessel::cli::join_quoted(viewpoint));
+            Eigen::Vector3d p;
+            for (int i = 0; i < 3; ++i)
+            {
+                std::size_t used = 0;
+                try
+                {
+                    p[i] = std::stod(viewpoint[i], &used);
+                }
+                catch (const std::exception&)
+                {
+                    used = 0;
+                }
+                if (used != viewpoint[i].size())
+                    throw vessel::InvalidInputError("--viewpoint: '" + viewpoint[i] +
+                                                    "' is not a number; give X Y Z or face-on");
+            }
+            view = p;
             options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view);
             options.cost.viewpoint = view;
         }
@@ -851,7 +871,7 @@ int run(Args& a, int argc, char** argv)
         // (before any output, so nothing is printed twice).
         vessel::cli::restart_with_huge_pages(argv, input);
         show_progress(options, quiet);
-        return flatten_input(a, out_ext, view, argc, argv);
+        return flatten_input(a, out_ext, argc, argv);
     }
     catch (const std::exception& e)
     {

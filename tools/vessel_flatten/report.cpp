@@ -45,8 +45,7 @@ CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
 }  // namespace
 
 nlohmann::json report_json(const std::string& input, const PreparedInput& in,
-                           const FlattenResult& r, double read_s, double write_s,
-                           const std::optional<Eigen::Vector3d>& viewpoint)
+                           const FlattenResult& r, double read_s, double write_s)
 {
     const TreeSurface& surface = in.surface;
     nlohmann::json j;
@@ -137,8 +136,11 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                          {"seam_alignment_with_relief", whole.mean},
                          {"seam_mean_abs_winding_deg", winding.mean_abs_deg},
                          {"seam_max_abs_winding_deg", winding.max_abs_deg}});
-    if (viewpoint)
+    if (const std::optional<Eigen::Vector3d>& viewpoint = r.viewpoint)
+    {
+        j["cuts_viewpoint"] = {viewpoint->x(), viewpoint->y(), viewpoint->z()};
         j["quality"]["seam_far_side_fraction"] = far_side_fraction(surface.mesh, r.plan, *viewpoint);
+    }
     const MapLook& look = r.look;  // map_look.h; bearings 0 = up, +90 = right
     auto outlet_looks = nlohmann::json::array();
     for (const OutletLook& o : look.outlet_looks)

@@ -191,6 +191,9 @@ struct FlattenResult
     std::vector<BoundaryLoop> loops;  //!< pre-cut loops; handles index `mesh` too (cutting
                                       //!< only appends vertices)
     CutPlan plan;                     //!< the cuts, handles as for `loops`
+    //! The viewpoint the cuts were planned behind the vessels from (CostOptions::viewpoint, or
+    //! face_on_viewpoint() with CostOptions::face_on); none without one.
+    std::optional<Eigen::Vector3d> viewpoint;
     int seam_edges = 0;
     int duplicated_vertices = 0;
     ArapSummary arap;                 //!< the ARAP run (Refinement::Arap or Injective)

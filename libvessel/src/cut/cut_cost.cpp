@@ -14,6 +14,8 @@ void CostOptions::validate() const
                                 std::to_string(blend));
     if (viewpoint && !viewpoint->allFinite())
         throw InvalidInputError("CostOptions: the viewpoint must have 3 finite coordinates");
+    if (viewpoint && face_on)
+        throw InvalidInputError("CostOptions: give a viewpoint or face_on, not both");
     if (!(facing_weight >= 0.0) || !std::isfinite(facing_weight))
         throw InvalidInputError("CostOptions: facing_weight must be finite and >= 0, got " +
                                 std::to_string(facing_weight));

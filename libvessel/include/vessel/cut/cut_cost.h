@@ -115,6 +115,13 @@ struct CostOptions
     //! 1 + facing_weight x its facing (price_facing()), so that a cut runs on the far side of
     //! its vessel along its length, not only at its ends. None = costs as they are.
     std::optional<Eigen::Vector3d> viewpoint;
+    //! The viewpoint taken from the mesh itself: flatten() sets `viewpoint` to
+    //! face_on_viewpoint() of its input (the tree seen face-on, along its axis of least spread)
+    //! and, unless CutPlanOptions::endpoints is given, FarSideEndpoints from there (CLI
+    //! `--viewpoint face-on`). The cuts then lie behind the vessels in the tree's own face-on
+    //! view and keep their side when the surface is remeshed; FlattenResult::viewpoint tells
+    //! where it was. Not with `viewpoint`.
+    bool face_on = false;
     //! How much dearer a halfedge on the wall facing the viewpoint is than one facing away,
     //! >= 0 (0 = the ends alone). The price trades the seam's far side against its winding: a
     //! smaller weight leaves cuts in front on branching trees, a larger one makes them wind

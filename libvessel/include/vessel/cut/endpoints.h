@@ -75,4 +75,17 @@ private:
     Eigen::Vector3d point_;
 };
 
+//! A viewpoint from which \p mesh is seen face-on (CLI `--viewpoint face-on`,
+//! CostOptions::face_on): on the axis of least spread of its surface (the eigenvector of the
+//! area-weighted covariance of the face centroids with the least eigenvalue), two bounding-box
+//! diagonals from the centroid, on the side where the axis's largest coordinate is positive
+//! (the mesh's frame decides the side, as a mirror-symmetric surface has none of its own). It
+//! depends on the shape and the frame, not on the triangulation, so cuts planned behind the
+//! vessels from it (FarSideEndpoints) keep their side when the surface is remeshed, where the
+//! cheapest point of a loop (ImaginaryNodeEndpoints) is decided by cost differences that on a
+//! tube are noise (docs/results.md, "Cuts at two resolutions"). A surface whose two smallest
+//! spreads are nearly equal (a straight tube) has no face-on axis of its own.
+//! \throw InvalidInputError if the mesh has no face of positive area.
+Eigen::Vector3d face_on_viewpoint(const Mesh& mesh);
+
 }  // namespace vessel
