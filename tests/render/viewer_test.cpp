@@ -247,6 +247,17 @@ TEST_CASE("viewer: vessel-view and vessel-flatten --html write pages with the re
         nlohmann::json::parse(script_text(read_file(dir + "/flat.html"), "vessel-meta"));
     CHECK(flat_meta["fields"].size() == 1);
     CHECK(flat_meta["flatten_command"].get<std::string>().find("--html") != std::string::npos);
+    // The one-word form: the page's command drops it alone and starts from the mesh's
+    // face-on viewpoint.
+    REQUIRE(test::run(std::string(VESSEL_FLATTEN_EXE) + " " + mesh + " -o " + dir +
+                      "/face.obj --viewpoint face-on --html " + dir + "/face.html -q") == 0);
+    const nlohmann::json face_meta =
+        nlohmann::json::parse(script_text(read_file(dir + "/face.html"), "vessel-meta"));
+    const std::string face_command = face_meta["flatten_command"];
+    CHECK(face_command.find("--viewpoint") == std::string::npos);
+    CHECK(face_command.find("--html") != std::string::npos);
+    CHECK(face_command.find(" -q") != std::string::npos);
+    CHECK(face_meta["camera"].is_array());
     CHECK(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir + "/x.obj -q") != 0);
 }
 

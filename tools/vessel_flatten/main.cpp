@@ -827,35 +827,7 @@ int run(Args& a, int argc, char** argv)
                                             "got " + output);
         surface_options.triangulate_polygons = !refuse_polygons;
         options.layout = vessel::make_layout(layout, options.alpha_deg);
-        std::optional<Eigen::Vector3d> view;  // --viewpoint X Y Z
-        if (viewpoint.size() == 1 && viewpoint[0] == "face-on")
-            options.cost.face_on = true;  // flatten() takes the viewpoint from each mesh
-        else if (!viewpoint.empty())
-        {
-            if (viewpoint.size() != 3)
-                throw vessel::InvalidInputError(
-                    "--viewpoint takes a point X Y Z or the word face-on, got " +
-                    vessel::cli::join_quoted(viewpoint));
-            Eigen::Vector3d p;
-            for (int i = 0; i < 3; ++i)
-            {
-                std::size_t used = 0;
-                try
-                {
-                    p[i] = std::stod(viewpoint[i], &used);
-                }
-                catch (const std::exception&)
-                {
-                    used = 0;
-                }
-                if (used != viewpoint[i].size())
-                    throw vessel::InvalidInputError("--viewpoint: '" + viewpoint[i] +
-                                                    "' is not a number; give X Y Z or face-on");
-            }
-            view = p;
-            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view);
-            options.cost.viewpoint = view;
-        }
+        vessel::cli::apply_viewpoint(viewpoint, options);
         if (!batch.inputs.empty() && !split_at.empty())
             throw vessel::InvalidInputError("--split-at works on one INPUT, not with --batch");
         if (!batch.inputs.empty())

@@ -20,7 +20,7 @@ int main(int argc, char** argv)
         "animated over time)."};
     std::string input, output, cost = "curvature", title;
     vessel::cli::FieldArgs field_args;
-    std::vector<double> viewpoint;
+    std::vector<std::string> viewpoint;
     bool demo_field = false, quiet = false;
     vessel::FlattenOptions options;
     vessel::PulseOptions pulse;
@@ -32,9 +32,11 @@ int main(int argc, char** argv)
     app.add_option("-o,--output", output, "The HTML page to write")->required();
     app.add_option("--viewpoint", viewpoint,
                    "Put the cuts on the far side of the vessels from this "
-                   "3D point (the page shows the one of its camera); "
+                   "3D point X Y Z (the page shows the one of its camera) or from face-on "
+                   "(the tree seen along its axis of least spread); "
                    "the 3D view starts looking from there")
-        ->expected(3);
+        ->expected(1, 3)
+        ->option_text("X Y Z|face-on");
     app.add_option("--cost", cost, "Travel cost of the cuts: curvature, geodesic or blend")
         ->check(CLI::IsMember({"curvature", "geodesic", "blend"}))
         ->capture_default_str();
@@ -63,11 +65,7 @@ int main(int argc, char** argv)
                        : cost == "blend"  ? vessel::CostKind::Blend
                                           : vessel::CostKind::Curvature;
         vessel::ViewerOptions view;
-        if (!viewpoint.empty())
-        {
-            view.viewpoint = Eigen::Vector3d(viewpoint[0], viewpoint[1], viewpoint[2]);
-            options.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(*view.viewpoint);
-        }
+        vessel::cli::apply_viewpoint(viewpoint, options);
         if (!vessel::viewer_available())
             throw vessel::IoError(
                 "this build has no viewer bundle (node and npm were not found "
@@ -87,6 +85,7 @@ int main(int argc, char** argv)
         if (demo_field)
             fields.push_back(vessel::pulse_field(result, pulse));
         const std::filesystem::path path(input);
+        view.viewpoint = result.viewpoint;
         view.title = title.empty() ? path.filename().string() : title;
         // A series of several steps is written as OUT.vtp + OUT.case; other fields fit any output.
         const bool series = in.series.size() > 1;
