@@ -4,7 +4,6 @@
 
 #include "vessel/cut/cut.h"
 #include "vessel/cut/cut_metrics.h"
-#include "vessel/cut/cut_winding.h"
 #include "vessel/cut/endpoints.h"
 #include "vessel/direction/direction.h"
 #include "vessel/map/embedding.h"
@@ -218,63 +217,6 @@ HalfedgeWeights travel_weights(const Mesh& mesh, const DirectionStage& zstage,
     return weights;
 }
 
-// An endpoint policy with the inlet's end left to the cut (its cheapest point) and the
-// outlets' as \p fixed gives them.
-class InletFreeEndpoints : public EndpointPolicy
-{
-public:
-    explicit InletFreeEndpoints(std::shared_ptr<const EndpointPolicy> fixed)
-        : fixed_(std::move(fixed))
-    {
-    }
-    std::string name() const override { return fixed_->name() + ", inlet free"; }
-    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
-                                      std::size_t loop_index) const override
-    {
-        return loop_index == 0 ? loop.vertices : fixed_->allowed(mesh, loop, loop_index);
-    }
-
-private:
-    std::shared_ptr<const EndpointPolicy> fixed_;
-};
-
-// The largest winding or span (degrees) of \p plan's cuts by the library's meter.
-double widest_turn(const WindingMeter& meter, const CutPlan& plan)
-{
-    double widest = 0.0;
-    for (const CutPath& path : plan.paths)
-    {
-        const PathWinding w = meter.measure(path);
-        widest = std::max({widest, std::abs(w.winding_deg), w.span_deg});
-    }
-    return widest;
-}
-
-// The cut plan of step 4. Where an endpoint policy (a viewpoint's far side) fixes the first
-// cut's end on the inlet, and with it the first cut's side at both ends, a vessel that turns
-// round the view between them (the helical phantom: "behind" moves round the tube) leaves no
-// natural route between the two ends (CutPlanOptions::natural_cuts bounds the route, not its
-// ends: 116 degrees there). The plan is then made again with the inlet's end free, and the one
-// whose widest cut turns less is kept.
-CutPlan plan_step(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
-                  const DirectionStage& zstage, const Eigen::MatrixX3d& stream,
-                  const FlattenOptions& options)
-{
-    CutPlan plan = plan_cuts(graph, loops, zstage.winding, options.cuts, stream, zstage.H);
-    const CutPlanOptions& cuts = options.cuts;
-    if (!cuts.endpoints || !cuts.natural_cuts || loops.empty() ||
-        cuts.endpoints->allowed(graph.mesh(), loops[0], 0).size() != 1)
-        return plan;
-    const WindingMeter meter(graph.mesh(), zstage.H);
-    const double widest = widest_turn(meter, plan);
-    if (!(widest > cuts.winding_limit_deg))
-        return plan;
-    CutPlanOptions freed = cuts;
-    freed.endpoints = std::make_shared<InletFreeEndpoints>(cuts.endpoints);
-    CutPlan again = plan_cuts(graph, loops, zstage.winding, freed, stream, zstage.H);
-    return widest_turn(meter, again) < widest ? again : plan;
-}
-
 // One pass of steps 4-7 on \p mesh (uncut, with stage Z's properties); with \p forced_plan the
 // cuts are taken from it instead of planned.
 FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const DirectionStage& zstage,
@@ -302,8 +244,8 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const bool trace_z =
         traces_stream(options.cuts) && options.cuts.stream_field == StreamField::Direction;
     result.plan = forced_plan ? *forced_plan
-                              : plan_step(*graph, result.loops, zstage,
-                                          trace_z ? z : zstage.stream, options);
+                              : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
+                                          trace_z ? z : zstage.stream, zstage.H);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 

@@ -590,7 +590,7 @@ TEST_CASE("cut_winding: where a vessel turns round the face-on view, the inlet's
 {
     // The helical phantom seen face-on: "behind" moves round the tube along its length, and
     // with both ends on the far side its one cut wound 116 degrees (no natural route joins
-    // them). flatten() plans it again with the inlet's end free: 11 degrees by this meter
+    // them). plan_cuts() plans it again with the inlet's end free: 11 degrees by this meter
     // (span 33), 19 in the report (span 35).
     const Mesh mesh = helical_tube();
     FlattenOptions options;

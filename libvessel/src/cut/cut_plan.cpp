@@ -3,12 +3,15 @@
 #include "vessel/core/errors.h"
 #include "vessel/cut/cut_join.h"
 #include "vessel/cut/cut_route.h"
+#include "vessel/cut/cut_winding.h"
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
 namespace vessel {
 
@@ -235,9 +238,76 @@ CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
     return plan_cuts(graph, loops, winding_rate, options, stream_field, longitudinal);
 }
 
+namespace {
+
+// An endpoint policy with the inlet's end left to the cut (its cheapest point) and the
+// outlets' as \p fixed gives them.
+class InletFreeEndpoints : public EndpointPolicy
+{
+public:
+    explicit InletFreeEndpoints(std::shared_ptr<const EndpointPolicy> fixed)
+        : fixed_(std::move(fixed))
+    {
+    }
+    std::string name() const override { return fixed_->name() + ", inlet free"; }
+    std::vector<VertexHandle> allowed(const Mesh& mesh, const BoundaryLoop& loop,
+                                      std::size_t loop_index) const override
+    {
+        return loop_index == 0 ? loop.vertices : fixed_->allowed(mesh, loop, loop_index);
+    }
+
+private:
+    std::shared_ptr<const EndpointPolicy> fixed_;
+};
+
+// The largest winding or span (degrees) of \p plan's cuts by \p meter.
+double widest_turn(const WindingMeter& meter, const CutPlan& plan)
+{
+    double widest = 0.0;
+    for (const CutPath& path : plan.paths)
+    {
+        const PathWinding w = meter.measure(path);
+        widest = std::max({widest, std::abs(w.winding_deg), w.span_deg});
+    }
+    return widest;
+}
+
+// plan_cuts() with the policy's ends as given.
+CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
+                       const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
+                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal);
+
+}  // namespace
+
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                   const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
                   const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal)
+{
+    CutPlan plan = plan_with_ends(graph, loops, winding_rate, options, stream_field, longitudinal);
+    // An endpoint policy that fixes the first cut's end on the inlet fixes that cut's side at
+    // both ends; where the vessel turns round the view between them (a far side that moves
+    // round the tube) no natural route joins them, as the bound chooses among routes between
+    // the ends it is given. The plan is then made again with the inlet's end free.
+    const Mesh& mesh = graph.mesh();
+    if (!options.endpoints || !options.natural_cuts ||
+        longitudinal.size() != static_cast<Eigen::Index>(mesh.n_vertices()) ||
+        options.endpoints->allowed(mesh, loops[0], 0).size() != 1)
+        return plan;
+    const WindingMeter meter(mesh, longitudinal);
+    const double widest = widest_turn(meter, plan);
+    if (!(widest > options.winding_limit_deg))
+        return plan;
+    CutPlanOptions freed = options;
+    freed.endpoints = std::make_shared<InletFreeEndpoints>(options.endpoints);
+    CutPlan again = plan_with_ends(graph, loops, winding_rate, freed, stream_field, longitudinal);
+    return widest_turn(meter, again) < widest ? again : plan;
+}
+
+namespace {
+
+CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
+                       const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
+                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
@@ -356,5 +426,7 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
     }
     return plan;
 }
+
+}  // namespace
 
 }  // namespace vessel

@@ -6,8 +6,6 @@
 
 #include <limits>
 #include <string>
-#include <utility>
-#include <vector>
 
 namespace vessel {
 
@@ -75,36 +73,20 @@ Eigen::Vector3d face_on_viewpoint(const Mesh& mesh)
         throw InvalidInputError("face_on_viewpoint: the mesh has no faces");
     // Area-weighted moments of the face centroids: they converge to the surface's own as the
     // triangles shrink, whatever their shapes.
-    double total = 0.0;
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector3d hi = -lo;
-    std::vector<std::pair<double, Eigen::Vector3d>> faces;
-    faces.reserve(mesh.n_faces());
-    for (auto f : mesh.faces())
-    {
-        auto h = mesh.halfedge_handle(f);
-        const Eigen::Vector3d a = to_eigen(mesh.point(mesh.from_vertex_handle(h)));
-        const Eigen::Vector3d b = to_eigen(mesh.point(mesh.to_vertex_handle(h)));
-        const Eigen::Vector3d c =
-            to_eigen(mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h))));
-        const double area = 0.5 * (b - a).cross(c - a).norm();
-        const Eigen::Vector3d centroid = (a + b + c) / 3.0;
-        faces.emplace_back(area, centroid);
-        total += area;
-        centre += area * centroid;
-    }
-    for (auto v : mesh.vertices())
-    {
-        lo = lo.cwiseMin(to_eigen(mesh.point(v)));
-        hi = hi.cwiseMax(to_eigen(mesh.point(v)));
-    }
+    const Eigen::MatrixX3d points = vertex_positions(mesh);
+    const Eigen::MatrixX3i corners = face_indices(mesh);
+    const Eigen::VectorXd areas = face_areas(mesh);
+    const double total = areas.sum();
     if (!(total > 0.0))
         throw InvalidInputError("face_on_viewpoint: the mesh's faces have no area");
-    centre /= total;
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-    for (const auto& [area, centroid] : faces)
-        covariance += area * (centroid - centre) * (centroid - centre).transpose();
+    Eigen::MatrixX3d centroids(corners.rows(), 3);
+    for (Eigen::Index f = 0; f < corners.rows(); ++f)
+        centroids.row(f) = (points.row(corners(f, 0)) + points.row(corners(f, 1)) +
+                            points.row(corners(f, 2))) /
+                           3.0;
+    const Eigen::RowVector3d centre = areas.transpose() * centroids / total;
+    const Eigen::MatrixX3d offsets = centroids.rowwise() - centre;
+    const Eigen::Matrix3d covariance = offsets.transpose() * areas.asDiagonal() * offsets;
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(covariance);
     Eigen::Vector3d axis = axes.eigenvectors().col(0);  // the least eigenvalue's
     // Its sign from the mesh's frame, not its shape: a surface symmetric about its mid-plane
@@ -114,7 +96,8 @@ Eigen::Vector3d face_on_viewpoint(const Mesh& mesh)
     axis.cwiseAbs().maxCoeff(&largest);
     if (axis[largest] < 0.0)
         axis = -axis;
-    return centre + 2.0 * (hi - lo).norm() * axis;
+    const double diagonal = (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+    return centre.transpose() + 2.0 * diagonal * axis;
 }
 
 }  // namespace vessel

@@ -188,7 +188,11 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! other outlet, largest to smallest, to an interior vertex already on a cut; each cut's route
 //! from the route policy (CutPlanOptions::route or ::router), where it joins from the join
 //! policy (::join or ::joiner). Paths never pass through other boundary loops and never cross
-//! earlier cuts, so every loop is opened at exactly one vertex.
+//! earlier cuts, so every loop is opened at exactly one vertex. Where the endpoint policy fixes
+//! the inlet's end to one vertex (a viewpoint's far side) and, with CutPlanOptions::natural_cuts
+//! and \p longitudinal, a cut then winds or spans more than CutPlanOptions::winding_limit_deg
+//! (a vessel turning round the view between the two fixed ends), the plan is made again with
+//! the inlet's end free, and the one whose widest cut turns less is returned.
 //! \param loops boundary_loops(mesh): loops[0] is the inlet.
 //! \param weights evaluate_cost() of the chosen travel cost.
 //! \param winding_rate winding_rate(), or an empty matrix to disable drift control.
