@@ -32,6 +32,9 @@ void MultilevelOptions::validate() const
     if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
         throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
                                 std::to_string(tolerance));
+    if (look_reference_vertices < 0)
+        throw InvalidInputError("MultilevelOptions: look_reference_vertices must be >= 0, got " +
+                                std::to_string(look_reference_vertices));
     if (!(max_energy_ratio > 1.0 && std::isfinite(max_energy_ratio)))
         throw InvalidInputError("MultilevelOptions: max_energy_ratio must be > 1 and finite, got " +
                                 std::to_string(max_energy_ratio));

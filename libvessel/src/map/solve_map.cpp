@@ -540,12 +540,52 @@ AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
     return summary;
 }
 
+// Whether the look retry's rule calls the look of \p uv broken.
+bool look_broken_in(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+                    const FlattenOptions& options, const Eigen::MatrixX2d& uv)
+{
+    return options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed));
+}
+
+// The carry and the relaxation lower the area without the pulls, and can break the look the
+// retry made on the coarse mesh (docs/overlaps.md, "Rounding"): a kept pulled map whose look is
+// broken is polished with the pulls (whose hinges cost nothing where the look holds), a chunk
+// of Newton steps at a time until the look is whole again (or the polish converges, or has made
+// the area polish's steps in all). Whether it was broken (then a note, \p where the map is).
+bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
+               const FlattenOptions& options, const std::string& where, Eigen::MatrixX2d& uv,
+               FlattenResult& result)
+{
+    if (!look_broken_in(mesh, input, placed, options, uv))
+        return false;
+    result.notes.push_back("coarse-to-fine: look retry " + where +
+                           ": the carry broke the pulled map's look; polished with the pulls "
+                           "until it is whole");
+    const AreaPolishOptions& polish = options.area_polish;
+    // The hinges ask for the look's whole margin: made from the broken map, they would pull an
+    // outlet below the inlet's line only onto it (HingeMargin).
+    constexpr HingeMargin whole = HingeMargin::Whole;
+    if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
+        polish_carried(mesh, input, options, true, uv, result, 0, whole);
+    else
+    {
+        const int chunk = std::max(polish.newton_chunk_iterations, 1);
+        for (int made = 0; made < polish.newton_max_iterations; made += chunk)
+            if (polish_carried(mesh, input, options, true, uv, result, chunk, whole).iterations <
+                    chunk ||
+                !look_broken_in(mesh, input, placed, options, uv))
+                break;
+    }
+    return true;
+}
+
 // After the look retry kept its pulled map on the coarse mesh: its bound
 // (LookRetryOptions::max_area_over_keep times the `keep` map's mean |log area|) checked again
-// at full resolution, against \p reference, keep_quality() on the fine mesh. The coarse mesh's
-// areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091 coarse, 0.0041
-// fine), so a map within the bound there can be far above it here. Above it, the map is
-// relaxed further (relax_further()), then polished at full resolution with the pulls; still
+// on \p mesh (the fine mesh, or a level of it: MultilevelOptions::look_reference_vertices;
+// \p where says which in the notes), against \p reference, keep_quality() on that mesh. The
+// coarse mesh's areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091
+// coarse, 0.0041 fine), so a map within the bound there can be far above it here. Above it, the
+// map is relaxed further (relax_further()), then polished there with the pulls; still
 // above, the look retry is undone: the default map it replaced (\p unpulled, on the coarse
 // mesh) is carried up instead, and relaxed further and polished there as far as it is above
 // the bound too. result.uv holds the carried pulled map on entry, \p below the map of
@@ -557,7 +597,8 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
                                const std::vector<CoarseMesh>& levels,
                                std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
                                const Eigen::MatrixX2d& below,
-                               std::future<FlatQuality>& made_reference, FlattenResult& result)
+                               std::future<FlatQuality>& made_reference,
+                               const std::string& where, FlattenResult& result)
 {
     FlattenResult ahead;  // the further relaxed pulled map and its note, if made ahead
     if (made_reference.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
@@ -577,9 +618,9 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         const bool ok = within_area_bound(q, reference, options.look_retry);
         char line[200];
         std::snprintf(line, sizeof line,
-                      "coarse-to-fine: look retry at full resolution: %s mean |log area| %.4f "
+                      "coarse-to-fine: look retry %s: %s mean |log area| %.4f "
                       "(keep %.4f), %s the bound",
-                      what, q.mean_abs_log_area_normalized,
+                      where.c_str(), what, q.mean_abs_log_area_normalized,
                       reference.mean_abs_log_area_normalized, ok ? "within" : "above");
         result.notes.push_back(line);
         return ok;
@@ -601,44 +642,17 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
         polish_carried(mesh, input, options, pulled, uv, result);
         return within(uv, pulled ? "the polished pulled map" : "the polished default map");
     };
-    // The carry and the relaxation lower the area without the pulls, and can break the look
-    // the retry made on the coarse mesh (docs/overlaps.md, "Rounding"): a kept pulled map whose
-    // look is broken is polished with the pulls (whose hinges cost nothing where the look
-    // holds) and kept if it is then within the bound. The mend is for the look: the polish
-    // goes a chunk of Newton steps at a time and stops once the look is whole again (or it
-    // converges, or has made the area polish's steps in all).
-    const auto broken = [&](const Eigen::MatrixX2d& uv) {
-        return options.look_retry.look_broken(map_look(mesh, uv, input.segments, placed));
+    const auto mended = [&](Eigen::MatrixX2d& uv) {
+        return !mend_look(mesh, input, placed, options, where, uv, result) ||
+               within(uv, "the polished pulled map");
     };
-    const auto mend_look = [&](Eigen::MatrixX2d& uv) {
-        if (!broken(uv))
-            return true;
-        result.notes.push_back("coarse-to-fine: look retry at full resolution: the carry broke "
-                               "the pulled map's look; polished with the pulls until it is whole");
-        const AreaPolishOptions& polish = options.area_polish;
-        // The hinges ask for the look's whole margin: made from the broken map, they would
-        // pull an outlet below the inlet's line only onto it (HingeMargin).
-        constexpr HingeMargin whole = HingeMargin::Whole;
-        if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
-            polish_carried(mesh, input, options, true, uv, result, 0, whole);
-        else
-        {
-            const int chunk = std::max(polish.newton_chunk_iterations, 1);
-            for (int made = 0; made < polish.newton_max_iterations; made += chunk)
-                if (polish_carried(mesh, input, options, true, uv, result, chunk, whole)
-                            .iterations < chunk ||
-                    !broken(uv))
-                    break;
-        }
-        return within(uv, "the polished pulled map");
-    };
-    if (within(result.uv, "the carried pulled map") && mend_look(result.uv))
+    if (within(result.uv, "the carried pulled map") && mended(result.uv))
     {
         summary.pulled_area = measured;
         return "";
     }
     Eigen::MatrixX2d uv = result.uv;
-    if (bring_within(uv, below, true) && mend_look(uv))
+    if (bring_within(uv, below, true) && mended(uv))
     {
         summary.pulled_area = measured;
         result.uv = std::move(uv);
@@ -652,7 +666,7 @@ std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
     if (!failed.empty())
         return "the default map (the look retry undone): " + failed;
     summary.kept = false;
-    summary.report += "; above the bound at full resolution, went back to the default map";
+    summary.report += "; above the bound " + where + ", went back to the default map";
     result.notes.push_back("coarse-to-fine: " + summary.report);
     if (!within(fallback.uv, "the carried default map"))
         bring_within(fallback.uv, fallback_below, false);
@@ -680,49 +694,73 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             keep.push_back(segment.vertices[(n - 1) * i / (per_segment - 1)]);
     }
     const MultilevelOptions& multilevel = options.multilevel;
-    const std::vector<CoarseMesh> levels =
+    std::vector<CoarseMesh> levels =
         coarsen_levels(mesh, multilevel.coarse_vertices, keep, boundary_levels,
                        outlet_count(input) >= kChordFreeOutlets);
     const Mesh& coarsest = levels.back().mesh;
-    const std::vector<int> coarse_of = index_at(levels, levels.size(), mesh.n_vertices());
+    const std::size_t n = mesh.n_vertices();
 
-    // The coarse problem: every per-vertex input renumbered or dropped.
-    LayoutInput coarse_input = input;
-    coarse_input.mesh = &coarsest;
-    coarse_input.origin.resize(coarsest.n_vertices());
-    for (std::size_t v = 0; v < mesh.n_vertices(); ++v)
-        if (coarse_of[v] >= 0)
-            coarse_input.origin[coarse_of[v]] = input.origin[v];
-    for (BoundarySegment& segment : coarse_input.segments)
-    {
-        BoundarySegment kept{segment.loop, {}, {}};
-        for (std::size_t i = 0; i < segment.vertices.size(); ++i)
-            if (const int c = coarse_of[segment.vertices[i].idx()]; c >= 0)
-            {
-                kept.vertices.push_back(VertexHandle(c));
-                kept.arc_length.push_back(segment.arc_length[i]);
-            }
-        segment = std::move(kept);
-    }
-    LayoutResult coarse_placed = placed;
-    coarse_placed.inlet = renumbered(placed.inlet, coarse_of);
-    coarse_placed.outlets = renumbered(placed.outlets, coarse_of);
+    // The problem on level `depth` of the hierarchy: every per-vertex input renumbered or
+    // dropped.
+    const auto at_level = [&](std::size_t depth, const Mesh& level, LayoutInput& level_input,
+                              LayoutResult& level_placed) {
+        const std::vector<int> index = index_at(levels, depth, n);
+        level_input = input;
+        level_input.mesh = &level;
+        level_input.origin.resize(level.n_vertices());
+        for (std::size_t v = 0; v < n; ++v)
+            if (index[v] >= 0)
+                level_input.origin[index[v]] = input.origin[v];
+        for (BoundarySegment& segment : level_input.segments)
+        {
+            BoundarySegment kept{segment.loop, {}, {}};
+            for (std::size_t i = 0; i < segment.vertices.size(); ++i)
+                if (const int c = index[segment.vertices[i].idx()]; c >= 0)
+                {
+                    kept.vertices.push_back(VertexHandle(c));
+                    kept.arc_length.push_back(segment.arc_length[i]);
+                }
+            segment = std::move(kept);
+        }
+        level_placed = placed;
+        level_placed.inlet = renumbered(placed.inlet, index);
+        level_placed.outlets = renumbered(placed.outlets, index);
+    };
+    LayoutInput coarse_input;
+    LayoutResult coarse_placed;
+    at_level(levels.size(), coarsest, coarse_input, coarse_placed);
 
-    // The look retry's reference at full resolution (recheck_look_retry()), made on the second
+    // The level whose `keep` map is the look retry's reference (recheck_look_retry()): the
+    // finest of at most MultilevelOptions::look_reference_vertices vertices, above the coarsest.
+    std::size_t depth = 0;
+    if (multilevel.look_reference_vertices > 0)
+        while (depth + 1 < levels.size() &&
+               (depth == 0 ? mesh : levels[depth - 1].mesh).n_vertices() >
+                   static_cast<std::size_t>(multilevel.look_reference_vertices))
+            ++depth;
+    const Mesh& checked = depth == 0 ? mesh : levels[depth - 1].mesh;
+    LayoutInput checked_input;
+    LayoutResult checked_placed;
+    if (depth > 0)
+        at_level(depth, checked, checked_input, checked_placed);
+    const LayoutInput& check_input = depth > 0 ? checked_input : input;
+    const LayoutResult& check_placed = depth > 0 ? checked_placed : placed;
+
+    // The look retry's reference on that level (recheck_look_retry()), made on the second
     // core from when the retry starts on the coarse mesh, through the carry: it depends on the
-    // fine mesh alone. Where the retry does not keep its pulled map it is not used: it is then
-    // stopped at its solvers' next iteration (cancellable()) as soon as the coarse retry has
-    // decided, not waited for to its end.
+    // level's mesh alone. Where the retry does not keep its pulled map it is not used: it is
+    // then stopped at its solvers' next iteration (cancellable()) as soon as the coarse retry
+    // has decided, not waited for to its end.
     std::atomic<bool> cancel_reference{false};
     std::future<FlatQuality> reference;
     const StopAhead stop_reference{[&] { cancel_reference = true; }};
     const auto start_reference = [&] {
         reference = std::async(std::launch::async, [&] {
             const Eigen::MatrixX2d initial =
-                initial_map(mesh, placed, options.initialization, nullptr);
+                initial_map(checked, check_placed, options.initialization, nullptr);
             const bool at_lscm = options.initialization == Initialization::LayoutLscm;
-            return keep_quality(mesh, inlet_pins(placed, initial, at_lscm), initial, options,
-                                input, placed, &cancel_reference);
+            return keep_quality(checked, inlet_pins(check_placed, initial, at_lscm), initial,
+                                options, check_input, check_placed, &cancel_reference);
         });
     };
     // On the coarse mesh the retry's area bound is an early exit: the bound itself is held at
@@ -751,13 +789,49 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.untangle = solved.untangle;
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
+    if (depth == 0 || !result.look_retry.kept)
+    {
+        Eigen::MatrixX2d below;
+        const std::string failed =
+            carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
+                     std::move(solved.uv), result, &below);
+        if (!failed.empty() || !result.look_retry.kept)
+            return failed;
+        return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
+                                  std::move(unpulled), below, reference, "at full resolution",
+                                  result);
+    }
+
+    // The retry checked on level `depth`: carried up to it and checked there as at full
+    // resolution, then the map the check leaves carried on up as any other.
+    std::vector<CoarseMesh> upper(std::make_move_iterator(levels.begin()),
+                                  std::make_move_iterator(levels.begin() + depth));
+    std::vector<CoarseMesh> lower(std::make_move_iterator(levels.begin() + depth),
+                                  std::make_move_iterator(levels.end()));
+    const Mesh& level = upper.back().mesh;  // `checked`, moved
+    const std::size_t lower_boundary = boundary_levels > depth ? boundary_levels - depth : 0;
     Eigen::MatrixX2d below;
-    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
-                                        std::move(solved.uv), result, &below);
-    if (!failed.empty() || !result.look_retry.kept)
+    std::string failed = carry_up(level, lower, check_placed, options, lower_boundary, at_layout,
+                                  std::move(solved.uv), result, &below);
+    if (!failed.empty())
         return failed;
-    return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
-                              std::move(unpulled), below, reference, result);
+    const std::string where = "on the level of " + std::to_string(level.n_vertices()) + " vertices";
+    failed = recheck_look_retry(level, check_input, check_placed, options, lower, lower_boundary,
+                                std::move(unpulled), below, reference, where, result);
+    if (!failed.empty())
+        return failed;
+    // The look retry's decision stands: the rest of the carry relaxes as for any map.
+    FlattenResult rest;
+    failed = carry_up(mesh, upper, placed, options, std::min(boundary_levels, depth), at_layout,
+                      std::move(result.uv), rest);
+    result.notes.insert(result.notes.end(), rest.notes.begin(), rest.notes.end());
+    if (!failed.empty())
+        return failed;
+    result.uv = std::move(rest.uv);
+    // The carry on up can break the look again: mended at full resolution as on the level.
+    if (result.look_retry.kept)
+        mend_look(mesh, input, placed, options, "at full resolution", result.uv, result);
+    return "";
 }
 
 // The map and the solvers' summaries of \p solved into \p result (not its notes).

@@ -39,10 +39,11 @@ struct LookRetryOptions
     //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
     //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh,
     //! where this bound plus 5% (the coarse ratio moves by that much with rounding alone) only
-    //! refuses maps clearly above it, and the bound is checked at full resolution against the
-    //! fine mesh's `keep` map: the coarse mesh's areas do not say it. A carried map above it is
-    //! relaxed further, then polished, then given up for the default map (docs/benchmarks.md
-    //! "The look retry at full resolution"). CLI `--look-retry-area`.
+    //! refuses maps clearly above it, and the bound is checked on a finer level against that
+    //! level's `keep` map (the fine mesh but on the largest trees:
+    //! MultilevelOptions::look_reference_vertices): the coarse mesh's areas do not say it. A
+    //! carried map above it is relaxed further, then polished, then given up for the default
+    //! map (docs/benchmarks.md "The look retry at full resolution"). CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
     //! \brief Whether \p look is broken by the rule above.
     bool look_broken(const MapLook& look) const;
@@ -56,10 +57,11 @@ struct LookRetrySummary
     bool tried = false;          //!< the restart was redone with the pull
     bool kept = false;           //!< the pulled map replaced the default one
     double default_area = 0.0;   //!< default map's mean |log area| (normalized)
-    //! pulled map's, when tried; after coarse-to-fine, at full resolution where it was kept
-    //! there (as keep_area), else on the coarse mesh
+    //! pulled map's, when tried; after coarse-to-fine, on the level where the bound was
+    //! checked if it was kept there (as keep_area), else on the coarse mesh
     double pulled_area = 0.0;
-    //! the `keep` map's, when it was computed (else 0); at full resolution after coarse-to-fine
+    //! the `keep` map's, when it was computed (else 0); after coarse-to-fine, on the level
+    //! where the bound was checked (MultilevelOptions::look_reference_vertices)
     double keep_area = 0.0;
     MapLook default_look;        //!< the default map's look, when tried
     std::string report;          //!< one line, also in FlattenResult::notes
