@@ -19,7 +19,6 @@
 #include "vessel/check/validation.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -607,25 +606,27 @@ TEST_CASE("cut_winding: --viewpoint face-on cuts the carotid phantom on the same
     // 0.4 and 0.26 mm, each coarser one's cuts against the finest's. By default the cheapest
     // point of each loop sets the side, and on this symmetric shape the edges' directions
     // break the ties: docs/results.md "Cuts at two resolutions".
+    constexpr int kMeshes = 3;
+    const double edges[kMeshes] = {0.8, 0.4, 0.26};  // the last the finest
     std::vector<Mesh> meshes;
     std::vector<CutPlan> plans;
-    std::vector<Eigen::VectorXd> longitudinals(3);
-    for (const double edge : {0.8, 0.4, 0.26})
+    std::vector<Eigen::VectorXd> longitudinals(kMeshes);
+    for (int k = 0; k < kMeshes; ++k)
     {
         CarotidPhantomOptions phantom;
-        phantom.edge_length = edge;
+        phantom.edge_length = edges[k];
         meshes.push_back(carotid_phantom(phantom));
-        plans.push_back(plan_of(meshes.back(), FlattenOptions().cuts, true,
-                                longitudinals[meshes.size() - 1]));
+        plans.push_back(plan_of(meshes[k], FlattenOptions().cuts, true, longitudinals[k]));
     }
-    for (int coarse = 0; coarse < 2; ++coarse)
-        for (const SideApart& cut :
-             sides_apart(meshes[coarse], plans[coarse], meshes[2], plans[2], longitudinals[2]))
+    const int finest = kMeshes - 1;
+    for (int coarse = 0; coarse < finest; ++coarse)
+        for (const SideApart& cut : sides_apart(meshes[coarse], plans[coarse], meshes[finest],
+                                                plans[finest], longitudinals[finest]))
         {
-            CAPTURE(coarse);
+            CAPTURE(edges[coarse]);
             CAPTURE(cut.outlet);
-            MESSAGE("edge " << (coarse == 0 ? 0.8 : 0.4) << " against 0.26, outlet " << cut.outlet
-                            << ": " << cut.mean_deg << " degrees apart, "
+            MESSAGE("edge " << edges[coarse] << " against " << edges[finest] << ", outlet "
+                            << cut.outlet << ": " << cut.mean_deg << " degrees apart, "
                             << cut.measured_fraction << " of it measured");
             // The ICA's sinus bulb and stenosis and the bifurcation are no round rings: 40% of
             // its cut is measured.
