@@ -29,12 +29,6 @@
 #include <future>
 #include <limits>
 
-#ifdef __linux__
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-#endif
-
 namespace vessel::detail {
 
 namespace {
@@ -82,16 +76,6 @@ struct StopAhead
     ~StopAhead() { stop(); }
 };
 
-// The calling thread (and the threads it starts) at the lowest scheduling priority (Linux: nice
-// 19 for this thread alone), for work made ahead that may be thrown away: it then runs on the
-// time the wanted work leaves idle and barely slows that work where both want every core.
-void lower_thread_priority()
-{
-#ifdef __linux__
-    setpriority(PRIO_PROCESS, static_cast<id_t>(syscall(SYS_gettid)), 19);
-#endif
-}
-
 // Outlets of a tree (the loops of its boundary segments but the inlet, loop 0).
 int outlet_count(const LayoutInput& input)
 {
@@ -104,8 +88,7 @@ int outlet_count(const LayoutInput& input)
 // The fewest outlets for which solve_single_level() solves the look retry's pulled map ahead.
 // The more outlets, the likelier a restart from the layout circle breaks the fan's order and the
 // retry follows; where it does not, the pulled map was solved for nothing beside the restarted
-// one, which it slows even at the lowest priority (two cores: docs/benchmarks.md, "The look
-// retry ahead").
+// one, which it slows (two cores: docs/benchmarks.md, "The look retry ahead").
 constexpr int kPulledAheadOutlets = 16;
 
 // The fewest outlets for which the hierarchy makes no new chords (coarsen()'s
@@ -166,18 +149,19 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
         may_restart && at_layout && boundary_self_intersection(mesh, result.uv).first >= 0;
     const Eigen::MatrixX2d initial = result.uv;  // for the look retry's `keep` map
     // Where the map restarts at once on a tree of many outlets, the look retry's pulled map is
-    // solved beside it on the second core, at the lowest priority: it starts from the layout
-    // circle as the restarted map does and depends on nothing that map
-    // gives, and a restart from the circle often loses the fan's order on such trees, so that
-    // the retry follows. Where the look turns out whole, the pulled map is stopped at its next
-    // iteration and dropped. Either way the maps are those of the retry made after the fact.
+    // solved beside it on the second core: it starts from the layout circle as the restarted
+    // map does and depends on nothing that map gives, and a restart from the circle often loses
+    // the fan's order on such trees, so that the retry follows. Where the look turns out whole,
+    // the pulled map is stopped at its next iteration and dropped. Either way the maps are those
+    // of the retry made after the fact. It runs at the caller's priority: the retry waits for
+    // it, and a thread at a lower one (nice 19) starves behind any other busy process, so that
+    // the whole run waits on it (docs/benchmarks.md, "The look retry ahead").
     std::atomic<bool> cancel_ahead{false};
     std::future<FlattenResult> pulled_ahead;
     const StopAhead stop_ahead{[&] { cancel_ahead = true; }};
     if (crosses_at_once && may_retry_look(options) && outlet_count(input) >= kPulledAheadOutlets)
     {
         pulled_ahead = std::async(std::launch::async, [&] {
-            lower_thread_priority();
             return pulled_map(mesh, pins, options, input, placed, &cancel_ahead);
         });
     }
