@@ -234,28 +234,35 @@ struct WindingMeter::Prefetch::State
 bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const int round) const
 {
     const double lo = u_[p.idx()] - half_width_, hi = u_[p.idx()] + half_width_;
-    ring.vertices.assign(1, p);
+    // Breadth first, without a branch on the band test: about half of the neighbours a ring
+    // meets lie in the band, so a branch there is mispredicted as often as not. Each
+    // neighbour is written past the ring's end and kept by moving the end.
+    std::vector<VertexHandle>& out = ring.vertices;
+    out.assign(1, p);
     stamp[p.idx()] = round;
-    // A plain pointer: the pushes below may alias the member for the compiler, which would
-    // then load it again for every neighbour.
+    // Plain pointers: the stores below may alias the members for the compiler, which would
+    // then load them again for every neighbour.
     const double* const u = u_.data();
-    const auto enter = [&](int w) {
-        // The band first: most neighbours lie outside it, and u is read anyway.
-        if (u[w] >= lo && u[w] <= hi && stamp[w] != round)
-        {
-            stamp[w] = round;
-            ring.vertices.push_back(VertexHandle(w));
-        }
-    };
-    // Breadth first.
-    const int* start = neighbour_start_.data();
-    const int* neighbour = neighbours_.data();
-    for (std::size_t head = 0; head < ring.vertices.size(); ++head)
+    const int* const start = neighbour_start_.data();
+    const int* const neighbour = neighbours_.data();
+    std::size_t size = 1;
+    for (std::size_t head = 0; head < size; ++head)
     {
-        const int v = ring.vertices[head].idx();
-        for (int k = start[v]; k < start[v + 1]; ++k)
-            enter(neighbour[k]);
+        const int v = out[head].idx();
+        const int first = start[v], last = start[v + 1];
+        if (out.size() < size + static_cast<std::size_t>(last - first))
+            out.resize(std::max(2 * out.size(), size + static_cast<std::size_t>(last - first)));
+        VertexHandle* const end = out.data();
+        for (int k = first; k < last; ++k)
+        {
+            const int w = neighbour[k];
+            const bool enter = (u[w] >= lo) & (u[w] <= hi) & (stamp[w] != round);
+            end[size] = VertexHandle(w);
+            stamp[w] = enter ? round : stamp[w];
+            size += enter;
+        }
     }
+    out.resize(size);
     const auto n = static_cast<double>(ring.vertices.size());
     if (ring.vertices.size() < static_cast<std::size_t>(options_.min_ring_vertices))
         return false;
