@@ -360,6 +360,35 @@ std::vector<PathWinding> default_cut_windings(const Mesh& mesh)
     return windings;
 }
 
+// The seam's pieces between joins by the library's meter: each cut split at the vertices where
+// later cuts end on it (the paths the shared yardstick seamwinding.py measures).
+std::vector<PathWinding> default_piece_windings(const Mesh& mesh)
+{
+    Eigen::VectorXd H;
+    const CutPlan plan = default_plan(mesh, FlattenOptions().cuts, H);
+    const WindingMeter meter(mesh, H);
+    std::vector<char> join(mesh.n_vertices(), 0);
+    for (std::size_t k = 1; k < plan.paths.size(); ++k)
+        join[plan.paths[k].end.idx()] = 1;
+    std::vector<PathWinding> pieces;
+    for (const auto& path : plan.paths)
+    {
+        std::vector<VertexHandle> piece{path.start};
+        for (auto h : path.halfedges)
+        {
+            const VertexHandle v = mesh.to_vertex_handle(h);
+            piece.push_back(v);
+            if (join[v.idx()] && v != path.end)
+            {
+                pieces.push_back(meter.measure(piece));
+                piece.assign(1, v);
+            }
+        }
+        pieces.push_back(meter.measure(piece));
+    }
+    return pieces;
+}
+
 // How far apart, around their vessels, the cuts of two meshes of the same surface lie. Per
 // vertex of a cut of \p fine, the angle around its vessel (WindingMeter::step() on \p fine,
 // with \p fine_longitudinal) from the nearest vertex of the same outlet's cut of \p coarse,
@@ -694,50 +723,110 @@ TEST_CASE("cut_winding: by default every cut of every valid real tree is held to
             widest = std::max(widest, w.span_deg);
         }
         const double mean = seam_winding(windings).mean_abs_deg;
+        // The same targets on the pieces between joins, as the yardstick reads the seam: a cut
+        // within the bound end to end may still turn a third of the way round between two
+        // joins and back (AneuRisk's first cut, 34 degrees from the inlet to its first join,
+        // before the planner tried the target again with the meter's own steps).
+        const std::vector<PathWinding> pieces = default_piece_windings(surface.mesh);
+        REQUIRE(pieces.size() >= windings.size());
+        double worst_piece = 0.0;
+        for (const auto& w : pieces)
+        {
+            CHECK(std::abs(w.winding_deg) <= 45.0);
+            worst_piece = std::max(worst_piece, std::abs(w.winding_deg));
+        }
+        const double piece_mean = seam_winding(pieces).mean_abs_deg;
         MESSAGE(std::string(name) << ": " << windings.size() << " cuts, mean " << mean << " deg, largest "
-                     << worst << ", widest span " << widest);
+                     << worst << ", widest span " << widest << "; " << pieces.size()
+                     << " pieces between joins, mean " << piece_mean << ", largest "
+                     << worst_piece);
         CHECK(mean <= 20.0);
+        CHECK(piece_mean <= 20.0);
     }
 }
 
-TEST_CASE("cut_winding: a natural streamline cut is not searched again")
+TEST_CASE("cut_winding: a natural streamline cut gives way only to a natural one that winds "
+          "clearly less")
 {
     // A cut taken along a streamline that winds more than the 15 degrees the steered search
-    // aims at but is natural (winds and spans at most winding_limit_deg, 45) is kept: steered,
+    // aims at but is natural (winds and spans at most winding_limit_deg, 45) is searched
+    // again, and replaced only by a natural route that winds less by winding_min_gain_deg
+    // (15) and is as well aligned (winding_max_alignment_loss). Steered without that gain,
     // such a cut on the 10-outlet tree phantom (outlet 5, 23 degrees) moved to the top of its
     // vessel, outlet 6's cut joined it there, and the fan layout swung outlet 6 past outlet 1
-    // (map_look_test's 10-outlet case). Asserted on tree phantoms: while the plans with and
-    // without the steered search agree, a natural traced cut is the same cut in both.
-    int kept = 0;
+    // (map_look_test's 10-outlet case); never searched again, the carotid phantom at edge
+    // 0.44 kept an ECA streamline of 32 degrees (seam mean 21.7, over issue 32's 20).
+    // Asserted on tree phantoms: while the plans with and without the steered search agree, a
+    // natural traced cut is the same cut in both or its replacement winds clearly less. On
+    // these phantoms (seeds 1-8 tried) no traced cut is replaced; the carotid at edge 0.44,
+    // whose first cut is searched again too, is held by the next test case.
+    const CutPlanOptions defaults = FlattenOptions().cuts;
+    int kept = 0, replaced = 0;
+    const auto compare = [&](const Mesh& mesh) {
+        CutPlanOptions unsteered = defaults;
+        unsteered.winding_target_deg = 0.0;
+        Eigen::VectorXd H;
+        const CutPlan before = default_plan(mesh, unsteered, H);
+        const CutPlan after = default_plan(mesh, defaults, H);
+        const WindingMeter meter(mesh, H);
+        REQUIRE(before.paths.size() == after.paths.size());
+        const double limit = defaults.winding_limit_deg;
+        for (std::size_t k = 0; k < before.paths.size(); ++k)
+        {
+            const CutPath& cut = before.paths[k];
+            const bool same = cut.halfedges == after.paths[k].halfedges;
+            const PathWinding wound = meter.measure(cut);
+            CAPTURE(cut.outlet);
+            CAPTURE(wound.winding_deg);
+            if (cut.traced && std::abs(wound.winding_deg) <= limit && wound.span_deg <= limit)
+            {
+                if (same)
+                    kept += std::abs(wound.winding_deg) > defaults.winding_target_deg;
+                else
+                {
+                    const PathWinding now = meter.measure(after.paths[k]);
+                    CAPTURE(now.winding_deg);
+                    CHECK(std::abs(now.winding_deg) <= limit);
+                    CHECK(now.span_deg <= limit);
+                    CHECK(std::abs(now.winding_deg) <
+                          std::abs(wound.winding_deg) - defaults.winding_min_gain_deg);
+                    ++replaced;
+                }
+            }
+            if (!same)
+                break;  // later cuts join a different tree
+        }
+    };
     for (int outlets : {4, 6, 10})
         for (std::uint32_t seed : {1u, 2u, 3u})
         {
             CAPTURE(outlets);
             CAPTURE(seed);
-            const Mesh mesh = test::test_tree_phantom(outlets, seed);
-            CutPlanOptions unsteered = FlattenOptions().cuts;
-            unsteered.winding_target_deg = 0.0;
-            Eigen::VectorXd H;
-            const CutPlan before = default_plan(mesh, unsteered, H);
-            const CutPlan after = default_plan(mesh, FlattenOptions().cuts, H);
-            const WindingMeter meter(mesh, H);
-            REQUIRE(before.paths.size() == after.paths.size());
-            const double limit = FlattenOptions().cuts.winding_limit_deg;
-            for (std::size_t k = 0; k < before.paths.size(); ++k)
-            {
-                const CutPath& cut = before.paths[k];
-                const bool same = cut.halfedges == after.paths[k].halfedges;
-                const PathWinding wound = meter.measure(cut);
-                CAPTURE(cut.outlet);
-                CAPTURE(wound.winding_deg);
-                if (cut.traced && std::abs(wound.winding_deg) <= limit && wound.span_deg <= limit)
-                {
-                    CHECK(same);
-                    kept += std::abs(wound.winding_deg) > FlattenOptions().cuts.winding_target_deg;
-                }
-                if (!same)
-                    break;  // later cuts join a different tree
-            }
+            compare(test::test_tree_phantom(outlets, seed));
         }
     CHECK(kept >= 1);  // the case is exercised: a traced cut over the target was kept
+    MESSAGE(kept << " traced cuts over the target kept, " << replaced << " replaced");
+}
+
+TEST_CASE("cut_winding: by default the carotid phantom's cuts meet the targets from 4k to 45k "
+          "triangles")
+{
+    // Issue 32's targets by the library's meter on the benchmark phantom meshed anew at each
+    // resolution: every cut winds at most 45 degrees end to end, the length-weighted mean at
+    // most 20.
+    for (double edge : {0.8, 0.5, 0.44, 0.35, 0.263})
+    {
+        CAPTURE(edge);
+        CarotidPhantomOptions phantom;
+        phantom.edge_length = edge;
+        const std::vector<PathWinding> windings = default_cut_windings(carotid_phantom(phantom));
+        REQUIRE(windings.size() == 2);
+        for (const auto& w : windings)
+            CHECK(std::abs(w.winding_deg) <= 45.0);
+        const double mean = seam_winding(windings).mean_abs_deg;
+        MESSAGE("carotid phantom, edge " << edge << ": mean " << mean << " deg, cuts "
+                                         << windings[0].winding_deg << " and "
+                                         << windings[1].winding_deg);
+        CHECK(mean <= 20.0);
+    }
 }

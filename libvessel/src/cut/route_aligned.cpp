@@ -69,15 +69,19 @@ constexpr double kSearchBridge = 1.0;
 //    options.winding_max_alignment_loss lower.
 // 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
 //    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
-//    kSearchBridge ring radii) and the target as its bound (then, if that gives no natural
-//    cut, half the limit, bridged and then not): the cheapest route whose angle stays within
-//    +-bound at every vertex (span <= 2 x bound), inside the hull too (on the vmtk aorta every
-//    route on the hull winds about +-80 degrees). There a candidate must also keep a natural
-//    cut natural, and a cut that is not natural takes a natural candidate whatever its
-//    alignment (the bound is what natural means; the alignment's floor was fitted on cuts
-//    that wind less).
+//    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural
+//    cut, half the limit; then the two again with the meter's own steps): the cheapest route
+//    whose angle stays within +-bound at every vertex (span <= 2 x bound), inside the hull too
+//    (on the vmtk aorta every route on the hull winds about +-80 degrees). There a candidate
+//    must also keep a natural cut natural, and a cut that is not natural takes a natural
+//    candidate whatever its alignment, and of two natural candidates the one that winds less
+//    (the bound is what natural means; the alignment's floor was fitted on cuts that wind
+//    less, and across a sac, where the stream field has no direction, no short passage is
+//    aligned).
 // \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
-// more than its band); it is searched again only if it is no natural cut.
+// more than its band); without options.natural_cuts it is searched again only if it is no
+// natural cut, with them as any other cut (a streamline on a coarse tube may still turn a
+// third of the way round it, and the bound finds a route that does not).
 // \p finish / \p finish_held: the join policy's finish of a path found to the tree
 // (CutStep::join(), e.g. the cut back of CutJoin::Approach) and of a bounded route, which keeps
 // to its side of the vessel (CutStep::join_held()); a bounded route keeps its cut back only if
@@ -103,7 +107,7 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
     const PathWinding now = meter.measure(as_cut(mesh, current));
     const double wound = std::abs(now.winding_deg);
     const bool was_natural = natural(now);
-    if (was_natural && (traced || !(wound > options.winding_target_deg)))
+    if (was_natural && ((traced && !strict) || !(wound > options.winding_target_deg)))
         return std::nullopt;
     PathQuery query = step_query;  // steered below
     const double floor_alignment = path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
@@ -118,8 +122,9 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         const bool is_natural = natural(w);
         const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
         const bool better =
-            strict ? (!best_natural && is_natural) || (std::abs(w.winding_deg) < best_wound &&
-                                                       (is_natural || !best_natural) && aligned)
+            strict ? (!best_natural && is_natural) ||
+                         (std::abs(w.winding_deg) < best_wound && (is_natural || !best_natural) &&
+                          (aligned || (is_natural && !was_natural)))
                    : std::abs(w.winding_deg) < best_wound && aligned;
         if (better)
         {
@@ -164,11 +169,12 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         query.steer_weight = 0.0;
     }
     // The target as the bound first; if no route keeps it (or none is taken), half the natural
-    // limit, which still bounds the span by the limit.
-    // Last, half the limit with the meter's own steps (no bridge): the bound then holds exactly
-    // as the meter reads it.
+    // limit, which still bounds the span by the limit. Then the two with the meter's own steps
+    // (no bridge): the bound then holds exactly as the meter reads it, where a bridged route
+    // may turn across a gap by more than the meter's restart lets it see.
     const std::pair<double, double> tries[] = {{options.winding_target_deg, kSearchBridge},
                                                {0.5 * options.winding_limit_deg, kSearchBridge},
+                                               {options.winding_target_deg, 0.0},
                                                {0.5 * options.winding_limit_deg, 0.0}};
     for (const auto& [limit, bridge] : tries)
     {

@@ -126,17 +126,18 @@ struct CutPlanOptions
     //! CutJoin::Closest.
     double winding_target_deg = 15.0;
     //! CutRoute::Aligned with a longitudinal coordinate: the bound on a natural cut's winding,
-    //! in degrees. A cut taken along a streamline (CutPath::traced) is searched again only if
-    //! it winds more than this: it cannot drift from an aligned curve by more than its band
-    //! (CutRoute::Streamline), so what it winds below this is the vessel's and the field's,
-    //! not the graph's; a steered search may move it to another side of the vessel, where later
-    //! cuts then join it instead and the branch layout changes with them.
+    //! in degrees. Without natural_cuts a cut taken along a streamline (CutPath::traced) is
+    //! searched again only if it winds more than this: it cannot drift from an aligned curve
+    //! by more than its band (CutRoute::Streamline), so what it winds below this is the
+    //! vessel's and the field's, not the graph's; a steered search may move it to another side
+    //! of the vessel, where later cuts then join it instead and the branch layout changes with
+    //! them. With natural_cuts it is searched again as any cut above winding_target_deg.
     double winding_limit_deg = 45.0;
     //! CutRoute::Aligned with a longitudinal coordinate: hold every cut to winding_limit_deg,
     //! end to end and in span (which bounds each piece between two joins, what the shared
     //! yardstick seamwinding.py measures). A cut that is not natural after the multiplier
     //! takes winding_bounded_path()'s route within +-winding_target_deg (or half the limit)
-    //! whatever its alignment; a bounded route that comes near the tree on another side of the
+    //! whatever its alignment (of two natural candidates, the one that winds less); a bounded route that comes near the tree on another side of the
     //! vessel is joined to it with join_held_excess. What it costs: where a bounded route
     //! crosses a junction or a sac (the angle is undefined there) the seam aligns a little
     //! less with the vessel, and the routes change where later cuts join, with them the branch
