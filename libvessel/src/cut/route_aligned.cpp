@@ -70,7 +70,8 @@ constexpr double kSearchBridge = 1.0;
 // 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
 //    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
 //    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural
-//    cut, half the limit; then the two again with the meter's own steps): the cheapest route
+//    cut, half the limit; then the two again with the meter's own steps; a cut that is natural
+//    already is offered the target's two only): the cheapest route
 //    whose angle stays within +-bound at every vertex (span <= 2 x bound), inside the hull too
 //    (on the vmtk aorta every route on the hull winds about +-80 degrees). There a candidate
 //    must also keep a natural cut natural, and a cut that is not natural takes a natural
@@ -181,6 +182,12 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         if (!(strict && (best_wound > options.winding_target_deg || !best_natural)) ||
             !(limit > 0.0 && limit < 180.0))
             break;
+        // A natural cut can only give way to a route that winds less by winding_min_gain_deg:
+        // it is offered the target's bounds, bridged and then with the meter's own steps (the
+        // bridged route may read above the target by the meter); half the limit is for a cut
+        // that is not natural yet.
+        if (best_natural && limit != options.winding_target_deg)
+            continue;
         WindingBoundOptions bound;
         bound.limit_deg = limit;
         const double carry = bridge;
@@ -201,7 +208,7 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
                 p = std::move(*bounded);
             offer(p);
         }
-        if (best_natural)
+        if (best_natural && !was_natural)
             break;
     }
     return best;
