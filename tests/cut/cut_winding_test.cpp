@@ -348,21 +348,15 @@ CutPlan default_plan(const Mesh& mesh, const CutPlanOptions& cuts, Eigen::Vector
                      cuts, descent_direction(mesh, longitudinal), longitudinal);
 }
 
-// Each cut's winding by the library's meter, default options.
-std::vector<PathWinding> default_cut_windings(const Mesh& mesh)
+// The default plan's windings by the library's meter: each cut's, and each piece's between
+// joins (each cut split at the vertices where later cuts end on it: the paths the shared
+// yardstick seamwinding.py measures).
+struct DefaultWindings
 {
-    Eigen::VectorXd H;
-    const CutPlan plan = default_plan(mesh, FlattenOptions().cuts, H);
-    const WindingMeter meter(mesh, H);
-    std::vector<PathWinding> windings;
-    for (const auto& path : plan.paths)
-        windings.push_back(meter.measure(path));
-    return windings;
-}
+    std::vector<PathWinding> cuts, pieces;
+};
 
-// The seam's pieces between joins by the library's meter: each cut split at the vertices where
-// later cuts end on it (the paths the shared yardstick seamwinding.py measures).
-std::vector<PathWinding> default_piece_windings(const Mesh& mesh)
+DefaultWindings default_windings(const Mesh& mesh)
 {
     Eigen::VectorXd H;
     const CutPlan plan = default_plan(mesh, FlattenOptions().cuts, H);
@@ -370,9 +364,10 @@ std::vector<PathWinding> default_piece_windings(const Mesh& mesh)
     std::vector<char> join(mesh.n_vertices(), 0);
     for (std::size_t k = 1; k < plan.paths.size(); ++k)
         join[plan.paths[k].end.idx()] = 1;
-    std::vector<PathWinding> pieces;
+    DefaultWindings windings;
     for (const auto& path : plan.paths)
     {
+        windings.cuts.push_back(meter.measure(path));
         std::vector<VertexHandle> piece{path.start};
         for (auto h : path.halfedges)
         {
@@ -380,13 +375,19 @@ std::vector<PathWinding> default_piece_windings(const Mesh& mesh)
             piece.push_back(v);
             if (join[v.idx()] && v != path.end)
             {
-                pieces.push_back(meter.measure(piece));
+                windings.pieces.push_back(meter.measure(piece));
                 piece.assign(1, v);
             }
         }
-        pieces.push_back(meter.measure(piece));
+        windings.pieces.push_back(meter.measure(piece));
     }
-    return pieces;
+    return windings;
+}
+
+// Each cut's winding by the library's meter, default options.
+std::vector<PathWinding> default_cut_windings(const Mesh& mesh)
+{
+    return default_windings(mesh).cuts;
 }
 
 // How far apart, around their vessels, the cuts of two meshes of the same surface lie. Per
@@ -712,7 +713,8 @@ TEST_CASE("cut_winding: by default every cut of every valid real tree is held to
         CAPTURE(name);
         const TreeSurface surface =
             load_tree_surface(std::string(VESSEL_SHARED_DATA) + "/" + name);
-        const std::vector<PathWinding> windings = default_cut_windings(surface.mesh);
+        const DefaultWindings measured = default_windings(surface.mesh);
+        const std::vector<PathWinding>& windings = measured.cuts;
         REQUIRE(windings.size() + 1 == boundary_loops(surface.mesh).size());
         double worst = 0.0, widest = 0.0;
         for (const auto& w : windings)
@@ -727,7 +729,7 @@ TEST_CASE("cut_winding: by default every cut of every valid real tree is held to
         // within the bound end to end may still turn a third of the way round between two
         // joins and back (AneuRisk's first cut, 34 degrees from the inlet to its first join,
         // before the planner tried the target again with the meter's own steps).
-        const std::vector<PathWinding> pieces = default_piece_windings(surface.mesh);
+        const std::vector<PathWinding>& pieces = measured.pieces;
         REQUIRE(pieces.size() >= windings.size());
         double worst_piece = 0.0;
         for (const auto& w : pieces)

@@ -69,16 +69,15 @@ constexpr double kSearchBridge = 1.0;
 //    options.winding_max_alignment_loss lower.
 // 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
 //    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
-//    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural
-//    cut, half the limit; then the two again with the meter's own steps; a cut that is natural
-//    already is offered the target's two only): the cheapest route
-//    whose angle stays within +-bound at every vertex (span <= 2 x bound), inside the hull too
-//    (on the vmtk aorta every route on the hull winds about +-80 degrees). There a candidate
-//    must also keep a natural cut natural, and a cut that is not natural takes a natural
-//    candidate whatever its alignment, and of two natural candidates the one that winds less
-//    (the bound is what natural means; the alignment's floor was fitted on cuts that wind
-//    less, and across a sac, where the stream field has no direction, no short passage is
-//    aligned).
+//    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural cut,
+//    half the limit; then the two again with the meter's own steps; a cut that is natural already
+//    is offered the target's two only): the cheapest route whose angle stays within +-bound at
+//    every vertex (span <= 2 x bound), inside the hull too (on the vmtk aorta every route on the
+//    hull winds about +-80 degrees). There a candidate must also keep a natural cut natural, and a
+//    cut that is not natural takes a natural candidate whatever its alignment, and of two natural
+//    candidates the one that winds less (the bound is what natural means; the alignment's floor
+//    was fitted on cuts that wind less, and across a sac, where the stream field has no direction,
+//    no short passage is aligned).
 // \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
 // more than its band); without options.natural_cuts it is searched again only if it is no
 // natural cut, with them as any other cut (a streamline on a coarse tube may still turn a

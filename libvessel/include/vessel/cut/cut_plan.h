@@ -133,16 +133,16 @@ struct CutPlanOptions
     //! of the vessel, where later cuts then join it instead and the branch layout changes with
     //! them. With natural_cuts it is searched again as any cut above winding_target_deg.
     double winding_limit_deg = 45.0;
-    //! CutRoute::Aligned with a longitudinal coordinate: hold every cut to winding_limit_deg,
-    //! end to end and in span (which bounds each piece between two joins, what the shared
-    //! yardstick seamwinding.py measures). A cut that is not natural after the multiplier
-    //! takes winding_bounded_path()'s route within +-winding_target_deg (or half the limit)
-    //! whatever its alignment (of two natural candidates, the one that winds less); a bounded route that comes near the tree on another side of the
-    //! vessel is joined to it with join_held_excess. What it costs: where a bounded route
-    //! crosses a junction or a sac (the angle is undefined there) the seam aligns a little
-    //! less with the vessel, and the routes change where later cuts join, with them the branch
-    //! layout (docs/results.md, "Winding of the cuts", has the figures per real tree and
-    //! phantom). CLI `--no-natural-cuts` turns it off.
+    //! CutRoute::Aligned with a longitudinal coordinate: hold every cut to winding_limit_deg, end
+    //! to end and in span (which bounds each piece between two joins, what the shared yardstick
+    //! seamwinding.py measures). A cut that is not natural after the multiplier takes
+    //! winding_bounded_path()'s route within +-winding_target_deg (or half the limit) whatever its
+    //! alignment (of two natural candidates, the one that winds less); a bounded route that comes
+    //! near the tree on another side of the vessel is joined to it with join_held_excess. What it
+    //! costs: where a bounded route crosses a junction or a sac (the angle is undefined there) the
+    //! seam aligns a little less with the vessel, and the routes change where later cuts join, with
+    //! them the branch layout (docs/results.md, "Winding of the cuts", has the figures per real
+    //! tree and phantom). CLI `--no-natural-cuts` turns it off.
     bool natural_cuts = true;
     //! Where on its loop each cut starts and the first cut ends (endpoints.h); null =
     //! ImaginaryNodeEndpoints, the paper's cheapest point of the loop.
