@@ -599,9 +599,9 @@ TEST_CASE("cut_winding: --viewpoint face-on cuts each vessel on the same half at
 {
     // Issue 32's resolution target with the side set by the shape and the mesh's frame
     // (face_on_viewpoint(), which the split leaves where it was): per cut the mean angle apart
-    // around its vessel between the tree and the same surface split 1 -> 4. Measured 0.3-63
-    // degrees per cut (mean 10 over the 16 cuts of six trees); by default, where the cheapest
-    // point of each loop sets the side, 1-157 (mean 64; docs/results.md "Cuts at two
+    // around its vessel between the tree and the same surface split 1 -> 4. Measured 0.3-62
+    // degrees per cut (mean 11 over the 16 cuts of six trees); by default, where the cheapest
+    // point of each loop sets the side, 4-157 (mean 66; docs/results.md "Cuts at two
     // resolutions"). Held here: every measured cut on the same half of its vessel, and the
     // mean within 20 degrees.
     double sum = 0.0;
@@ -748,12 +748,13 @@ TEST_CASE("cut_winding: by default every cut of every valid real tree is held to
 }
 
 TEST_CASE("cut_winding: a natural streamline cut gives way only to a natural one that winds "
-          "clearly less")
+          "clearly less or within the target")
 {
     // A cut taken along a streamline that winds more than the 15 degrees the steered search
     // aims at but is natural (winds and spans at most winding_limit_deg, 45) is searched
     // again, and replaced only by a natural route that winds less by winding_min_gain_deg
-    // (15) and is as well aligned (winding_max_alignment_loss). Steered without that gain,
+    // (15), or within the target, and is as well aligned (winding_max_alignment_loss). Steered
+    // without that gain or the target,
     // such a cut on the 10-outlet tree phantom (outlet 5, 23 degrees) moved to the top of its
     // vessel, outlet 6's cut joined it there, and the fan layout swung outlet 6 past outlet 1
     // (map_look_test's 10-outlet case); never searched again, the carotid phantom at edge
@@ -790,8 +791,9 @@ TEST_CASE("cut_winding: a natural streamline cut gives way only to a natural one
                     CAPTURE(now.winding_deg);
                     CHECK(std::abs(now.winding_deg) <= limit);
                     CHECK(now.span_deg <= limit);
-                    CHECK(std::abs(now.winding_deg) <
-                          std::abs(wound.winding_deg) - defaults.winding_min_gain_deg);
+                    CHECK((std::abs(now.winding_deg) <
+                               std::abs(wound.winding_deg) - defaults.winding_min_gain_deg ||
+                           std::abs(now.winding_deg) <= defaults.winding_target_deg));
                     ++replaced;
                 }
             }
@@ -810,15 +812,17 @@ TEST_CASE("cut_winding: a natural streamline cut gives way only to a natural one
     MESSAGE(kept << " traced cuts over the target kept, " << replaced << " replaced");
 }
 
-TEST_CASE("cut_winding: by default the carotid phantom's cuts meet the targets from 4k to 45k "
+TEST_CASE("cut_winding: by default the carotid phantom's cuts meet the targets from 4k to 60k "
           "triangles")
 {
     // Issue 32's targets by the library's meter on the benchmark phantom meshed anew at each
     // resolution: every cut winds at most 45 degrees end to end, the length-weighted mean at
     // most 20. Edge 0.44 kept an ECA streamline of 32 degrees before traced cuts were searched
     // again (mean 21.7); edge 0.28 a natural first cut of 35 whose bridged bounded route reads
-    // 19.7 by the meter (mean 27.7) before the target was tried with the meter's own steps.
-    for (double edge : {0.8, 0.5, 0.44, 0.35, 0.28, 0.263})
+    // 19.7 by the meter (mean 27.7) before the target was tried with the meter's own steps;
+    // edge 0.22 a natural first cut of 28.5 whose steered route within the target (14.6)
+    // gained less than winding_min_gain_deg (mean 21.6) before such a route was taken.
+    for (double edge : {0.8, 0.5, 0.44, 0.35, 0.28, 0.263, 0.22})
     {
         CAPTURE(edge);
         CarotidPhantomOptions phantom;

@@ -66,7 +66,10 @@ constexpr double kSearchBridge = 1.0;
 //    then three bisections between the last two. A multiplier reaches only the routes on the
 //    convex hull of (winding, cost). A steered path replaces \p current if it winds less by
 //    more than options.winding_min_gain_deg and its alignment with the stream field is at most
-//    options.winding_max_alignment_loss lower.
+//    options.winding_max_alignment_loss lower; with options.natural_cuts, a natural route as
+//    aligned that winds within the target replaces a natural cut above it whatever the gain
+//    (the gain is a hysteresis against trading an aligned cut for one that winds a little
+//    less; reaching the target is not a little).
 // 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
 //    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
 //    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural cut,
@@ -115,20 +118,29 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
     std::optional<GraphPath> best;
     bool best_natural = was_natural;
     double best_wound = wound - options.winding_min_gain_deg;
+    double best_actual = wound;  // |winding| of the best so far (\p current at first)
     // Whether \p p replaces the best so far (and becomes it).
     const auto offer = [&](GraphPath& p) {
         const CutPath cut = as_cut(mesh, p);
         const PathWinding w = meter.measure(cut);
+        const double wound_p = std::abs(w.winding_deg);
         const bool is_natural = natural(w);
         const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
+        // A natural cut above the target gives way to an aligned natural route within it
+        // whatever the gain.
+        const bool on_target = strict && is_natural && aligned &&
+                               wound_p <= options.winding_target_deg &&
+                               best_actual > options.winding_target_deg && wound_p < best_actual;
         const bool better =
-            strict ? (!best_natural && is_natural) ||
-                         (std::abs(w.winding_deg) < best_wound && (is_natural || !best_natural) &&
-                          (aligned || (is_natural && !was_natural)))
-                   : std::abs(w.winding_deg) < best_wound && aligned;
+            on_target ||
+            (strict ? (!best_natural && is_natural) ||
+                          (wound_p < best_wound && (is_natural || !best_natural) &&
+                           (aligned || (is_natural && !was_natural)))
+                    : wound_p < best_wound && aligned);
         if (better)
         {
-            best_wound = std::abs(w.winding_deg);
+            best_wound = std::min(wound_p, best_wound);
+            best_actual = wound_p;
             best_natural = is_natural;
             best = std::move(p);
         }

@@ -122,8 +122,9 @@ struct CutPlanOptions
     //! winding priced into the arc weights (PathQuery::steer_rate, a Lagrangian relaxation of
     //! "winds at most this much"); the steered path replaces it if it winds less by more than
     //! winding_min_gain_deg and loses at most winding_max_alignment_loss of alignment. With
-    //! natural_cuts also the bound of winding_bounded_path(). 0 = no steering. Not with
-    //! CutJoin::Closest.
+    //! natural_cuts also the bound of winding_bounded_path(), and a natural route within this
+    //! target (as aligned) replaces a natural cut above it whatever it gains. 0 = no
+    //! steering. Not with CutJoin::Closest.
     double winding_target_deg = 15.0;
     //! CutRoute::Aligned with a longitudinal coordinate: the bound on a natural cut's winding,
     //! in degrees. Without natural_cuts a cut taken along a streamline (CutPath::traced) is
