@@ -139,7 +139,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
                     : wound_p < best_wound && aligned);
         if (better)
         {
-            best_wound = std::min(wound_p, best_wound);
+            // A route taken for the target alone keeps the gain's threshold for the next ones.
+            best_wound = on_target ? std::min(wound_p, best_wound) : wound_p;
             best_actual = wound_p;
             best_natural = is_natural;
             best = std::move(p);
