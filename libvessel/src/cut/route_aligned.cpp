@@ -70,17 +70,18 @@ constexpr double kSearchBridge = 1.0;
 //    aligned that winds within the target replaces a natural cut above it whatever the gain
 //    (the gain is a hysteresis against trading an aligned cut for one that winds a little
 //    less; reaching the target is not a little).
-// 2. With options.natural_cuts, if no steered path reached the target or a natural cut:
-//    winding_bounded_path() with the meter's steps (WindingMeter::step(), carried over gaps of
-//    kSearchBridge ring radii) and the target as its bound (then, while that gives no natural cut,
-//    half the limit; then the two again with the meter's own steps; a cut that is natural already
-//    is offered the target's two only): the cheapest route whose angle stays within +-bound at
-//    every vertex (span <= 2 x bound), inside the hull too (on the vmtk aorta every route on the
-//    hull winds about +-80 degrees). There a candidate must also keep a natural cut natural, and a
-//    cut that is not natural takes a natural candidate whatever its alignment, and of two natural
-//    candidates the one that winds less (the bound is what natural means; the alignment's floor
-//    was fitted on cuts that wind less, and across a sac, where the stream field has no direction,
-//    no short passage is aligned).
+// 2. With options.natural_cuts, while the best route so far is not natural or the winding a
+//    replacement must beat (\p current's less winding_min_gain_deg at first, then set by
+//    each route taken) lies above the target: winding_bounded_path() with the meter's steps
+//    (WindingMeter::step(), carried over gaps of kSearchBridge ring radii) and the target as its
+//    bound (then, while that gives no natural cut, half the limit; then the two again with the
+//    meter's own steps; a cut that is natural already is offered the target's two only): the
+//    cheapest route whose angle stays within +-bound at every vertex (span <= 2 x bound), inside
+//    the hull too (on the vmtk aorta every route on the hull winds about +-80 degrees). There a
+//    candidate must also keep a natural cut natural, and a cut that is not natural takes a natural
+//    candidate whatever its alignment, and of two natural candidates the one that winds less (the
+//    bound is what natural means; the alignment's floor was fitted on cuts that wind less, and
+//    across a sac, where the stream field has no direction, no short passage is aligned).
 // \p traced: \p current was taken along a streamline (it cannot drift from an aligned curve by
 // more than its band); without options.natural_cuts it is searched again only if it is no
 // natural cut, with them as any other cut (a streamline on a coarse tube may still turn a
@@ -194,10 +195,10 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         if (!(strict && (best_wound > options.winding_target_deg || !best_natural)) ||
             !(limit > 0.0 && limit < 180.0))
             break;
-        // A natural cut can only give way to a route that winds less by winding_min_gain_deg:
-        // it is offered the target's bounds, bridged and then with the meter's own steps (the
-        // bridged route may read above the target by the meter); half the limit is for a cut
-        // that is not natural yet.
+        // A natural cut gives way only to a route within the target or one that winds less by
+        // winding_min_gain_deg: it is offered the target's bounds, bridged and then with the
+        // meter's own steps (the bridged route may read above the target by the meter); half
+        // the limit is for a cut that is not natural yet.
         if (best_natural && limit != options.winding_target_deg)
             continue;
         WindingBoundOptions bound;
