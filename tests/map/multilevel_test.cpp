@@ -239,11 +239,22 @@ TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips no
 namespace {
 
 // Options under which relax_area() makes exactly 6 sweeps (no early stop).
+// A cut cylinder, its level decimated to 300 vertices with a flip-free map, and the map
+// carried up from it.
+struct CarriedCylinder
+{
+    Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
+    CoarseMesh coarse = coarsen(mesh, 300, {});
+    Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
+    Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_uv, 0.99);
+};
+
 MultilevelOptions six_sweeps()
 {
     MultilevelOptions options;
     options.relax_sweeps = 6;
     options.tolerance = 0.0;
+    options.area_tolerance = 0.0;  // the whole schedule
     return options;
 }
 
@@ -277,10 +288,11 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
 {
     // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel
     // alone, and alternating with corrections from the level it was carried from.
-    const Mesh mesh = test::cut_cylinder(1.0, 6.0, 48, 60);
-    const CoarseMesh coarse = coarsen(mesh, 300, {});
-    const Eigen::MatrixX2d coarse_uv = coarse_map(coarse.mesh);
-    const Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_uv, 0.99);
+    const CarriedCylinder cylinder;
+    const Mesh& mesh = cylinder.mesh;
+    const CoarseMesh& coarse = cylinder.coarse;
+    const Eigen::MatrixX2d& coarse_uv = cylinder.coarse_uv;
+    const Eigen::MatrixX2d& carried = cylinder.carried;
     REQUIRE(test::count_flips(mesh, carried) == 0);
     const VertexHandle held = test::boundary_vertices(mesh).front();
     const Pins pins = {{held, carried.row(held.idx()).transpose()}};
@@ -311,6 +323,51 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     const Eigen::MatrixX2d other_uv = coarse_map(other.mesh);
     CHECK_THROWS_AS(relax_area(mesh, uv, pins, 0.99, options, &other, &other_uv), InvalidInputError);
     options.coarse_corrections = -1;
+    CHECK_THROWS_AS(options.validate(), InvalidInputError);
+}
+
+TEST_CASE("multilevel: relax_area stops at the area tolerance, with the map within it")
+{
+    // A carried map of a cut cylinder relaxed to the schedule's end (area_tolerance 0), and
+    // again with a tolerance between the area after the first correction and at the end: the
+    // relaxation stops after a correction, short of the schedule, with the map's mean |log
+    // area| (flat_quality()'s measure) at most the tolerance and no face flipped.
+    const CarriedCylinder cylinder;
+    const Mesh& mesh = cylinder.mesh;
+    const CoarseMesh& coarse = cylinder.coarse;
+    const Eigen::MatrixX2d& coarse_uv = cylinder.coarse_uv;
+    const Eigen::MatrixX2d& carried = cylinder.carried;
+    REQUIRE(test::count_flips(mesh, carried) == 0);
+    MultilevelOptions options = six_sweeps();
+    options.relax_sweeps = 12;
+    options.coarse_corrections = 6;
+    Eigen::MatrixX2d full = carried;
+    const RelaxSummary whole = relax_area(mesh, full, {}, 0.99, options, &coarse, &coarse_uv);
+    CHECK(whole.sweeps == 12);
+    CHECK_FALSE(whole.area_within_tolerance);
+    Eigen::MatrixX2d first = carried;
+    options.relax_sweeps = 2;  // two sweeps and the first correction
+    relax_area(mesh, first, {}, 0.99, options, &coarse, &coarse_uv);
+    const double at_first = flat_quality(mesh, first).mean_abs_log_area_normalized;
+    const double at_end = flat_quality(mesh, full).mean_abs_log_area_normalized;
+    MESSAGE("mean |log area|: carried " << flat_quality(mesh, carried).mean_abs_log_area_normalized
+                                        << ", after the first correction " << at_first
+                                        << ", after 12 sweeps " << at_end);
+    REQUIRE(at_end < 0.9 * at_first);
+
+    options.relax_sweeps = 12;
+    options.area_tolerance = 0.5 * (at_first + at_end);
+    Eigen::MatrixX2d stopped = carried;
+    const RelaxSummary early = relax_area(mesh, stopped, {}, 0.99, options, &coarse, &coarse_uv);
+    CHECK(early.area_within_tolerance);
+    CHECK(early.sweeps < 12);
+    CHECK(early.sweeps % 2 == 0);  // after a correction
+    CHECK(early.corrections == early.sweeps / 2);
+    CHECK(flat_quality(mesh, stopped).mean_abs_log_area_normalized <= options.area_tolerance);
+    CHECK(test::count_flips(mesh, stopped) == 0);
+    CHECK(boundary_self_intersection(mesh, stopped).first < 0);
+
+    options.area_tolerance = -1.0;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
 }
 

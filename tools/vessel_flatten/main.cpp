@@ -520,6 +520,13 @@ void add_map_options(CLI::App& app, Args& a, const Groups& g)
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);
+    app.add_option("--area-tolerance", options.multilevel.area_tolerance,
+                   "Coarse-to-fine: the finest level's relaxation stops once the map's mean "
+                   "|log area| is at most this (0 = its full schedule, for the last fraction "
+                   "of a percent at several times the time on the largest meshes)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str()
+        ->group(map_tuning);
     app.add_option("--crossing-patience", options.injective.crossing_patience,
                    "With --overlaps prevent: SLIM iterations the map's boundary may stay crossed "
                    "before SLIM goes back to its last simple iterate and on with a scaffold")

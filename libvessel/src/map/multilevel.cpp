@@ -32,6 +32,9 @@ void MultilevelOptions::validate() const
     if (!(tolerance >= 0.0 && std::isfinite(tolerance)))
         throw InvalidInputError("MultilevelOptions: tolerance must be >= 0 and finite, got " +
                                 std::to_string(tolerance));
+    if (!(area_tolerance >= 0.0 && std::isfinite(area_tolerance)))
+        throw InvalidInputError("MultilevelOptions: area_tolerance must be >= 0 and finite, got " +
+                                std::to_string(area_tolerance));
     if (look_reference_vertices < 0)
         throw InvalidInputError("MultilevelOptions: look_reference_vertices must be >= 0, got " +
                                 std::to_string(look_reference_vertices));

@@ -18,6 +18,41 @@
 
 namespace vessel {
 
+namespace {
+
+// flat_quality()'s mean |log area| (normalized: the map scaled to the surface's area) of the
+// map x over the faces \p ops, none flipped (relax_area() flips none). Summed in two fixed
+// halves, one per thread where there are two: the same bits whatever the thread count.
+double mean_abs_log_area(const std::vector<detail::FaceOperator>& ops, const double* x,
+                         int threads)
+{
+    const std::size_t half = ops.size() / 2;
+    std::array<double, 2> area3{}, area2{};
+    std::vector<double> ratio(ops.size());
+    detail::parallel_chunks(2, std::min(threads, 2), [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t part = begin; part < end; ++part)
+            for (std::size_t f = part == 0 ? 0 : half; f < (part == 0 ? half : ops.size()); ++f)
+            {
+                ratio[f] = detail::jacobian(ops[f], x).determinant();  // map / surface area
+                area3[part] += ops[f].area;
+                area2[part] += ratio[f] * ops[f].area;
+            }
+    });
+    const double total3 = area3[0] + area3[1];
+    if (!(total3 > 0.0))
+        return 0.0;
+    const double shift = std::log((area2[0] + area2[1]) / total3);
+    std::array<double, 2> sum{};
+    detail::parallel_chunks(2, std::min(threads, 2), [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t part = begin; part < end; ++part)
+            for (std::size_t f = part == 0 ? 0 : half; f < (part == 0 ? half : ops.size()); ++f)
+                sum[part] += ops[f].area * std::abs(std::log(ratio[f]) - shift);
+    });
+    return (sum[0] + sum[1]) / total3;
+}
+
+}  // namespace
+
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options,
                         const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv,
@@ -212,6 +247,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         // carry left), and where the sweeps would stop: they converge no further, the coarse
         // step may.
         const bool converged = lowered <= options.tolerance * std::max(current - minimum, 0.0);
+        bool corrected = false;
         if (correction && summary.corrections < options.coarse_corrections &&
             (summary.sweeps % 2 == 0 || converged))
         {
@@ -219,6 +255,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
                 correction->step(energy, xv, keep_boundary_simple ? &guard : nullptr, current);
             x = xv.data();
             ++summary.corrections;
+            corrected = true;
             if (by > 0.0)
             {
                 std::fill(active.begin(), active.end(), 1);  // every star changed
@@ -228,6 +265,12 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         summary.last_decrease = lowered;
         if (options.on_sweep)
             options.on_sweep(summary.sweeps);
+        if (corrected && options.area_tolerance > 0.0 &&
+            mean_abs_log_area(ops, x, threads) <= options.area_tolerance)
+        {
+            summary.area_within_tolerance = true;
+            break;
+        }
         if (lowered <= options.tolerance * std::max(current - minimum, 0.0))
             break;
     }

@@ -358,9 +358,11 @@ double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& rela
     char line[200];
     std::snprintf(line, sizeof line,
                   "%s%d relaxation sweeps, %d coarse-grid corrections, energy / minimum %.5f -> "
-                  "%.5f",
+                  "%.5f%s",
                   prefix, relaxed.sweeps, relaxed.corrections, relaxed.energy_before / minimum,
-                  relaxed.energy_after / minimum);
+                  relaxed.energy_after / minimum,
+                  relaxed.area_within_tolerance ? " (the map's area within the area tolerance)"
+                                                : "");
     result.notes.push_back(line);
     return minimum;
 }
@@ -444,9 +446,14 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                                        " boundary vertices nearer another part than the "
                                        "clearance after the carry");
         const bool deeper = l + 1 < levels.size();
+        // The area tolerance is the finished map's: a coarser level's area does not say it.
+        MultilevelOptions level_options = multilevel;
+        if (l > 0)
+            level_options.area_tolerance = 0.0;
         const RelaxSummary relaxed =
-            relax_area(above, uv, pins, lambda, multilevel, &levels[l], &coarser_uv, keep_simple,
-                       deeper ? &levels[l + 1] : nullptr, deeper ? &below_uv : nullptr);
+            relax_area(above, uv, pins, lambda, level_options, &levels[l], &coarser_uv,
+                       keep_simple, deeper ? &levels[l + 1] : nullptr,
+                       deeper ? &below_uv : nullptr);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
@@ -457,7 +464,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             // relaxation has no look terms, and the look retry's full-resolution check relaxes
             // its map further where its bound asks for it (recheck_look_retry()).
             const bool pulled = options.look_pull.weight > 0.0 || result.look_retry.kept;
-            if (!pulled && energy > kRelaxFurtherRatio * minimum &&
+            if (!pulled && !relaxed.area_within_tolerance && energy > kRelaxFurtherRatio * minimum &&
                 relaxed.last_decrease > kRelaxFurtherProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
