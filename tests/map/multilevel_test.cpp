@@ -238,7 +238,6 @@ TEST_CASE("multilevel: relax_area lowers the energy, holds the pins and flips no
 
 namespace {
 
-// Options under which relax_area() makes exactly 6 sweeps (no early stop).
 // A cut cylinder, its level decimated to 300 vertices with a flip-free map, and the map
 // carried up from it.
 struct CarriedCylinder
@@ -249,6 +248,7 @@ struct CarriedCylinder
     Eigen::MatrixX2d carried = prolongate(mesh, coarse, coarse_uv, 0.99);
 };
 
+// Options under which relax_area() makes exactly 6 sweeps (no early stop).
 MultilevelOptions six_sweeps()
 {
     MultilevelOptions options;
@@ -289,10 +289,7 @@ TEST_CASE("multilevel: coarse-grid corrections lower the energy further than the
     // A carried map of a cut cylinder, relaxed with the same sweep budget twice: Gauss-Seidel
     // alone, and alternating with corrections from the level it was carried from.
     const CarriedCylinder cylinder;
-    const Mesh& mesh = cylinder.mesh;
-    const CoarseMesh& coarse = cylinder.coarse;
-    const Eigen::MatrixX2d& coarse_uv = cylinder.coarse_uv;
-    const Eigen::MatrixX2d& carried = cylinder.carried;
+    const auto& [mesh, coarse, coarse_uv, carried] = cylinder;
     REQUIRE(test::count_flips(mesh, carried) == 0);
     const VertexHandle held = test::boundary_vertices(mesh).front();
     const Pins pins = {{held, carried.row(held.idx()).transpose()}};
@@ -333,10 +330,7 @@ TEST_CASE("multilevel: relax_area stops at the area tolerance, with the map with
     // relaxation stops after a correction, short of the schedule, with the map's mean |log
     // area| (flat_quality()'s measure) at most the tolerance and no face flipped.
     const CarriedCylinder cylinder;
-    const Mesh& mesh = cylinder.mesh;
-    const CoarseMesh& coarse = cylinder.coarse;
-    const Eigen::MatrixX2d& coarse_uv = cylinder.coarse_uv;
-    const Eigen::MatrixX2d& carried = cylinder.carried;
+    const auto& [mesh, coarse, coarse_uv, carried] = cylinder;
     REQUIRE(test::count_flips(mesh, carried) == 0);
     MultilevelOptions options = six_sweeps();
     options.relax_sweeps = 12;

@@ -5,6 +5,7 @@
 
 #include "detail/boundary_guard.h"
 #include "detail/coarse_correction.h"
+#include "detail/map_distortion.h"
 #include "detail/vertex_newton.h"
 #include "vessel/core/errors.h"
 
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <utility>
 
 namespace vessel {
 
@@ -23,30 +25,34 @@ namespace {
 // flat_quality()'s mean |log area| (normalized: the map scaled to the surface's area) of the
 // map x over the faces \p ops, none flipped (relax_area() flips none). Summed in two fixed
 // halves, one per thread where there are two: the same bits whatever the thread count.
-double mean_abs_log_area(const std::vector<detail::FaceOperator>& ops, const double* x,
-                         int threads)
+double mean_abs_log_area(const std::vector<detail::FaceOperator>& ops, const double* x, int threads)
 {
-    const std::size_t half = ops.size() / 2;
-    std::array<double, 2> area3{}, area2{};
-    std::vector<double> ratio(ops.size());
-    detail::parallel_chunks(2, std::min(threads, 2), [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t part = begin; part < end; ++part)
-            for (std::size_t f = part == 0 ? 0 : half; f < (part == 0 ? half : ops.size()); ++f)
-            {
-                ratio[f] = detail::jacobian(ops[f], x).determinant();  // map / surface area
-                area3[part] += ops[f].area;
-                area2[part] += ratio[f] * ops[f].area;
-            }
+    std::vector<std::pair<double, double>> areas(ops.size());  // (map, surface) per face
+    const std::array<std::size_t, 3> part{0, ops.size() / 2, ops.size()};
+    std::array<double, 2> area3{}, area2{}, sum{};
+    const auto halves = [&](const auto& body) {
+        detail::parallel_chunks(2, std::min(threads, 2),
+                                [&](std::size_t begin, std::size_t end, int) {
+                                    for (std::size_t p = begin; p < end; ++p)
+                                        body(p);
+                                });
+    };
+    halves([&](std::size_t p) {
+        for (std::size_t f = part[p]; f < part[p + 1]; ++f)
+        {
+            // det J = the face's map area over its surface area
+            areas[f] = {detail::jacobian(ops[f], x).determinant() * ops[f].area, ops[f].area};
+            area2[p] += areas[f].first;
+            area3[p] += areas[f].second;
+        }
     });
     const double total3 = area3[0] + area3[1];
     if (!(total3 > 0.0))
         return 0.0;
     const double shift = std::log((area2[0] + area2[1]) / total3);
-    std::array<double, 2> sum{};
-    detail::parallel_chunks(2, std::min(threads, 2), [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t part = begin; part < end; ++part)
-            for (std::size_t f = part == 0 ? 0 : half; f < (part == 0 ? half : ops.size()); ++f)
-                sum[part] += ops[f].area * std::abs(std::log(ratio[f]) - shift);
+    halves([&](std::size_t p) {
+        sum[p] = detail::normalized_log_area_sum(areas.data() + part[p], areas.data() + part[p + 1],
+                                                 shift);
     });
     return (sum[0] + sum[1]) / total3;
 }

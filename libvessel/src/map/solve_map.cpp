@@ -464,7 +464,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             // relaxation has no look terms, and the look retry's full-resolution check relaxes
             // its map further where its bound asks for it (recheck_look_retry()).
             const bool pulled = options.look_pull.weight > 0.0 || result.look_retry.kept;
-            if (!pulled && !relaxed.area_within_tolerance && energy > kRelaxFurtherRatio * minimum &&
+            if (!pulled && !relaxed.area_within_tolerance &&
+                energy > kRelaxFurtherRatio * minimum &&
                 relaxed.last_decrease > kRelaxFurtherProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {

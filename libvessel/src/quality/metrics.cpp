@@ -89,10 +89,8 @@ FlatQuality detail::map_distortion(const Mesh& mesh, const Eigen::MatrixX2d& uv)
     if (weight > 0 && good2 > 0)
     {
         const double shift = std::log(good2 / weight);  // weight = sum of the good A_3D
-        double normalized = 0.0;
-        for (const auto& [a2, a3] : good)
-            normalized += a3 * std::abs(std::log(a2 / a3) - shift);
-        q.mean_abs_log_area_normalized = normalized / weight;
+        q.mean_abs_log_area_normalized =
+            detail::normalized_log_area_sum(good.data(), good.data() + good.size(), shift) / weight;
     }
     return q;
 }
