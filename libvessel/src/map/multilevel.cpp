@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -149,32 +150,49 @@ void coarsen_into(const Mesh& fine, int target_vertices, const std::vector<Verte
     std::vector<Collapse> collapses;
     collapses.reserve(work.n_vertices() - std::min(target, work.n_vertices()));
     std::vector<std::size_t> rounds;
+    // Each round's candidates are found and sorted on two threads where that pays, each over a
+    // run of vertices, then merged: the keys (length, halfedge) are distinct, so the order is
+    // the one a single sort gives, and so are the collapses.
+    const int threads = detail::face_threads(fine.n_faces());
+    std::array<std::vector<std::pair<double, int>>, 2> found;
+    const DecimationMesh& mesh = work;
     while (alive > target)
     {
         rounds.push_back(collapses.size());
-        candidates.clear();
-        for (auto v : work.vertices())
-        {
-            if (work.status(v).locked())
-                continue;
-            double shortest = std::numeric_limits<double>::infinity();
-            int best = -1;
-            for (auto h : v.outgoing_halfedges())
+        const std::size_t vertices = mesh.n_vertices();
+        detail::parallel_chunks(vertices, threads, [&](std::size_t begin, std::size_t end, int t) {
+            found[t].clear();
+            for (std::size_t i = begin; i < end; ++i)
             {
-                if (v.is_boundary() &&
-                    (!(h.is_boundary() || h.opp().is_boundary()) || work.status(h.to()).locked()))
+                const auto v =
+                    OpenMesh::make_smart(OpenMesh::VertexHandle(static_cast<int>(i)), mesh);
+                if (mesh.status(v).locked() || mesh.status(v).deleted())
                     continue;
-                const double length = (work.point(h.to()) - work.point(v)).sqrnorm();
-                if (length < shortest)
+                double shortest = std::numeric_limits<double>::infinity();
+                int best = -1;
+                for (auto h : v.outgoing_halfedges())
                 {
-                    shortest = length;
-                    best = h.idx();
+                    if (v.is_boundary() && (!(h.is_boundary() || h.opp().is_boundary()) ||
+                                            mesh.status(h.to()).locked()))
+                        continue;
+                    const double length = (mesh.point(h.to()) - mesh.point(v)).sqrnorm();
+                    if (length < shortest)
+                    {
+                        shortest = length;
+                        best = h.idx();
+                    }
                 }
+                if (best >= 0)
+                    found[t].emplace_back(shortest, best);
             }
-            if (best >= 0)
-                candidates.emplace_back(shortest, best);
-        }
-        std::sort(candidates.begin(), candidates.end());
+            std::sort(found[t].begin(), found[t].end());
+        });
+        candidates.clear();
+        for (int t = 0; t < threads; ++t)
+            candidates.insert(candidates.end(), found[t].begin(), found[t].end());
+        if (threads > 1)
+            std::inplace_merge(candidates.begin(), candidates.begin() + found[0].size(),
+                               candidates.end());
         std::fill(touched.begin(), touched.end(), 0);
         std::size_t collapsed = 0;
         for (const auto& [length, index] : candidates)
