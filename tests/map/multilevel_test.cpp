@@ -18,6 +18,7 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <tuple>
 
 using namespace vessel;
 
@@ -156,6 +157,101 @@ TEST_CASE("multilevel: coarsen keeps a disk, the kept vertices and the boundary'
     std::rotate(kept_in_fine_order.begin(), at, kept_in_fine_order.end());
     CHECK(kept_in_fine_order == coarse_walk);
     CHECK(coarse.collapses.size() == fine.n_vertices() - m.n_vertices());
+}
+
+TEST_CASE("multilevel: coarsen's collapses replay on OpenMesh's half-edge mesh to the same level")
+{
+    // coarsen() decimates on arrays but keeps OpenMesh's halfedge numbering and circulation
+    // order, so that its levels are those OpenMesh's collapse() and garbage_collection() make
+    // on a copy built face by face (multilevel.h). Replayed on such a copy, every recorded
+    // collapse is one OpenMesh allows, its star listed as OpenMesh circulates it, each round's
+    // collapses in the order of (edge length, OpenMesh halfedge index), and the compacted copy
+    // is the coarse mesh, vertex for vertex and face for face, corner for corner.
+    FlattenOptions cut_only;
+    cut_only.refinement = Refinement::None;
+    const Mesh tree = flatten(test::test_tree_phantom(10), cut_only).mesh;
+    const Mesh cylinder = test::cut_cylinder(1.0, 6.0, 48, 60);
+    for (const auto& [fine, no_new_chords, keep_boundary] :
+         {std::tuple<const Mesh&, bool, bool>{tree, true, true}, {tree, false, false},
+          {cylinder, false, true}})
+    {
+        std::vector<VertexHandle> keep;
+        if (keep_boundary)
+            keep = test::boundary_vertices(fine);
+        const CoarseMesh coarse =
+            coarsen(fine, static_cast<int>(fine.n_vertices() / 4), keep, no_new_chords);
+        REQUIRE(coarse.collapses.size() > 100);
+
+        OpenMesh::TriMesh_ArrayKernelT<> copy;
+        copy.request_vertex_status();
+        copy.request_edge_status();
+        copy.request_face_status();
+        for (auto v : fine.vertices())
+            copy.add_vertex(OpenMesh::vector_cast<OpenMesh::Vec3f>(fine.point(v)));
+        for (auto f : fine.faces())
+        {
+            auto h = f.halfedge();
+            copy.add_face(OpenMesh::VertexHandle(h.from().idx()),
+                          OpenMesh::VertexHandle(h.to().idx()),
+                          OpenMesh::VertexHandle(h.next().to().idx()));
+        }
+        const auto length = [&](int a, int b) {
+            return (fine.point(VertexHandle(a)) - fine.point(VertexHandle(b))).sqrnorm();
+        };
+        std::size_t round = 0, out_of_order = 0, unlike = 0;
+        std::pair<double, int> last{-1.0, -1};
+        for (std::size_t c = 0; c < coarse.collapses.size(); ++c)
+        {
+            if (round < coarse.rounds.size() && coarse.rounds[round] == c)
+            {
+                ++round;
+                last = {-1.0, -1};
+            }
+            const Collapse& collapse = coarse.collapses[c];
+            const auto h = OpenMesh::make_smart(
+                copy.find_halfedge(OpenMesh::VertexHandle(collapse.v0),
+                                   OpenMesh::VertexHandle(collapse.v1)),
+                copy);
+            REQUIRE(h.is_valid());
+            REQUIRE(copy.is_collapse_ok(h));
+            std::vector<std::array<int, 2>> star;
+            int across = -1;
+            for (auto out : h.from().outgoing_halfedges())
+            {
+                if (!out.is_boundary())
+                    star.push_back({out.to().idx(), out.next().to().idx()});
+                if ((out.is_boundary() || out.opp().is_boundary()) && out.to() != h.to())
+                    across = out.to().idx();
+            }
+            unlike += star != collapse.faces || across != collapse.across;
+            const std::pair<double, int> key{length(collapse.v0, collapse.v1), h.idx()};
+            out_of_order += key < last;
+            last = key;
+            copy.collapse(h);
+        }
+        CHECK(unlike == 0);
+        CHECK(out_of_order == 0);
+        auto fine_index = OpenMesh::VProp<int>(copy);
+        for (auto v : copy.vertices())
+            fine_index[v] = v.idx();
+        copy.garbage_collection();
+        REQUIRE(copy.n_vertices() == coarse.mesh.n_vertices());
+        REQUIRE(copy.n_faces() == coarse.mesh.n_faces());
+        std::size_t moved = 0, turned = 0;
+        for (auto v : copy.vertices())
+            moved += fine_index[v] != coarse.fine_of[v.idx()];
+        for (auto f : copy.faces())
+        {
+            // The coarse face was added as the copy's face reads from its halfedge on, and
+            // add_face() gives a face the halfedge into its first corner.
+            const auto h = f.halfedge();
+            const auto g = OpenMesh::make_smart(
+                coarse.mesh.halfedge_handle(coarse.mesh.face_handle(f.idx())), coarse.mesh);
+            turned += h.from().idx() != g.to().idx() || h.to().idx() != g.next().to().idx();
+        }
+        CHECK(moved == 0);
+        CHECK(turned == 0);
+    }
 }
 
 TEST_CASE("multilevel: rounds of independent collapses carry to the same bits on two threads")

@@ -121,6 +121,10 @@ struct CoarseMesh
 //! keeping the topology (a disk stays a disk) and turning no face normal by more than 60
 //! degrees. Boundary vertices are removed only along the boundary, so the coarse boundary is a
 //! subsequence of the fine one; those in \p keep are never removed.
+//! Ties between equally short edges break as OpenMesh's halfedge numbering and circulation
+//! order break them on a copy of \p fine built face by face: the coarse mesh, its vertex and
+//! face order and the collapses are those of OpenMesh's collapse() and garbage_collection()
+//! (docs/benchmarks.md, "The decimation on arrays, OpenMesh's ties kept").
 //! The coarse mesh carries none of the fine mesh's custom properties.
 //! \param no_new_chords if true, no collapse joins two boundary vertices by a new interior edge
 //! (a chord; the fine mesh's own chords stay). A face with its three corners on the boundary is
