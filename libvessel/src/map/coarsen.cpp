@@ -69,6 +69,27 @@ struct Fan
         b.clear();
         boundary_to = boundary_back = -1;
     }
+    void add(int f, int k, const std::array<int, 3>& c)
+    {
+        face.push_back(f);
+        corner.push_back(k);
+        a.push_back(c[(k + 1) % 3]);
+        b.push_back(c[(k + 2) % 3]);
+    }
+    // boundary_to, boundary_face and boundary_back of a boundary vertex's faces, all listed.
+    void find_boundary()
+    {
+        for (std::size_t i = 0; i < size(); ++i)
+        {
+            if (std::find(a.begin(), a.end(), b[i]) == a.end())
+            {
+                boundary_to = b[i];
+                boundary_face = i;
+            }
+            if (std::find(b.begin(), b.end(), a[i]) == b.end())
+                boundary_back = a[i];
+        }
+    }
     void swap_faces(std::size_t i, std::size_t j)
     {
         std::swap(face[i], face[j]);
@@ -115,15 +136,21 @@ private:
             if (const int f = incident_[i]; face_alive_[f])
                 visit(f);
     }
+    // v's corner in face f.
+    int corner_of(int f, int v) const
+    {
+        const auto& c = faces_[f];
+        return c[0] == v ? 0 : c[1] == v ? 1 : 2;
+    }
     // v's live faces into \p out, unordered.
     void gather(int v, Fan& out) const;
     // \p fan (gathered for v) into OpenMesh's order.
     void order(int v, Fan& fan) const;
     // The OpenMesh index of the halfedge v -> w, from v's fan (w a neighbour).
     int halfedge(const Fan& fan, int w) const;
-    // The outgoing halfedge OpenMesh gives v once its star is made: the boundary one for a
-    // boundary vertex, else \p otherwise.
-    int outgoing(int v, int otherwise);
+    // The outgoing halfedge OpenMesh gives a vertex of faces \p fan once its star is made: the
+    // boundary one for a boundary vertex, else \p otherwise.
+    int outgoing(const Fan& fan, int otherwise) const;
     const OpenMesh::Vec3d& point(int v) const { return points_[v]; }
 
     const OpenMesh::Vec3d* points_;  // the fine mesh's
@@ -196,26 +223,9 @@ void Decimation::index_faces()
 void Decimation::gather(int v, Fan& out) const
 {
     out.clear();
-    for_faces(v, [&](int f) {
-        const auto& c = faces_[f];
-        const int k = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-        out.face.push_back(f);
-        out.corner.push_back(k);
-        out.a.push_back(c[(k + 1) % 3]);
-        out.b.push_back(c[(k + 2) % 3]);
-    });
-    if (!boundary_[v])
-        return;
-    for (std::size_t i = 0; i < out.size(); ++i)
-    {
-        if (std::find(out.a.begin(), out.a.end(), out.b[i]) == out.a.end())
-        {
-            out.boundary_to = out.b[i];
-            out.boundary_face = i;
-        }
-        if (std::find(out.b.begin(), out.b.end(), out.a[i]) == out.b.end())
-            out.boundary_back = out.a[i];
-    }
+    for_faces(v, [&](int f) { out.add(f, corner_of(f, v), faces_[f]); });
+    if (boundary_[v])
+        out.find_boundary();
 }
 
 void Decimation::order(int v, Fan& fan) const
@@ -259,9 +269,8 @@ Candidate Decimation::candidate(int v, Fan& fan) const
         // Each neighbour is one face's a: the first strictly shortest unless two tie.
         bool tie = false;
         for_faces(v, [&](int f) {
-            const auto& c = faces_[f];
-            const int k = c[0] == v ? 0 : c[1] == v ? 1 : 2;
-            const int w = c[(k + 1) % 3];
+            const int k = corner_of(f, v);
+            const int w = faces_[f][(k + 1) % 3];
             const double length = (point(w) - point(v)).sqrnorm();
             if (length < best.length)
             {
@@ -378,10 +387,9 @@ bool Decimation::allowed(int v0, int v1, bool no_new_chords)
     return true;
 }
 
-int Decimation::outgoing(int v, int otherwise)
+int Decimation::outgoing(const Fan& fan, int otherwise) const
 {
-    gather(v, fan_w_);
-    return fan_w_.boundary_to >= 0 ? halfedge(fan_w_, fan_w_.boundary_to) : otherwise;
+    return fan.boundary_to >= 0 ? halfedge(fan, fan.boundary_to) : otherwise;
 }
 
 Collapse Decimation::collapse(int v0, int v1, std::vector<char>& touched)
@@ -439,24 +447,24 @@ Collapse Decimation::collapse(int v0, int v1, std::vector<char>& touched)
     // The vertices' outgoing halfedges as collapse_loop() and adjust_outgoing_halfedge() leave
     // them: the boundary one where there is one. v1's faces are its listed ones and v0's until
     // the next round's listing.
-    gather(v1, fan_v1_);
+    fan_v1_.clear();
+    for_faces(v1, [&](int f) { fan_v1_.add(f, corner_of(f, v1), faces_[f]); });
     for (std::size_t i = 0; i < fan.size(); ++i)
         if (fan.face[i] != left && fan.face[i] != right)
-        {
-            fan_v1_.face.push_back(fan.face[i]);
-            fan_v1_.corner.push_back(fan.corner[i]);
-            fan_v1_.a.push_back(fan.a[i]);
-            fan_v1_.b.push_back(fan.b[i]);
-        }
-    int to = -1;
-    for (std::size_t i = 0; i < fan_v1_.size(); ++i)
-        if (std::find(fan_v1_.a.begin(), fan_v1_.a.end(), fan_v1_.b[i]) == fan_v1_.a.end())
-            to = fan_v1_.b[i];
-    outgoing_[v1] = to >= 0 ? halfedge(fan_v1_, to) : right >= 0 ? e ^ 1 : b;
+            fan_v1_.add(fan.face[i], fan.corner[i], faces_[fan.face[i]]);
+    if (boundary_[v1])
+        fan_v1_.find_boundary();
+    outgoing_[v1] = outgoing(fan_v1_, right >= 0 ? e ^ 1 : b);
     if (left >= 0)
-        outgoing_[vl] = outgoing(vl, b ^ 1);
+    {
+        gather(vl, fan_w_);
+        outgoing_[vl] = outgoing(fan_w_, b ^ 1);
+    }
     if (right >= 0)
-        outgoing_[vr] = outgoing(vr, e);
+    {
+        gather(vr, fan_w_);
+        outgoing_[vr] = outgoing(fan_w_, e);
+    }
     touched[v1] = 1;
     for (const Fan* around : {&fan0_, &fan1_})
         for (const std::vector<int>* corners : {&around->a, &around->b})
