@@ -6,6 +6,7 @@
 #include "vessel/map/injective.h"
 #include "vessel/quality/metrics.h"
 #include "vessel/phantom/phantom.h"
+#include "vessel/pipeline.h"
 
 #include <array>
 #include <cmath>
@@ -172,4 +173,24 @@ TEST_CASE("scaffold: a coarser angle bound fills the same free space with fewer 
                     InvalidInputError);
     CHECK_THROWS_AS(detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, 0.0),
                     InvalidInputError);
+}
+
+TEST_CASE("injective: SLIM goes on past steps cut short by a nearly collapsed triangle")
+{
+    // The 15-outlet tree phantom of seed 2: from the layout circle its coarse mesh's SLIM
+    // steps are cut to ~1e-12 of the proxy's step for three iterations at an energy 3e4 times
+    // its final one; stopping there (as converged) left the coarse map without the tree's look
+    // and the look retry made the map.
+    const Mesh tree = test::test_tree_phantom(15, 2, 0.75);
+    const double area = face_areas(tree).sum();
+    const FlattenResult r = flatten(tree);
+    CHECK(r.injective.stalls_passed >= 1);
+    CHECK(r.injective.converged);
+    // Symmetric Dirichlet is 4 x area at an isometry; the coarse mesh keeps the area.
+    CHECK(r.injective.final_energy < 1.1 * 4.0 * area);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);
+    CHECK_FALSE(r.look_retry.kept);
+    CHECK(r.look.outlets_below_inlet == 0);
+    CHECK(r.look.walk_inversions == 0);
 }

@@ -621,6 +621,12 @@ private:
     std::vector<Eigen::VectorXd> partial_rhs_;
     double e_surface_ = 0.0;
     int slow_ = 0;  // consecutive iterations below the tolerance
+    // Consecutive iterations whose step was cut below kShortStep of the proxy's step (its
+    // minimizer is step 1): a nearly collapsed triangle in the way, or a line search that
+    // halved ten times.
+    int short_ = 0;
+    static constexpr double kShortStep = 1e-3;
+    static constexpr int kMaxStallsPassed = 3;
     // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
     Eigen::VectorXd last_simple_;
     int last_simple_it_ = 0;
@@ -932,10 +938,22 @@ bool Slim::iterate(int it, int done)
     const double decrease = (e_surface_ - e_surface_new) / e_surface_;
     e_surface_ = e_surface_new;
     // One small step can come from a short line search (a nearly collapsed triangle in the
-    // way), not from convergence; three in a row cannot.
+    // way), not from convergence; three in a row are convergence unless each step was cut
+    // short too. Then a nearly collapsed triangle bounds every step along the proxy's
+    // direction while the energy is still orders of magnitude above its minimum (a decimated
+    // many-outlet tree from the layout circle); the next iterations' proxies, fitted at the
+    // moved map, and the true gradient's steps get past it (docs/design.md, "SLIM's stopping
+    // rule"). kMaxStallsPassed bounds the extra iterations.
     slow_ = decrease < (scaffold_ ? scaffold_tolerance_ : options_.tolerance) ? slow_ + 1 : 0;
+    short_ = step.step < kShortStep ? short_ + 1 : 0;
     if (slow_ == 3)
     {
+        if (short_ >= 3 && summary_.stalls_passed < kMaxStallsPassed)
+        {
+            ++summary_.stalls_passed;
+            slow_ = 0;
+            return true;
+        }
         summary_.converged = true;
         return false;
     }
@@ -1006,6 +1024,9 @@ std::string Slim::report() const
                               : std::string()) +
            (s.gradient_steps > 0
                 ? ", " + std::to_string(s.gradient_steps) + " steps along the true gradient"
+                : std::string()) +
+           (s.stalls_passed > 0
+                ? ", " + std::to_string(s.stalls_passed) + " runs of short steps gone on from"
                 : std::string());
 }
 

@@ -29,7 +29,9 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh, const Pins& boundary);
 struct InjectiveOptions
 {
     int max_iterations = 100;  //!< SLIM iterations
-    double tolerance = 1e-4;   //!< stop after 3 iterations in a row decrease the energy by less
+    //! Stop after 3 iterations in a row decrease the energy by less (relative), unless each of
+    //! them was cut short by a nearly collapsed triangle (InjectiveSummary::stalls_passed).
+    double tolerance = 1e-4;
     //! Keep the map one-to-one, not only flip-free: triangulate the free space between the
     //! map's boundary and a box around it (a scaffold, Jiang et al. 2017) and let no scaffold
     //! triangle flip either, so the boundary cannot run into itself. Needs a start without
@@ -140,6 +142,10 @@ struct InjectiveSummary
     //! Steps along the proxy matrix applied to the energy's true gradient, where the proxy's
     //! own direction did not descend (weights clamped on nearly collapsed faces).
     int gradient_steps = 0;
+    //! Runs of three slow iterations that did not end the run because each step was cut below
+    //! a thousandth of the proxy's step (a nearly collapsed triangle in the way, far from the
+    //! minimum); at most 3 per run.
+    int stalls_passed = 0;
     std::string report;  //!< one line: iterations and energies
 };
 
