@@ -1026,7 +1026,7 @@ std::string Slim::report() const
                 ? ", " + std::to_string(s.gradient_steps) + " steps along the true gradient"
                 : std::string()) +
            (s.stalls_passed > 0
-                ? ", " + std::to_string(s.stalls_passed) + " runs of short steps gone on from"
+                ? ", " + std::to_string(s.stalls_passed) + " stalls passed"
                 : std::string());
 }
 
