@@ -142,7 +142,9 @@ private:
         const auto& c = faces_[f];
         return c[0] == v ? 0 : c[1] == v ? 1 : 2;
     }
-    // v's live faces into \p out, unordered.
+    // v's live faces into \p out, unordered, without the boundary search.
+    void list(int v, Fan& out) const;
+    // v's live faces into \p out, unordered, with the boundary search for a boundary vertex.
     void gather(int v, Fan& out) const;
     // \p fan (gathered for v) into OpenMesh's order.
     void order(int v, Fan& fan) const;
@@ -220,10 +222,15 @@ void Decimation::index_faces()
                 incident_[next[v]++] = static_cast<int>(f);
 }
 
-void Decimation::gather(int v, Fan& out) const
+void Decimation::list(int v, Fan& out) const
 {
     out.clear();
     for_faces(v, [&](int f) { out.add(f, corner_of(f, v), faces_[f]); });
+}
+
+void Decimation::gather(int v, Fan& out) const
+{
+    list(v, out);
     if (boundary_[v])
         out.find_boundary();
 }
@@ -447,8 +454,7 @@ Collapse Decimation::collapse(int v0, int v1, std::vector<char>& touched)
     // The vertices' outgoing halfedges as collapse_loop() and adjust_outgoing_halfedge() leave
     // them: the boundary one where there is one. v1's faces are its listed ones and v0's until
     // the next round's listing.
-    fan_v1_.clear();
-    for_faces(v1, [&](int f) { fan_v1_.add(f, corner_of(f, v1), faces_[f]); });
+    list(v1, fan_v1_);
     for (std::size_t i = 0; i < fan.size(); ++i)
         if (fan.face[i] != left && fan.face[i] != right)
             fan_v1_.add(fan.face[i], fan.corner[i], faces_[fan.face[i]]);
