@@ -552,9 +552,9 @@ void add_map_options(CLI::App& app, Args& a, const Groups& g)
                "tutte (constant speed)")
         ->group(map_tuning);
     app.add_option("--look-pull", options.look_pull.weight,
-                   "When the map restarts, SLIM and the area polish also keep the start's look "
-                   "(each outlet above the inlet and in walk order, or on its start ray: "
-                   "--look-pull-form; centre_pull.h); the weight, 0 = off")
+                   "When the map restarts, SLIM, the area polish and the coarse-to-fine carry "
+                   "also keep the start's look (each outlet above the inlet and in walk order, "
+                   "or on its start ray: --look-pull-form; centre_pull.h); the weight, 0 = off")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str()
         ->group(map_tuning);

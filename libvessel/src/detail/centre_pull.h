@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace vessel::detail {
@@ -26,6 +27,27 @@ double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::Vec
 //! \param diagonal value index of entry (i, i) of the normal matrix's values \p values.
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs);
+
+//! One active pull linearized at a map x (PullSteps::GaussNewton): its residual r (a hinge's
+//! at most 0), weight W, and u = dr/dx as (interleaved unknown 2 v + k, value) entries.
+struct PullRow
+{
+    double weight = 0.0;
+    double r = 0.0;
+    std::vector<std::pair<int, double>> entries;
+};
+
+//! \brief The pulls active at the interleaved map \p x as rows, the pulls' Gauss-Newton
+//! Hessian being sum 2 W u u^T. With \p band > 0 a hinge that holds by less than \p band times
+//! its margin counts too (r = 0: its curvature, no gradient), so that an exact step does not
+//! jump past a hinge that it turns on.
+std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
+                                      const Eigen::VectorXd& x, double band = 0.0);
+
+//! \brief Turns y = A^-1 b into (A + U diag(c) U^T)^-1 b (the Woodbury identity), given
+//! Z = A^-1 U: y -= Z (diag(1 / c) + U^T Z)^-1 U^T y. Every c > 0.
+void add_low_rank_inverse(Eigen::VectorXd& y, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Z,
+                          const Eigen::VectorXd& c);
 
 //! Add the pulls' gradient at \p x to \p gradient, whose entries 2 slot[v] + k are vertex v's
 //! (slot[v] < 0: a fixed vertex, skipped).

@@ -20,6 +20,7 @@
 
 #include <Eigen/Sparse>
 
+#include <functional>
 #include <vector>
 
 namespace vessel::detail {
@@ -80,7 +81,10 @@ public:
     //! One correction of the map x (interleaved), whose energy is \p current (updated).
     //! Returns the energy lowered (0: no admissible step; x unchanged). \p guard null: the
     //! boundary is not kept simple (no coarse vertex held).
-    double step(const VertexEnergy& energy, Eigen::VectorXd& x, BoundaryGuard* guard, double& current);
+    //! \p extra, if set: more energy of the map beside the faces' (the look pulls; in
+    //! \p current too), which the line search counts.
+    double step(const VertexEnergy& energy, Eigen::VectorXd& x, BoundaryGuard* guard, double& current,
+                const std::function<double(const Eigen::VectorXd&)>& extra = {});
 
 private:
     const std::vector<FaceOperator>& faces_;

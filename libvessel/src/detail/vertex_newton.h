@@ -96,17 +96,30 @@ private:
     double lambda_;
 };
 
+//! No energy beside the faces' (vertex_newton_step()'s \p extra).
+struct NoExtraEnergy
+{
+    double operator()(const Eigen::Vector2d&, Eigen::Vector2d*, Eigen::Matrix2d*) const
+    {
+        return 0.0;
+    }
+};
+
 //! One projected Newton step of vertex \p v (position x[2v], x[2v + 1]) over the faces
 //! [begin, end) around it, at most \p max_step long; \p accept(position) may veto a trial
 //! position (it is written into x when asked). Returns the energy lowered (0: not moved).
-template <class Accept>
+//! \p extra(p, grad, hess): more energy of the vertex at position p (the look pulls), adding
+//! its gradient and a positive semidefinite Hessian where those are not null.
+template <class Accept, class Extra = NoExtraEnergy>
 double vertex_newton_step(const VertexEnergy& energy, const Corner* begin, const Corner* end,
                           double* x, int v, double max_step, const Accept& accept,
-                          std::vector<Eigen::Vector3d>& ds)
+                          std::vector<Eigen::Vector3d>& ds, const Extra& extra = Extra())
 {
     Eigen::Vector2d grad;
     Eigen::Matrix2d hess;
-    const double before = energy.derivatives(begin, end, x, grad, hess, ds);
+    const Eigen::Vector2d start(x[2 * v], x[2 * v + 1]);
+    const double before =
+        energy.derivatives(begin, end, x, grad, hess, ds) + extra(start, &grad, &hess);
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig;
     eig.computeDirect(hess);
     Eigen::Vector2d lambda = eig.eigenvalues();
@@ -125,12 +138,12 @@ double vertex_newton_step(const VertexEnergy& energy, const Corner* begin, const
         if (rate < 0.0)
             alpha = std::min(alpha, 0.9 * (-d.z() / rate));
     }
-    const Eigen::Vector2d start(x[2 * v], x[2 * v + 1]);
     for (int tries = 0; tries < 12; ++tries, alpha *= 0.5)
     {
         x[2 * v] = start.x() + alpha * step.x();
         x[2 * v + 1] = start.y() + alpha * step.y();
-        const double after = energy.around(begin, end, x);
+        const double after = energy.around(begin, end, x) +
+                             extra(Eigen::Vector2d(x[2 * v], x[2 * v + 1]), nullptr, nullptr);
         if (after <= before + 1e-4 * alpha * slope && accept(Eigen::Vector2d(x[2 * v], x[2 * v + 1])))
             return before - after;
     }

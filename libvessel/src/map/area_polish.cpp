@@ -141,12 +141,39 @@ struct NewtonSystem
     bool analyzed = false;
 };
 
+// The Newton step H^-1 (-gradient) corrected for the pulls' Gauss-Newton terms 2 W u u^T
+// (PullSteps::GaussNewton), u over the free vertices' unknowns (slot), by the Woodbury identity
+// with the factor of H (which holds the faces' part only).
+void add_pull_terms(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                    const std::vector<int>& slot, detail::PairedCholmod& solver,
+                    Eigen::VectorXd& step)
+{
+    // Hinges within a margin of turning on count too (AreaPolishOptions::pull_steps).
+    const std::vector<detail::PullRow> rows = detail::active_pull_rows(pulls, x, 1.0);
+    if (rows.empty())
+        return;
+    const auto k = static_cast<Eigen::Index>(rows.size());
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(step.size(), k);
+    Eigen::VectorXd weights(k);
+    for (Eigen::Index j = 0; j < k; ++j)
+    {
+        const detail::PullRow& row = rows[static_cast<std::size_t>(j)];
+        for (const auto& [i, value] : row.entries)
+            if (const int s = slot[static_cast<std::size_t>(i / 2)]; s >= 0)
+                U(2 * s + i % 2, j) += value;
+        weights[j] = 2.0 * row.weight;
+    }
+    const Eigen::MatrixXd Z = solver.solve(U);
+    if (solver.info() == Eigen::Success && Z.allFinite())
+        detail::add_low_rank_inverse(step, U, Z, weights);
+}
+
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x) with
 // `system` (made for the same faces and free vertices), each line searched from the full step
 // back to one that flips no face and lowers the energy (Armijo). Returns the steps taken; `cost`
 // is the energy at the end.
-int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, int iterations,
-                 double& cost, const std::function<void(int done)>& on_step)
+int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, PullSteps pull_steps,
+                 int iterations, double& cost, const std::function<void(int done)>& on_step)
 {
     const std::vector<int>& slot = energy.slot();
     const int m = energy.NumParameters();
@@ -161,8 +188,10 @@ int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, int 
     for (; done < iterations; ++done)
     {
         hessian.assemble(energy.faces(), energy.x().data(), lambda);
-        detail::add_centre_pull_curvature(energy.pulls(), energy.x(), slot, hessian.diagonal(),
-                                          H.valuePtr());
+        const bool exact_pulls = pull_steps == PullSteps::GaussNewton;
+        if (!exact_pulls)
+            detail::add_centre_pull_curvature(energy.pulls(), energy.x(), slot,
+                                              hessian.diagonal(), H.valuePtr());
         hessian.shift_diagonal();
         {
             const detail::SerialOpenMp serial;
@@ -177,7 +206,9 @@ int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, int 
         }
         if (solver.info() != Eigen::Success)
             break;
-        const Eigen::VectorXd step = solver.solve(-gradient);
+        Eigen::VectorXd step = solver.solve(-gradient);
+        if (exact_pulls && !energy.pulls().empty())
+            add_pull_terms(energy.pulls(), energy.x(), slot, solver, step);
         const double slope = gradient.dot(step);
         if (!step.allFinite() || !(slope < 0.0))
             break;
@@ -332,7 +363,7 @@ AreaPolishSummary area_polish(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins
                 system.reset();  // the last chunk's factor freed before the next is made
                 system = std::make_unique<NewtonSystem>(*energy);
             }
-            done = newton_steps(*energy, *system, options.area_weight,
+            done = newton_steps(*energy, *system, options.area_weight, options.pull_steps,
                                 std::min(options.newton_chunk_iterations,
                                          options.newton_max_iterations - summary.iterations),
                                 after, [&](int steps) {

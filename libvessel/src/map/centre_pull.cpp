@@ -3,6 +3,8 @@
 #include "detail/centre_pull.h"
 #include "vessel/core/errors.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -247,6 +249,42 @@ double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::Vec
             e += pull.weight * res.r * res.r;
     }
     return e;
+}
+
+std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
+                                      const Eigen::VectorXd& x, double band)
+{
+    std::vector<PullRow> rows;
+    for (const CentrePull& pull : pulls)
+    {
+        const Residual res = residual(pull, x);
+        const bool near =
+            pull.kind != PullKind::Line && res.r < band * std::abs(pull.margin);
+        if (!(res.active || near) || !(pull.weight > 0.0))
+            continue;
+        PullRow row;
+        row.weight = pull.weight;
+        row.r = pull.kind == PullKind::Line ? res.r : std::min(res.r, 0.0);
+        const auto add = [&](const std::vector<int>& set, const Eigen::Vector2d& d) {
+            const double n = static_cast<double>(set.size());
+            for (int v : set)
+                for (int k = 0; k < 2; ++k)
+                    row.entries.emplace_back(2 * v + k, d[k] / n);
+        };
+        add(pull.vertices, res.by_first);
+        if (pull.kind == PullKind::Order)
+            add(pull.second, res.by_second);
+        rows.push_back(std::move(row));
+    }
+    return rows;
+}
+
+void add_low_rank_inverse(Eigen::VectorXd& y, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Z,
+                          const Eigen::VectorXd& c)
+{
+    Eigen::MatrixXd S = U.transpose() * Z;
+    S.diagonal() += c.cwiseInverse();
+    y -= Z * S.ldlt().solve(U.transpose() * y);
 }
 
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,

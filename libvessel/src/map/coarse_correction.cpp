@@ -642,7 +642,8 @@ Eigen::VectorXd CoarseCorrection::solve(const Eigen::VectorXd& rhs)
 }
 
 double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, BoundaryGuard* guard,
-                              double& current)
+                              double& current,
+                              const std::function<double(const Eigen::VectorXd&)>& extra)
 {
     const double* x = xv.data();
     const Eigen::Index n2 = xv.size();
@@ -696,6 +697,8 @@ double CoarseCorrection::step(const VertexEnergy& energy, Eigen::VectorXd& xv, B
         {
             trial = xv + t * direction;
             e = total_energy(faces_, energy, trial.data(), per_face_);
+            if (extra)
+                e += extra(trial);
             if (e <= current + 1e-4 * t * slope)
                 break;
         }

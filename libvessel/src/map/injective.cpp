@@ -788,7 +788,22 @@ Eigen::VectorXd Slim::global_target()
             values[M_.diagonal[i]] += pin_weight_;
             rhs[i] += pin_weight_ * x_[i];
         }
-    detail::add_centre_pulls(options_.centre_pulls, x_, M_.diagonal, values, rhs);
+    // The pulls: the proxy in the matrix, or the Gauss-Newton terms W (r + u . (y - x))^2,
+    // whose part of the right-hand side is W (u . x - r) u and whose W u u^T the Woodbury
+    // identity adds after the solve.
+    std::vector<detail::PullRow> pull_rows;
+    if (options_.pull_steps == PullSteps::GaussNewton)
+        pull_rows = detail::active_pull_rows(options_.centre_pulls, x_);
+    else
+        detail::add_centre_pulls(options_.centre_pulls, x_, M_.diagonal, values, rhs);
+    for (const detail::PullRow& row : pull_rows)
+    {
+        double ux = 0.0;
+        for (const auto& [i, value] : row.entries)
+            ux += value * x_[i];
+        for (const auto& [i, value] : row.entries)
+            rhs[i] += row.weight * (ux - row.r) * value;
+    }
     // Scaffold slivers can make the matrix numerically indefinite; a stronger proximal term (a
     // Levenberg-style damping: the line search still uses the true energy) fixes it.
     for (double damping = 0.0;; damping = damping == 0.0 ? 1e-10 : 100.0 * damping)
@@ -811,6 +826,23 @@ Eigen::VectorXd Slim::global_target()
     Eigen::VectorXd target = solver_.solve(rhs);
     if (solver_.info() != Eigen::Success || !target.allFinite())
         throw SolverError("injective_refine: CHOLMOD solve failed");
+    if (!pull_rows.empty())
+    {
+        const auto k = static_cast<Eigen::Index>(pull_rows.size());
+        Eigen::MatrixXd U = Eigen::MatrixXd::Zero(2 * n_all_, k);
+        Eigen::VectorXd weights(k);
+        for (Eigen::Index j = 0; j < k; ++j)
+        {
+            const detail::PullRow& row = pull_rows[static_cast<std::size_t>(j)];
+            for (const auto& [i, value] : row.entries)
+                U(i, j) += value;
+            weights[j] = row.weight;
+        }
+        const Eigen::MatrixXd Z = solver_.solve(U);
+        if (solver_.info() != Eigen::Success || !Z.allFinite())
+            throw SolverError("injective_refine: CHOLMOD solve failed");
+        detail::add_low_rank_inverse(target, U, Z, weights);
+    }
     return target;
 }
 

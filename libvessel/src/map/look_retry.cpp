@@ -137,6 +137,7 @@ FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOption
 {
     FlattenOptions pulled = cancellable(options, cancel);
     pulled.look_pull.weight = options.look_retry.pull;
+    pulled.look_pull.steps = PullSteps::DiagonalProxy;  // LookRetryOptions::pull
     FlattenResult trial;
     refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
     return trial;

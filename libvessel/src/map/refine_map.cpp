@@ -52,6 +52,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull.weight,
                                            options.look_pull.form, options.look_pull.margin_deg,
                                            options.look_pull.hold);
+        slim.pull_steps = options.look_pull.steps;
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }
     if (slim.max_iterations > 0)
@@ -65,6 +66,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             AreaPolishOptions polish = options.area_polish;
             polish.keep_boundary_simple = options.overlaps != OverlapPolicy::Keep;
             polish.centre_pulls = slim.centre_pulls;
+            polish.pull_steps = slim.pull_steps;
             result.notes.push_back(area_polish(mesh, result.uv, pins, polish).report);
         }
     }

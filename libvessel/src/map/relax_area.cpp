@@ -4,6 +4,7 @@
 #include "vessel/map/multilevel.h"
 
 #include "detail/boundary_guard.h"
+#include "detail/centre_pull.h"
 #include "detail/coarse_correction.h"
 #include "detail/map_distortion.h"
 #include "detail/vertex_newton.h"
@@ -15,7 +16,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <utility>
 
 namespace vessel {
@@ -57,13 +60,121 @@ double mean_abs_log_area(const std::vector<detail::FaceOperator>& ops, const dou
     return (sum[0] + sum[1]) / total3;
 }
 
+// The look pulls (centre_pull.h) in the sweeps: each pulled set's vertex sum, kept up to date
+// as its vertices step one after another, so that a vertex's step sees the pulls' energy, its
+// gradient and the Gauss-Newton curvature of its own share of each centre.
+class SweepPulls
+{
+public:
+    SweepPulls(const std::vector<CentrePull>& pulls, const double* x, int n)
+        : pulls_(pulls), sums_(pulls.size()), of_(static_cast<std::size_t>(n))
+    {
+        reset(x);
+        for (std::size_t j = 0; j < pulls.size(); ++j)
+            for (int which = 0; which < (pulls[j].kind == PullKind::Order ? 2 : 1); ++which)
+                for (int v : set(j, which))
+                    of_[static_cast<std::size_t>(v)].push_back({static_cast<int>(j), which});
+    }
+
+    //! The sums again from the map \p x (after a coarse-grid correction moved every vertex).
+    void reset(const double* x)
+    {
+        for (std::size_t j = 0; j < pulls_.size(); ++j)
+            for (int which = 0; which < 2; ++which)
+            {
+                Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+                if (which == 0 || pulls_[j].kind == PullKind::Order)
+                    for (int v : set(j, which))
+                        sum += Eigen::Vector2d(x[2 * v], x[2 * v + 1]);
+                sums_[j][static_cast<std::size_t>(which)] = sum;
+            }
+    }
+
+    bool pulls(int v) const { return !of_[static_cast<std::size_t>(v)].empty(); }
+
+    //! All the pulls' energy.
+    double energy() const
+    {
+        double e = 0.0;
+        for (std::size_t j = 0; j < pulls_.size(); ++j)
+            e += term(j, -1, Eigen::Vector2d::Zero(), nullptr, nullptr);
+        return e;
+    }
+
+    //! The energy of the pulls on v with v moved by \p by from where the sums have it, adding
+    //! their gradient and Gauss-Newton Hessian by v's position where those are not null.
+    double at(int v, const Eigen::Vector2d& by, Eigen::Vector2d* grad, Eigen::Matrix2d* hess) const
+    {
+        double e = 0.0;
+        for (const auto& [j, which] : of_[static_cast<std::size_t>(v)])
+            e += term(static_cast<std::size_t>(j), which, by, grad, hess);
+        return e;
+    }
+
+    //! v moved by \p by.
+    void moved(int v, const Eigen::Vector2d& by)
+    {
+        for (const auto& [j, which] : of_[static_cast<std::size_t>(v)])
+            sums_[static_cast<std::size_t>(j)][static_cast<std::size_t>(which)] += by;
+    }
+
+private:
+    const std::vector<int>& set(std::size_t j, int which) const
+    {
+        return which == 0 ? pulls_[j].vertices : pulls_[j].second;
+    }
+    // Set `which` of pull j's centre relative to its origin, set `moving` moved by `by`.
+    Eigen::Vector2d centre(std::size_t j, int which, int moving, const Eigen::Vector2d& by) const
+    {
+        const double n = static_cast<double>(set(j, which).size());
+        return (sums_[j][static_cast<std::size_t>(which)] +
+                (which == moving ? by : Eigen::Vector2d::Zero())) / n -
+               pulls_[j].origin;
+    }
+    // Pull j's energy W r^2 (where it is active) with set `moving` moved by `by` (one vertex
+    // of it moved by `by`), adding 2 W r dr/dp and 2 W dr/dp dr/dp^T, dr/dp = dr/dc / |set|.
+    double term(std::size_t j, int moving, const Eigen::Vector2d& by, Eigen::Vector2d* grad,
+                Eigen::Matrix2d* hess) const
+    {
+        const CentrePull& pull = pulls_[j];
+        const Eigen::Vector2d a = centre(j, 0, moving, by);
+        double r = 0.0;
+        Eigen::Vector2d by_centre = pull.normal;
+        if (pull.kind == PullKind::Order)
+        {
+            const Eigen::Vector2d b = centre(j, 1, moving, by);
+            by_centre = moving == 0 ? Eigen::Vector2d(-b.y(), b.x()) / pull.length
+                                    : Eigen::Vector2d(a.y(), -a.x()) / pull.length;
+            r = (b.x() * a.y() - b.y() * a.x()) / pull.length - pull.margin;
+        }
+        else
+            r = pull.normal.dot(a) - (pull.kind == PullKind::HalfPlane ? pull.margin : 0.0);
+        if (!(pull.kind == PullKind::Line || r < 0.0))
+            return 0.0;
+        if (moving >= 0 && (grad || hess))
+        {
+            const Eigen::Vector2d u =
+                by_centre / static_cast<double>(set(j, moving).size());
+            if (grad)
+                *grad += 2.0 * pull.weight * r * u;
+            if (hess)
+                *hess += 2.0 * pull.weight * u * u.transpose();
+        }
+        return pull.weight * r * r;
+    }
+
+    const std::vector<CentrePull>& pulls_;
+    std::vector<std::array<Eigen::Vector2d, 2>> sums_;
+    std::vector<std::vector<std::pair<int, int>>> of_;  // (pull, set) per vertex
+};
+
 }  // namespace
 
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options,
                         const CoarseMesh* coarser, const Eigen::MatrixX2d* coarser_uv,
                         bool keep_boundary_simple, const CoarseMesh* below,
-                        const Eigen::MatrixX2d* below_uv)
+                        const Eigen::MatrixX2d* below_uv, const std::vector<CentrePull>* pulls)
 {
     options.validate();
     if (uv.rows() != static_cast<Eigen::Index>(mesh.n_vertices()))
@@ -106,6 +217,19 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         total_area += op.area;
     }
     const double minimum = 2.0 * total_area;  // every face an isometry
+    // The look pulls on the guarded boundary, whose vertices step one after another (the
+    // pulled sets are boundary loops); none where the boundary may cross (no restart there).
+    std::optional<SweepPulls> sweep_pulls;
+    std::function<double(const Eigen::VectorXd&)> pull_energy;
+    if (pulls && !pulls->empty() && keep_boundary_simple)
+    {
+        detail::require_centre_pull_vertices(*pulls, n, "relax_area");
+        sweep_pulls.emplace(*pulls, x, n);
+        summary.energy_before += sweep_pulls->energy();
+        pull_energy = [pulls](const Eigen::VectorXd& y) {
+            return detail::centre_pull_energy(*pulls, y);
+        };
+    }
     double current = summary.energy_before;
 
     detail::BoundaryGuard guard(mesh);
@@ -166,7 +290,7 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         {
             if (!is_free(v))
                 continue;
-            if (keep_boundary_simple && guard.on_boundary(v))
+            if (keep_boundary_simple && (guard.on_boundary(v) || (sweep_pulls && sweep_pulls->pulls(v))))
             {
                 boundary_vertices.push_back(v);
                 continue;
@@ -206,6 +330,17 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             const detail::Corner* begin = corners.data() + first[v];
             const detail::Corner* end = corners.data() + first[v + 1];
             const Eigen::Vector2d from(x[2 * v], x[2 * v + 1]);
+            if (boundary && sweep_pulls && sweep_pulls->pulls(v))
+            {
+                const double by = detail::vertex_newton_step(
+                    energy, begin, end, x, v, guard.max_step(),
+                    [&](const Eigen::Vector2d& p) { return guard.allows(x, v, from, p); }, ds,
+                    [&](const Eigen::Vector2d& p, Eigen::Vector2d* grad, Eigen::Matrix2d* hess) {
+                        return sweep_pulls->at(v, p - from, grad, hess);
+                    });
+                sweep_pulls->moved(v, Eigen::Vector2d(x[2 * v], x[2 * v + 1]) - from);
+                return by;
+            }
             return detail::vertex_newton_step(
                 energy, begin, end, x, v,
                 boundary ? guard.max_step() : std::numeric_limits<double>::infinity(),
@@ -257,9 +392,11 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
         if (correction && summary.corrections < options.coarse_corrections &&
             (summary.sweeps % 2 == 0 || converged))
         {
-            const double by =
-                correction->step(energy, xv, keep_boundary_simple ? &guard : nullptr, current);
+            const double by = correction->step(
+                energy, xv, keep_boundary_simple ? &guard : nullptr, current, pull_energy);
             x = xv.data();
+            if (sweep_pulls)
+                sweep_pulls->reset(x);
             ++summary.corrections;
             corrected = true;
             if (by > 0.0)

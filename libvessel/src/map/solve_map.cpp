@@ -374,14 +374,16 @@ double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& rela
 // it at a fraction of the cost of Newton steps at full resolution (polish_carried()); one note.
 RelaxSummary relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                            const Eigen::MatrixX2d& below, const FlattenOptions& options,
-                           Eigen::MatrixX2d& uv, FlattenResult& result, const Pins& pins = {})
+                           Eigen::MatrixX2d& uv, FlattenResult& result, const Pins& pins = {},
+                           const std::vector<CentrePull>* pulls = nullptr)
 {
     MultilevelOptions further = options.multilevel;
     further.relax_sweeps *= 2;
     further.coarse_corrections *= 2;
     const double lambda = relax_weight(options);
-    const RelaxSummary relaxed = relax_area(mesh, uv, pins, lambda, further, &levels[0], &below,
-                                            options.overlaps != OverlapPolicy::Keep);
+    const RelaxSummary relaxed =
+        relax_area(mesh, uv, pins, lambda, further, &levels[0], &below,
+                   options.overlaps != OverlapPolicy::Keep, nullptr, nullptr, pulls);
     relax_note("coarse-to-fine: relaxed further: ", mesh, relaxed, result);
     return relaxed;
 }
@@ -396,14 +398,24 @@ RelaxSummary relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& leve
 constexpr double kRelaxFurtherRatio = 1.001;
 constexpr double kRelaxFurtherProgress = 0.01;
 
+// The look pulls on a level's map: level l of a carry (0 = its finest mesh, l > 0 =
+// levels[l - 1].mesh) and the map there.
+using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eigen::MatrixX2d&)>;
+
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
 // \param below if not null: the map of levels[0].mesh the fine map was carried from (for
 // relax_further()).
+// \param pulls_at if set: a map pulled from the start (FlattenOptions::look_pull). Each level
+// relaxes with the pulls made on its carried map, and the finest is relaxed further with them
+// wherever its last sweep still lowered the energy, whatever the energy's ratio to its minimum:
+// the pulled map's energy does not see the area's error, which the further sweeps still lower
+// (docs/overlaps.md, "The steps and the carry").
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
                      std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
-                     FlattenResult& result, Eigen::MatrixX2d* below = nullptr)
+                     FlattenResult& result, Eigen::MatrixX2d* below = nullptr,
+                     const LevelPulls& pulls_at = {})
 {
     const MultilevelOptions& multilevel = options.multilevel;
     char line[200];
@@ -450,26 +462,32 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
         MultilevelOptions level_options = multilevel;
         if (l > 0)
             level_options.area_tolerance = 0.0;
+        const std::vector<CentrePull> level_pulls =
+            pulls_at ? pulls_at(l, uv) : std::vector<CentrePull>{};
         const RelaxSummary relaxed =
             relax_area(above, uv, pins, lambda, level_options, &levels[l], &coarser_uv,
                        keep_simple, deeper ? &levels[l + 1] : nullptr,
-                       deeper ? &below_uv : nullptr);
+                       deeper ? &below_uv : nullptr, pulls_at ? &level_pulls : nullptr);
         if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
             return "the relaxed map's boundary crosses itself";
         if (l == 0)
         {
             const double minimum = relax_note("coarse-to-fine: ", mesh, relaxed, result);
             double energy = relaxed.energy_after;
-            // Not a pulled map (the look retry's, or with FlattenOptions::look_pull): the
-            // relaxation has no look terms, and the look retry's full-resolution check relaxes
-            // its map further where its bound asks for it (recheck_look_retry()).
-            const bool pulled = options.look_pull.weight > 0.0 || result.look_retry.kept;
-            if (!pulled && !relaxed.area_within_tolerance &&
-                energy > kRelaxFurtherRatio * minimum &&
+            // Not the look retry's pulled map: its carry has no look terms, and the retry's
+            // full-resolution check relaxes it further where its bound asks for it
+            // (recheck_look_retry()). A map pulled from the start (pulls_at) is relaxed
+            // further with its pulls.
+            const bool pulled = static_cast<bool>(pulls_at);
+            if (!result.look_retry.kept && !relaxed.area_within_tolerance &&
+                (pulled || energy > kRelaxFurtherRatio * minimum) &&
                 relaxed.last_decrease > kRelaxFurtherProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
-                energy = relax_further(mesh, levels, coarser_uv, options, uv, result, pins)
+                const std::vector<CentrePull> further_pulls =
+                    pulled ? pulls_at(0, uv) : std::vector<CentrePull>{};
+                energy = relax_further(mesh, levels, coarser_uv, options, uv, result, pins,
+                                       pulled ? &further_pulls : nullptr)
                              .energy_after;
                 if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
                     return "the relaxed map's boundary crosses itself";
@@ -527,6 +545,7 @@ AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
         polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
                                          options.look_pull.form, options.look_pull.margin_deg,
                                          options.look_pull.hold, margins);
+    polish.pull_steps = PullSteps::DiagonalProxy;  // the look retry's (LookRetryOptions::pull)
     AreaPolishSummary summary = area_polish(mesh, uv, {}, polish);
     result.notes.push_back("coarse-to-fine: " + summary.report);
     return summary;
@@ -781,12 +800,32 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.untangle = solved.untangle;
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
+    // A map pulled from the start (FlattenOptions::look_pull; no look retry then) is carried
+    // with its pulls, made on each level's carried map with hinges no tighter than it has.
+    LevelPulls pulls_at;
+    std::vector<std::vector<BoundarySegment>> level_segments(levels.size() + 1);
+    if (options.look_pull.weight > 0.0)
+    {
+        level_segments[0] = input.segments;
+        for (std::size_t d = 1; d <= levels.size(); ++d)
+        {
+            LayoutInput level_input;
+            LayoutResult level_placed;
+            at_level(d, levels[d - 1].mesh, level_input, level_placed);
+            level_segments[d] = std::move(level_input.segments);
+        }
+        pulls_at = [&](std::size_t l, const Eigen::MatrixX2d& uv) {
+            const LookPullOptions& pull = options.look_pull;
+            return look_pulls(level_segments[l], uv, pull.weight, pull.form, pull.margin_deg,
+                              pull.hold, HingeMargin::AtMostTheMap);
+        };
+    }
     if (depth == 0 || !result.look_retry.kept)
     {
         Eigen::MatrixX2d below;
         const std::string failed =
             carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
-                     std::move(solved.uv), result, &below);
+                     std::move(solved.uv), result, &below, pulls_at);
         if (!failed.empty() || !result.look_retry.kept)
             return failed;
         return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,

@@ -41,9 +41,13 @@ struct AreaPolishOptions
     //! triangles (as InjectiveOptions::scaffold_weight).
     double scaffold_weight = 0.002;
     //! Soft pulls on vertex sets' centres (centre_pull.h) added to the energy (its gradient
-    //! exact; the Newton steps' Hessian gets their diagonal proxy). Empty = none. The pipeline
-    //! passes SLIM's (FlattenOptions::look_pull).
+    //! exact; the Newton steps take their curvature as `pull_steps` says). Empty = none. The
+    //! pipeline passes SLIM's (FlattenOptions::look_pull).
     std::vector<CentrePull> centre_pulls;
+    //! How the Newton steps take `centre_pulls` (PullSteps; the pipeline passes
+    //! LookPullOptions::steps). With GaussNewton a hinge within one margin of turning on counts
+    //! with its curvature (detail::active_pull_rows()), so that a full step does not jump past it.
+    PullSteps pull_steps = PullSteps::GaussNewton;
     //! Called after every Newton step (with L-BFGS, after every chunk) with the steps (or
     //! iterations) done so far, e.g. for progress output: a Newton step of a map of 100k
     //! vertices takes about a second, a chunk several. Null (the default) = no calls.

@@ -64,8 +64,25 @@ enum class HingeMargin
     Whole,
 };
 
-//! The soft look terms that keep a restarted map's look while SLIM and the area polish run
-//! (FlattenOptions::look_pull; look_pulls() below).
+//! How a solver's steps take the pulls' curvature (InjectiveOptions::pull_steps,
+//! AreaPolishOptions::pull_steps). The gradient and the line searches' energies are exact
+//! either way.
+enum class PullSteps
+{
+    //! Every vertex of an active pull drawn with weight W |dr/dc|^2 / |set| in both
+    //! coordinates: the solver's matrix keeps its pattern, and a pulled set moves about as a
+    //! whole (the proxy majorizes the pull's curvature along any common motion of the set).
+    DiagonalProxy,
+    //! The pull's own Gauss-Newton term, W u u^T with u = dr/dx over its sets (rank one per
+    //! active pull), taken by the Woodbury identity with the solver's factor of the surface's
+    //! matrix: one more solve per active pull, and a set is free along the hinge's line and in
+    //! every motion that keeps its centre, which the proxy charges in full.
+    GaussNewton,
+};
+
+//! The soft look terms that keep a restarted map's look while SLIM and the area polish run, and
+//! with coarse-to-fine while the map is carried up (FlattenOptions::look_pull; look_pulls()
+//! below; docs/overlaps.md, "The look hinges").
 struct LookPullOptions
 {
     //! The terms' weight, >= 0; it multiplies squared lengths (SLIM's energy is >= 4 x the
@@ -82,6 +99,12 @@ struct LookPullOptions
     //! The inlet hold's weight with Hinges, if larger than `weight` (a rigid motion, no area
     //! cost), >= 0. 0 = `weight`'s. CLI `--look-hold W`.
     double hold = 0.0;
+    //! How SLIM and the area polish step with the terms. GaussNewton (default): the proxy
+    //! charges an outlet loop for every motion of its vertices, and so holds the look from the
+    //! start of a many-outlet tree only at more area, or not at all (docs/overlaps.md, "The steps
+    //! and the carry"). The look retry's pulled map keeps the proxy (look_retry.h,
+    //! LookRetryOptions::pull).
+    PullSteps steps = PullSteps::GaussNewton;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };

@@ -113,10 +113,13 @@ struct InjectiveOptions
     //! momentum").
     double momentum = 0.5;
     //! Soft pulls on vertex sets' centres (centre_pull.h), added to the energy SLIM minimizes
-    //! and line searches (through a diagonal proxy in the global step: the solver's pattern
-    //! is unchanged). Empty = none. The pipeline fills it on a restart to keep the start's look
-    //! (FlattenOptions::look_pull); the summary's energies stay the surface's alone.
+    //! and line searches (in the global step as `pull_steps` says; the solver's pattern is
+    //! unchanged either way). Empty = none. The pipeline fills it on a restart to keep the
+    //! start's look (FlattenOptions::look_pull); the summary's energies stay the surface's alone.
     std::vector<CentrePull> centre_pulls;
+    //! How the global step takes `centre_pulls` (PullSteps; the pipeline passes
+    //! LookPullOptions::steps).
+    PullSteps pull_steps = PullSteps::GaussNewton;
     //! Called after every iteration with the current phase's iterations so far (1, 2, ...; at
     //! most max_iterations) and whether that phase uses the scaffold, e.g. for progress output.
     //! Null (the default) = no calls.

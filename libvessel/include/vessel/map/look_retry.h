@@ -24,7 +24,11 @@ struct LookRetryOptions
     //! CLI `--look-retry auto|off|force`.
     LookRetry mode = LookRetry::Auto;
     //! The redo's hinge weight (LookPullOptions::weight; the other fields of
-    //! FlattenOptions::look_pull apply).
+    //! FlattenOptions::look_pull apply but LookPullOptions::steps: the redo's steps take the
+    //! hinges by the diagonal proxy, PullSteps::DiagonalProxy, which moves each outlet loop as
+    //! a whole; with the exact Gauss-Newton terms Glenn split4's pulled coarse map is kept and
+    //! packs its branches so tightly that the carry breaks its look again, docs/journal/
+    //! benchmarks-2026-12.md, "The look pulls as rank-one Gauss-Newton terms").
     //! Fitted on the Glenn tree's natural cuts: a weight that brings its walk inversions under
     //! the broken-look line within the area bound (docs/overlaps.md, "The adaptive look").
     //! CLI `--look-retry-pull`.

@@ -15,6 +15,7 @@
 
 #include "vessel/core/mesh.h"
 #include "vessel/layout/pins.h"
+#include "vessel/map/centre_pull.h"
 
 #include <array>
 #include <functional>
@@ -221,13 +222,18 @@ struct RelaxSummary
 //! carried from: where the coarser level has more than `options.direct_correction_vertices`
 //! vertices, the corrections' system is then solved iteratively with V-cycles over the two
 //! levels instead of factorized.
+//! \param pulls if not null and \p keep_boundary_simple: look pulls (centre_pull.h, indices of
+//! \p mesh) added to the energy; their vertices step one after another with the pulls'
+//! gradient and Gauss-Newton curvature by each vertex, the corrections' line searches count
+//! them, and the summary's energies include them.
 //! \throw InvalidInputError if \p uv has a flipped face or its size is not |V| x 2, or the
-//! coarser level (or the level below it) does not match.
+//! coarser level (or the level below it) does not match, or a pull's vertex is out of range.
 RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins,
                         double area_weight, const MultilevelOptions& options = {},
                         const CoarseMesh* coarser = nullptr,
                         const Eigen::MatrixX2d* coarser_uv = nullptr,
                         bool keep_boundary_simple = true, const CoarseMesh* below = nullptr,
-                        const Eigen::MatrixX2d* below_uv = nullptr);
+                        const Eigen::MatrixX2d* below_uv = nullptr,
+                        const std::vector<CentrePull>* pulls = nullptr);
 
 }  // namespace vessel
