@@ -99,10 +99,12 @@ struct LookPullOptions
     //! The inlet hold's weight with Hinges, if larger than `weight` (a rigid motion, no area
     //! cost), >= 0. 0 = `weight`'s. CLI `--look-hold W`.
     double hold = 0.0;
-    //! How SLIM and the area polish step with the terms. GaussNewton (default): the proxy
+    //! How SLIM and the area polish step with the hinges. GaussNewton (default): the proxy
     //! charges an outlet loop for every motion of its vertices, and so holds the look from the
-    //! start of a many-outlet tree only at more area, or not at all (docs/overlaps.md, "The steps
-    //! and the carry"). The look retry's pulled map keeps the proxy (look_retry.h,
+    //! start of a many-outlet tree only at more area, or not at all (docs/overlaps.md, "The
+    //! steps and the carry"). LookPullForm::Rays takes the proxy whatever this says: a ray is a
+    //! line through the inlet's centre, along which the exact steps let an outlet slide through
+    //! the inlet to the other side. The look retry's pulled map keeps the proxy (look_retry.h,
     //! LookRetryOptions::pull).
     PullSteps steps = PullSteps::GaussNewton;
     //! \throw InvalidInputError naming the bad field.
