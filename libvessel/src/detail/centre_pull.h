@@ -28,6 +28,19 @@ double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::Vec
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs);
 
+//! A pull's residual r and its derivatives by its two centres (dr/dc, dr/dc2).
+struct PullResidual
+{
+    double r = 0.0;
+    Eigen::Vector2d by_first = Eigen::Vector2d::Zero(), by_second = Eigen::Vector2d::Zero();
+    bool active = false;  //!< the energy (weight r^2) counts: a Line always, a hinge when r < 0
+};
+
+//! \brief \p pull's residual with the centre of its vertices at \p first and (PullKind::Order)
+//! that of its second set at \p second, both relative to its origin.
+PullResidual pull_residual(const CentrePull& pull, const Eigen::Vector2d& first,
+                           const Eigen::Vector2d& second);
+
 //! One active pull linearized at a map x (PullSteps::GaussNewton): its residual r (a hinge's
 //! at most 0), weight W, and u = dr/dx as (interleaved unknown 2 v + k, value) entries.
 struct PullRow
@@ -43,6 +56,17 @@ struct PullRow
 //! jump past a hinge that it turns on.
 std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
                                       const Eigen::VectorXd& x, double band = 0.0);
+
+//! The rows as the columns U of a low-rank term U diag(c) U^T over \p size unknowns, and c:
+//! entry 2 v + k of a row at unknown 2 slot[v] + k (an entry of a vertex with slot[v] < 0 left
+//! out), or at unknown 2 v + k with \p slot null; c = \p scale x each row's weight.
+struct PullColumns
+{
+    Eigen::MatrixXd U;
+    Eigen::VectorXd c;
+};
+PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, double scale,
+                         const std::vector<int>* slot = nullptr);
 
 //! \brief Turns y = A^-1 b into (A + U diag(c) U^T)^-1 b (the Woodbury identity), given
 //! Z = A^-1 U: y -= Z (diag(1 / c) + U^T Z)^-1 U^T y. Every c > 0.

@@ -152,20 +152,10 @@ void add_pull_terms(const std::vector<CentrePull>& pulls, const Eigen::VectorXd&
     const std::vector<detail::PullRow> rows = detail::active_pull_rows(pulls, x, 1.0);
     if (rows.empty())
         return;
-    const auto k = static_cast<Eigen::Index>(rows.size());
-    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(step.size(), k);
-    Eigen::VectorXd weights(k);
-    for (Eigen::Index j = 0; j < k; ++j)
-    {
-        const detail::PullRow& row = rows[static_cast<std::size_t>(j)];
-        for (const auto& [i, value] : row.entries)
-            if (const int s = slot[static_cast<std::size_t>(i / 2)]; s >= 0)
-                U(2 * s + i % 2, j) += value;
-        weights[j] = 2.0 * row.weight;
-    }
-    const Eigen::MatrixXd Z = solver.solve(U);
+    const detail::PullColumns columns = detail::pull_columns(rows, step.size(), 2.0, &slot);
+    const Eigen::MatrixXd Z = solver.solve(columns.U);
     if (solver.info() == Eigen::Success && Z.allFinite())
-        detail::add_low_rank_inverse(step, U, Z, weights);
+        detail::add_low_rank_inverse(step, columns.U, Z, columns.c);
 }
 
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x) with

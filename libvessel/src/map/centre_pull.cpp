@@ -38,32 +38,13 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b)
     return a.x() * b.y() - a.y() * b.x();
 }
 
-// A pull's residual r at x and its derivatives by the two centres (dr/dc, dr/dc2).
-struct Residual
+// A pull's residual at the map x (detail::pull_residual()).
+detail::PullResidual residual(const CentrePull& pull, const Eigen::VectorXd& x)
 {
-    double r = 0.0;
-    Eigen::Vector2d by_first = Eigen::Vector2d::Zero(), by_second = Eigen::Vector2d::Zero();
-    bool active = false;  // the energy (weight r^2) counts: a Line always, a hinge when r < 0
-};
-
-Residual residual(const CentrePull& pull, const Eigen::VectorXd& x)
-{
-    Residual res;
-    const Eigen::Vector2d a = centre(pull.vertices, x) - pull.origin;
-    if (pull.kind == PullKind::Order)
-    {
-        const Eigen::Vector2d b = centre(pull.second, x) - pull.origin;
-        res.r = cross(b, a) / pull.length - pull.margin;
-        res.by_first = Eigen::Vector2d(-b.y(), b.x()) / pull.length;
-        res.by_second = Eigen::Vector2d(a.y(), -a.x()) / pull.length;
-    }
-    else
-    {
-        res.r = pull.normal.dot(a) - (pull.kind == PullKind::HalfPlane ? pull.margin : 0.0);
-        res.by_first = pull.normal;
-    }
-    res.active = pull.kind == PullKind::Line || res.r < 0.0;
-    return res;
+    return detail::pull_residual(pull, centre(pull.vertices, x) - pull.origin,
+                                 pull.kind == PullKind::Order
+                                     ? Eigen::Vector2d(centre(pull.second, x) - pull.origin)
+                                     : Eigen::Vector2d::Zero());
 }
 
 // Calls f(vertex, w, g) for every vertex of an active pull: w = weight |dr/dc|^2 / |set| (the
@@ -74,7 +55,7 @@ void for_each_active_vertex(const std::vector<CentrePull>& pulls, const Eigen::V
 {
     for (const CentrePull& pull : pulls)
     {
-        const Residual res = residual(pull, x);
+        const detail::PullResidual res = residual(pull, x);
         if (!res.active)
             continue;
         const auto visit = [&](const std::vector<int>& set, const Eigen::Vector2d& d) {
@@ -244,11 +225,32 @@ double centre_pull_energy(const std::vector<CentrePull>& pulls, const Eigen::Vec
     double e = 0.0;
     for (const CentrePull& pull : pulls)
     {
-        const Residual res = residual(pull, x);
+        const detail::PullResidual res = residual(pull, x);
         if (res.active)
             e += pull.weight * res.r * res.r;
     }
     return e;
+}
+
+PullResidual pull_residual(const CentrePull& pull, const Eigen::Vector2d& first,
+                           const Eigen::Vector2d& second)
+{
+    PullResidual res;
+    const Eigen::Vector2d& a = first;
+    if (pull.kind == PullKind::Order)
+    {
+        const Eigen::Vector2d& b = second;
+        res.r = cross(b, a) / pull.length - pull.margin;
+        res.by_first = Eigen::Vector2d(-b.y(), b.x()) / pull.length;
+        res.by_second = Eigen::Vector2d(a.y(), -a.x()) / pull.length;
+    }
+    else
+    {
+        res.r = pull.normal.dot(a) - (pull.kind == PullKind::HalfPlane ? pull.margin : 0.0);
+        res.by_first = pull.normal;
+    }
+    res.active = pull.kind == PullKind::Line || res.r < 0.0;
+    return res;
 }
 
 std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
@@ -257,7 +259,7 @@ std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
     std::vector<PullRow> rows;
     for (const CentrePull& pull : pulls)
     {
-        const Residual res = residual(pull, x);
+        const detail::PullResidual res = residual(pull, x);
         const bool near =
             pull.kind != PullKind::Line && res.r < band * std::abs(pull.margin);
         if (!(res.active || near) || !(pull.weight > 0.0))
@@ -277,6 +279,26 @@ std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
         rows.push_back(std::move(row));
     }
     return rows;
+}
+
+PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, double scale,
+                         const std::vector<int>* slot)
+{
+    const auto k = static_cast<Eigen::Index>(rows.size());
+    PullColumns columns{Eigen::MatrixXd::Zero(size, k), Eigen::VectorXd(k)};
+    for (Eigen::Index j = 0; j < k; ++j)
+    {
+        const PullRow& row = rows[static_cast<std::size_t>(j)];
+        for (const auto& [i, value] : row.entries)
+        {
+            if (!slot)
+                columns.U(i, j) += value;
+            else if (const int s = (*slot)[static_cast<std::size_t>(i / 2)]; s >= 0)
+                columns.U(2 * s + i % 2, j) += value;
+        }
+        columns.c[j] = scale * row.weight;
+    }
+    return columns;
 }
 
 void add_low_rank_inverse(Eigen::VectorXd& y, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Z,

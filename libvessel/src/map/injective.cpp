@@ -828,20 +828,11 @@ Eigen::VectorXd Slim::global_target()
         throw SolverError("injective_refine: CHOLMOD solve failed");
     if (!pull_rows.empty())
     {
-        const auto k = static_cast<Eigen::Index>(pull_rows.size());
-        Eigen::MatrixXd U = Eigen::MatrixXd::Zero(2 * n_all_, k);
-        Eigen::VectorXd weights(k);
-        for (Eigen::Index j = 0; j < k; ++j)
-        {
-            const detail::PullRow& row = pull_rows[static_cast<std::size_t>(j)];
-            for (const auto& [i, value] : row.entries)
-                U(i, j) += value;
-            weights[j] = row.weight;
-        }
-        const Eigen::MatrixXd Z = solver_.solve(U);
+        const detail::PullColumns columns = detail::pull_columns(pull_rows, 2 * n_all_, 1.0);
+        const Eigen::MatrixXd Z = solver_.solve(columns.U);
         if (solver_.info() != Eigen::Success || !Z.allFinite())
             throw SolverError("injective_refine: CHOLMOD solve failed");
-        detail::add_low_rank_inverse(target, U, Z, weights);
+        detail::add_low_rank_inverse(target, columns.U, Z, columns.c);
     }
     return target;
 }

@@ -15,8 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -137,30 +137,21 @@ private:
                 Eigen::Matrix2d* hess) const
     {
         const CentrePull& pull = pulls_[j];
-        const Eigen::Vector2d a = centre(j, 0, moving, by);
-        double r = 0.0;
-        Eigen::Vector2d by_centre = pull.normal;
-        if (pull.kind == PullKind::Order)
-        {
-            const Eigen::Vector2d b = centre(j, 1, moving, by);
-            by_centre = moving == 0 ? Eigen::Vector2d(-b.y(), b.x()) / pull.length
-                                    : Eigen::Vector2d(a.y(), -a.x()) / pull.length;
-            r = (b.x() * a.y() - b.y() * a.x()) / pull.length - pull.margin;
-        }
-        else
-            r = pull.normal.dot(a) - (pull.kind == PullKind::HalfPlane ? pull.margin : 0.0);
-        if (!(pull.kind == PullKind::Line || r < 0.0))
+        const detail::PullResidual res = detail::pull_residual(
+            pull, centre(j, 0, moving, by),
+            pull.kind == PullKind::Order ? centre(j, 1, moving, by) : Eigen::Vector2d::Zero());
+        if (!res.active)
             return 0.0;
         if (moving >= 0 && (grad || hess))
         {
-            const Eigen::Vector2d u =
-                by_centre / static_cast<double>(set(j, moving).size());
+            const Eigen::Vector2d u = (moving == 0 ? res.by_first : res.by_second) /
+                                      static_cast<double>(set(j, moving).size());
             if (grad)
-                *grad += 2.0 * pull.weight * r * u;
+                *grad += 2.0 * pull.weight * res.r * u;
             if (hess)
                 *hess += 2.0 * pull.weight * u * u.transpose();
         }
-        return pull.weight * r * r;
+        return pull.weight * res.r * res.r;
     }
 
     const std::vector<CentrePull>& pulls_;
