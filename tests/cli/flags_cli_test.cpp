@@ -470,10 +470,9 @@ TEST_CASE("cli: --look-pull keeps the restart's look in SLIM, shaped by --look-p
 
 TEST_CASE("cli: --look-retry off and --look-retry-area on the pulmonary Glenn tree")
 {
-    // Glenn's restarted map has an outlet below the inlet, so the default (auto) redoes it with
-    // the hinge pull and keeps the pulled map where its mean |log area| is within
-    // --look-retry-area (1.45) times the `keep` map's: on the coarse mesh, then at full
-    // resolution (the report's figures, both at full resolution).
+    // Glenn's restarted map has its look broken, so the default (auto) redoes it with the hinge
+    // pull and keeps the pulled map where its mean |log area| is within --look-retry-area
+    // (1.45) times the `keep` map's, on the coarse mesh (the report's figures).
     const std::string glenn = kData + "/svfsi-tests/pulmonary-glenn-wall.ply";
     const std::string dir = temp_dir("flags_look_retry_glenn");
     const auto by_default = flatten_report(dir, "default", glenn, "");

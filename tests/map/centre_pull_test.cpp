@@ -403,8 +403,8 @@ TEST_CASE("centre pull: bad look options are refused by FlattenOptions")
     CHECK_NOTHROW(options.validate());
 }
 
-TEST_CASE("overlaps with a look pull by the diagonal proxy (the look retry's): the pulmonary "
-          "Glenn tree keeps its outlets above the inlet and nearer the walk order, one-to-one, "
+TEST_CASE("overlaps with a look pull by the diagonal proxy: the pulmonary Glenn tree "
+          "keeps its outlets above the inlet and nearer the walk order, one-to-one, "
           "within 1.5x the unconstrained map's area")
 {
     // Measured (docs/overlaps.md, "The look hinges"): by default 1 of 20 outlets below the

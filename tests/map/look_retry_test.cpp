@@ -61,9 +61,9 @@ TEST_CASE("look retry: bad options are refused and the broken-look rule counts o
 TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets above the inlet "
           "and near the walk order, one-to-one, within 1.5x the unconstrained map's area")
 {
-    // Measured (docs/overlaps.md, "The adaptive look"): the default map before the retry has
-    // 1 of 20 outlets below the inlet and 22 walk inversions; the retry (hinges 100) keeps a map
-    // with 0 below and 7 inversions, mean |log area| 1.27x `keep`'s.
+    // Measured (docs/overlaps.md, "The steps and the carry"): the default map before the retry
+    // has its look broken (walk inversions above the rule's line); the retry keeps a map with 0
+    // outlets below the inlet and 1 walk inversion, mean |log area| 1.25x `keep`'s.
     const TreeSurface surface = load_tree_surface(std::string(VESSEL_SHARED_DATA) +
                                                   "/svfsi-tests/pulmonary-glenn-wall.ply");
     const FlattenResult r = flatten(surface.mesh, FlattenOptions());
@@ -85,14 +85,14 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
     CHECK(r.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
     CHECK(r.quality.mean_abs_log_area_normalized <=
           1.5 * kept.quality.mean_abs_log_area_normalized);
-    // Coarse-to-fine runs the retry on its coarse mesh and checks its bound again at full
-    // resolution: against the `keep` map made there (the same as the pipeline's at full
-    // resolution, up to the elimination ordering), not the coarse mesh's.
+    // Coarse-to-fine runs the retry on its coarse mesh, where its bound is held, and carries
+    // the kept map up with its pulls: at full resolution it is still within the bound of the
+    // `keep` map made there (measured 1.25x).
+    CHECK(r.look_retry.pulled_area <=
+          FlattenOptions().look_retry.max_area_over_keep * r.look_retry.keep_area);
     FlattenOptions keep_full = keep;
     keep_full.multilevel.coarse_vertices = 0;
     const FlattenResult full = flatten(surface.mesh, keep_full);
-    CHECK(r.look_retry.keep_area ==
-          doctest::Approx(full.quality.mean_abs_log_area_normalized).epsilon(0.01));
     CHECK(r.quality.mean_abs_log_area_normalized <=
           FlattenOptions().look_retry.max_area_over_keep *
               full.quality.mean_abs_log_area_normalized);
@@ -119,9 +119,10 @@ TEST_SUITE("slow")
     TEST_CASE("overlaps: look retry on a 30-outlet phantom whose pulled map is over the area "
               "bound keeps the default map")
     {
-        // Measured (docs/overlaps.md, "The adaptive look"): seed 32 (edge 0.75) has 2 outlets
-        // below the inlet by default, so the retry runs; the pulled map is 2x `keep`'s mean
-        // |log area|, above max_area_over_keep, and the default map stays, bit for bit.
+        // Measured: seed 32 (edge 0.75) has an outlet below the inlet by default, so the retry
+        // runs; the pulled map (0 below) is 1.34x `keep`'s mean |log area| and its area above
+        // the default map's, so the bound decides: a bound of 1.2 refuses it, and the default
+        // map stays, bit for bit.
         const Mesh mesh = test::test_tree_phantom(30, 32);
         // At full resolution, where the measurement above was made (coarse-to-fine runs the
         // retry on its coarse mesh).
@@ -130,6 +131,7 @@ TEST_SUITE("slow")
         FlattenOptions full;
         full.multilevel.coarse_vertices = 0;
         full.cuts.natural_cuts = false;
+        full.look_retry.max_area_over_keep = 1.2;
         const FlattenResult r = flatten(mesh, full);
         FlattenOptions off = full;
         off.look_retry.mode = LookRetry::Off;
@@ -137,8 +139,7 @@ TEST_SUITE("slow")
         REQUIRE(r.look_retry.tried);
         CHECK_FALSE(r.look_retry.kept);
         CHECK(r.look_retry.keep_area > 0.0);
-        CHECK(r.look_retry.pulled_area >
-              FlattenOptions().look_retry.max_area_over_keep * r.look_retry.keep_area);
+        CHECK(r.look_retry.pulled_area > full.look_retry.max_area_over_keep * r.look_retry.keep_area);
         REQUIRE(r.uv.rows() == plain.uv.rows());
         CHECK((r.uv - plain.uv).cwiseAbs().maxCoeff() == 0.0);
         CHECK(r.look.outlets_below_inlet == plain.look.outlets_below_inlet);
@@ -153,48 +154,35 @@ TEST_SUITE("slow")
 
 TEST_SUITE("slow")
 {
-    TEST_CASE("look retry: on the 277k-triangle Glenn tree the area bound is checked on a "
-              "level of at most 50 000 vertices and holds at full resolution")
+    TEST_CASE("look retry: the 277k-triangle Glenn tree keeps every outlet above the inlet "
+              "by default and is one-to-one")
     {
-        // Seen face-on the split Glenn tree's coarse look retry keeps its pulled map. Its bound
-        // is checked on the level of a quarter of the cut mesh's vertices
-        // (MultilevelOptions::look_reference_vertices), against that level's `keep` map, instead
-        // of on the 142k-vertex mesh, where the `keep` map costs twice the rest of stage F. What
-        // the check stands for is the bound at full resolution: the map carried on up keeps it
-        // against the full-resolution `keep` map (measured 0.0098 against 0.0072, 1.36x).
+        // Measured (docs/overlaps.md, "The steps and the carry"): without the retry 5 of 20
+        // outlets lie below the inlet (22 walk inversions); the retry's pulled map, kept on the
+        // coarse mesh and carried up with its pulls, has 0 below and 0 inversions at mean
+        // |log area| 0.0115, within the real trees' range.
         const TreeSurface surface = load_tree_surface(
             std::string(VESSEL_SHARED_DATA) + "/svfsi-tests/pulmonary-glenn-wall-split4.ply");
-        FlattenOptions options;
-        options.cost.face_on = true;
-        const FlattenResult r = flatten(surface.mesh, options);
+        const FlattenResult r = flatten(surface.mesh, FlattenOptions());
+        FlattenOptions off;
+        off.look_retry.mode = LookRetry::Off;
+        const FlattenResult plain = flatten(surface.mesh, off);
         REQUIRE(r.look_retry.tried);
         REQUIRE(r.look_retry.kept);
-        const auto level = std::find_if(r.notes.begin(), r.notes.end(), [](const std::string& n) {
-            return n.rfind("coarse-to-fine: look retry on the level of ", 0) == 0;
-        });
-        REQUIRE(level != r.notes.end());
-        const int vertices = std::stoi(level->substr(std::string("coarse-to-fine: look retry on "
-                                                                 "the level of ").size()));
-        CHECK(vertices <= options.multilevel.look_reference_vertices);
-        // The level of a quarter of the vertices, not a sixteenth, where the check misjudged.
-        CHECK(8 * vertices >= static_cast<int>(r.mesh.n_vertices()));
+        CHECK(plain.look.outlets_below_inlet > 0);
+        CHECK(r.look.outlets_below_inlet == 0);
+        CHECK_FALSE(LookRetryOptions().look_broken(r.look));
         CHECK(r.quality.flipped_triangles == 0);
         CHECK(r.quality.overlapping_triangles == 0);
         CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
-        CHECK(r.look.outlets_below_inlet == 0);
-        CHECK_FALSE(LookRetryOptions().look_broken(r.look));
-
-        FlattenOptions keep = options;
-        keep.overlaps = OverlapPolicy::Keep;
-        keep.multilevel.coarse_vertices = 0;
-        const FlattenResult full = flatten(surface.mesh, keep);
-        MESSAGE("Glenn split4, face-on: checked on " << vertices << " vertices, keep there "
-                                                     << r.look_retry.keep_area << "; the map "
-                                                     << r.quality.mean_abs_log_area_normalized
-                                                     << ", keep at full resolution "
-                                                     << full.quality.mean_abs_log_area_normalized);
-        CHECK(r.quality.mean_abs_log_area_normalized <=
-              options.look_retry.max_area_over_keep * full.quality.mean_abs_log_area_normalized);
+        CHECK(r.quality.mean_abs_log_area_normalized <= 0.015);
+        MESSAGE("Glenn split4: without the retry " << plain.look.outlets_below_inlet
+                                                   << " below, mean |log area| "
+                                                   << plain.quality.mean_abs_log_area_normalized
+                                                   << "; with it " << r.look.outlets_below_inlet
+                                                   << " below, " << r.look.walk_inversions
+                                                   << " walk inversions, "
+                                                   << r.quality.mean_abs_log_area_normalized);
     }
 }
 

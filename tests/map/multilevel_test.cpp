@@ -658,9 +658,6 @@ TEST_CASE("multilevel: relax_area and the options refuse what they cannot use")
     options.max_energy_ratio = 1.0;
     CHECK_THROWS_AS(options.validate(), InvalidInputError);
     options.max_energy_ratio = 1.05;
-    options.look_reference_vertices = -1;
-    CHECK_THROWS_AS(options.validate(), InvalidInputError);
-    options.look_reference_vertices = 0;  // 0 = at full resolution
     CHECK_NOTHROW(options.validate());
 }
 

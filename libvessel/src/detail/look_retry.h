@@ -20,19 +20,13 @@ namespace vessel::detail {
 //! outlets.
 //! \param initial the map refine_map() started from (the LSCM map at the layout).
 //! \param pins the layout's inlet pins refine_map() was given.
-//! \param replaced if not null and the pulled map is kept: the default map it replaced (the
-//! coarse-to-fine path checks the bound again at full resolution and may go back to it).
-//! \param on_try if set, called once the retry is going to be made, before its solve (the
-//! coarse-to-fine path starts its full-resolution reference then, on the second core).
 //! \param ahead if valid: pulled_map() already under way (solve_single_level() starts it beside
 //! the restarted map); the retry takes its map instead of solving it again. While it is not
-//! ready, the `keep` map is solved on the calling thread (before \p on_try), whether or not the
-//! bound turns out to need it: time the thread would spend waiting.
+//! ready, the `keep` map is solved on the calling thread, whether or not the bound turns out to
+//! need it: time the thread would spend waiting.
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed, Eigen::MatrixX2d* replaced = nullptr,
-                const std::function<void()>& on_try = {},
-                std::future<FlattenResult>* ahead = nullptr);
+                const LayoutResult& placed, std::future<FlattenResult>* ahead = nullptr);
 
 //! Whether retry_look() can make a retry with \p options: LookRetry not Off, no look_pull
 //! already set, overlaps not OverlapPolicy::Keep.

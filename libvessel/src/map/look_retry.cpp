@@ -137,7 +137,6 @@ FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOption
 {
     FlattenOptions pulled = cancellable(options, cancel);
     pulled.look_pull.weight = options.look_retry.pull;
-    pulled.look_pull.steps = PullSteps::DiagonalProxy;  // LookRetryOptions::pull
     FlattenResult trial;
     refine_map(mesh, pins, pulled, "", "look retry", trial, &layout, &placed);
     return trial;
@@ -145,8 +144,7 @@ FlattenResult pulled_map(const Mesh& mesh, const Pins& pins, const FlattenOption
 
 void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& initial,
                 const FlattenOptions& options, FlattenResult& result, const LayoutInput& layout,
-                const LayoutResult& placed, Eigen::MatrixX2d* replaced,
-                const std::function<void()>& on_try, std::future<FlattenResult>* ahead)
+                const LayoutResult& placed, std::future<FlattenResult>* ahead)
 {
     const LookRetryOptions& retry = options.look_retry;
     if (!may_retry_look(options))
@@ -159,14 +157,11 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     summary.tried = true;
     // While the pulled map made ahead is still being solved on the second core, this thread
     // would wait for it: it solves the `keep` map the area bound may need meanwhile (the same
-    // map as after the fact; used only where the bound needs it), before on_try() starts more
-    // work that would share the cores with the two.
+    // map as after the fact; used only where the bound needs it).
     std::optional<FlatQuality> keep_ahead;
     if (ahead && ahead->valid() &&
         ahead->wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         keep_ahead = keep_quality(mesh, pins, initial, options, layout, placed);
-    if (on_try)
-        on_try();
     const FlatQuality before = map_distortion(mesh, result.uv);
     summary.default_area = before.mean_abs_log_area_normalized;
 
@@ -211,8 +206,6 @@ void retry_look(const Mesh& mesh, const Pins& pins, const Eigen::MatrixX2d& init
     result.notes.push_back(summary.report);
     if (summary.kept)
     {
-        if (replaced)
-            *replaced = std::move(result.uv);
         result.uv = std::move(trial.uv);
         result.injective = trial.injective;
     }

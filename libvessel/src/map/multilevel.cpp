@@ -35,9 +35,6 @@ void MultilevelOptions::validate() const
     if (!(area_tolerance >= 0.0 && std::isfinite(area_tolerance)))
         throw InvalidInputError("MultilevelOptions: area_tolerance must be >= 0 and finite, got " +
                                 std::to_string(area_tolerance));
-    if (look_reference_vertices < 0)
-        throw InvalidInputError("MultilevelOptions: look_reference_vertices must be >= 0, got " +
-                                std::to_string(look_reference_vertices));
     if (!(max_energy_ratio > 1.0 && std::isfinite(max_energy_ratio)))
         throw InvalidInputError("MultilevelOptions: max_energy_ratio must be > 1 and finite, got " +
                                 std::to_string(max_energy_ratio));

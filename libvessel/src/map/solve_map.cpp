@@ -99,12 +99,8 @@ constexpr int kPulledAheadOutlets = 16;
 constexpr int kChordFreeOutlets = 16;
 
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
-// \param unpulled if not null and the look retry kept its pulled map: the map it replaced.
-// \param on_retry called when the look retry is going to be made (retry_look()).
 bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
-                        const FlattenOptions& options, FlattenResult& result,
-                        Eigen::MatrixX2d* unpulled = nullptr,
-                        const std::function<void()>& on_retry = {})
+                        const FlattenOptions& options, FlattenResult& result)
 {
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
@@ -170,8 +166,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
                    &input, &placed))
     {
         at_layout = false;
-        retry_look(mesh, pins, initial, options, result, input, placed, unpulled, on_retry,
-                   &pulled_ahead);
+        retry_look(mesh, pins, initial, options, result, input, placed, &pulled_ahead);
     }
     return at_layout;
 }
@@ -404,18 +399,17 @@ using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eige
 
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
-// \param below if not null: the map of levels[0].mesh the fine map was carried from (for
-// relax_further()).
-// \param pulls_at if set: a map pulled from the start (FlattenOptions::look_pull). Each level
-// relaxes with the pulls made on its carried map, and the finest is relaxed further with them
-// wherever its last sweep still lowered the energy, whatever the energy's ratio to its minimum:
-// the pulled map's energy does not see the area's error, which the further sweeps still lower
-// (docs/overlaps.md, "The steps and the carry").
+// \param pulls_at if set: a pulled map (FlattenOptions::look_pull from the start, or the look
+// retry's kept on the coarse mesh). Each level relaxes with the pulls made on its carried map;
+// the finest is relaxed further with them wherever its last sweep still lowered the energy,
+// whatever the energy's ratio to its minimum (the pulled map's energy does not see the area's
+// error, which the further sweeps still lower), and polished with them where its energy is
+// above the bound (without them the polish undoes the look; docs/overlaps.md, "The steps and
+// the carry").
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
                      std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
-                     FlattenResult& result, Eigen::MatrixX2d* below = nullptr,
-                     const LevelPulls& pulls_at = {})
+                     FlattenResult& result, const LevelPulls& pulls_at = {})
 {
     const MultilevelOptions& multilevel = options.multilevel;
     char line[200];
@@ -474,12 +468,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
         {
             const double minimum = relax_note("coarse-to-fine: ", mesh, relaxed, result);
             double energy = relaxed.energy_after;
-            // Not the look retry's pulled map: its carry has no look terms, and the retry's
-            // full-resolution check relaxes it further where its bound asks for it
-            // (recheck_look_retry()). A map pulled from the start (pulls_at) is relaxed
-            // further with its pulls.
             const bool pulled = static_cast<bool>(pulls_at);
-            if (!result.look_retry.kept && !relaxed.area_within_tolerance &&
+            if (!relaxed.area_within_tolerance &&
                 (pulled || energy > kRelaxFurtherRatio * minimum) &&
                 relaxed.last_decrease > kRelaxFurtherProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
@@ -500,6 +490,11 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 AreaPolishOptions polish = options.area_polish;
                 polish.area_weight = lambda;  // the energy the bound is held on
                 polish.keep_boundary_simple = keep_simple;
+                if (pulled)
+                {
+                    polish.centre_pulls = pulls_at(0, uv);
+                    polish.pull_steps = PullSteps::GaussNewton;
+                }
                 const AreaPolishSummary polished = area_polish(above, uv, pins, polish);
                 MultilevelOptions measure = multilevel;  // no sweep: the energy alone
                 measure.relax_sweeps = 0;
@@ -519,8 +514,6 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                               energy / minimum, multilevel.max_energy_ratio);
                 return line;
             }
-            if (below)
-                *below = std::move(coarser_uv);
         }
         else
             below_uv = std::move(coarser_uv);
@@ -590,101 +583,6 @@ bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     return true;
 }
 
-// After the look retry kept its pulled map on the coarse mesh: its bound
-// (LookRetryOptions::max_area_over_keep times the `keep` map's mean |log area|) checked again
-// on \p mesh (the fine mesh, or a level of it: MultilevelOptions::look_reference_vertices;
-// \p where says which in the notes), against \p reference, keep_quality() on that mesh. The
-// coarse mesh's areas are coarser than the fine mesh's (30-outlet tree phantom: `keep` 0.0091
-// coarse, 0.0041 fine), so a map within the bound there can be far above it here. Above it, the
-// map is relaxed further (relax_further()), then polished there with the pulls; still
-// above, the look retry is undone: the default map it replaced (\p unpulled, on the coarse
-// mesh) is carried up instead, and relaxed further and polished there as far as it is above
-// the bound too. result.uv holds the carried pulled map on entry, \p below the map of
-// levels[0] it was carried from. While \p made_reference is still being made (on the largest
-// trees it takes longer than the carry), the carried map is relaxed further ahead, as the
-// first step above the bound needs it; a map within the bound at once is kept as carried.
-std::string recheck_look_retry(const Mesh& mesh, const LayoutInput& input,
-                               const LayoutResult& placed, const FlattenOptions& options,
-                               const std::vector<CoarseMesh>& levels,
-                               std::size_t boundary_levels, Eigen::MatrixX2d unpulled,
-                               const Eigen::MatrixX2d& below,
-                               std::future<FlatQuality>& made_reference,
-                               const std::string& where, FlattenResult& result)
-{
-    FlattenResult ahead;  // the further relaxed pulled map and its note, if made ahead
-    if (made_reference.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-    {
-        ahead.uv = result.uv;
-        relax_further(mesh, levels, below, options, ahead.uv, ahead);
-    }
-    const FlatQuality reference = made_reference.get();
-    LookRetrySummary& summary = result.look_retry;
-    summary.keep_area = reference.mean_abs_log_area_normalized;
-    // The area of the map within() measured last: where the pulled map is kept, the report's
-    // pulled_area (at full resolution, as keep_area).
-    double measured = 0.0;
-    const auto within = [&](const Eigen::MatrixX2d& uv, const char* what) {
-        const FlatQuality q = map_distortion(mesh, uv);
-        measured = q.mean_abs_log_area_normalized;
-        const bool ok = within_area_bound(q, reference, options.look_retry);
-        char line[200];
-        std::snprintf(line, sizeof line,
-                      "coarse-to-fine: look retry %s: %s mean |log area| %.4f "
-                      "(keep %.4f), %s the bound",
-                      where.c_str(), what, q.mean_abs_log_area_normalized,
-                      reference.mean_abs_log_area_normalized, ok ? "within" : "above");
-        result.notes.push_back(line);
-        return ok;
-    };
-    // Relaxed further, then polished, as far as the map is above the bound; whether it ends
-    // within it.
-    const auto bring_within = [&](Eigen::MatrixX2d& uv, const Eigen::MatrixX2d& from,
-                                  bool pulled) {
-        if (pulled && ahead.uv.size() > 0)
-        {
-            uv = std::move(ahead.uv);
-            result.notes.insert(result.notes.end(), ahead.notes.begin(), ahead.notes.end());
-        }
-        else
-            relax_further(mesh, levels, from, options, uv, result);
-        if (within(uv,
-                   pulled ? "the further relaxed pulled map" : "the further relaxed default map"))
-            return true;
-        polish_carried(mesh, input, options, pulled, uv, result);
-        return within(uv, pulled ? "the polished pulled map" : "the polished default map");
-    };
-    const auto mended = [&](Eigen::MatrixX2d& uv) {
-        return !mend_look(mesh, input, placed, options, where, uv, result) ||
-               within(uv, "the polished pulled map");
-    };
-    if (within(result.uv, "the carried pulled map") && mended(result.uv))
-    {
-        summary.pulled_area = measured;
-        return "";
-    }
-    Eigen::MatrixX2d uv = result.uv;
-    if (bring_within(uv, below, true) && mended(uv))
-    {
-        summary.pulled_area = measured;
-        result.uv = std::move(uv);
-        return "";
-    }
-    FlattenResult fallback;
-    Eigen::MatrixX2d fallback_below;
-    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, false,
-                                        std::move(unpulled), fallback, &fallback_below);
-    result.notes.insert(result.notes.end(), fallback.notes.begin(), fallback.notes.end());
-    if (!failed.empty())
-        return "the default map (the look retry undone): " + failed;
-    summary.kept = false;
-    summary.report += "; above the bound " + where + ", went back to the default map";
-    result.notes.push_back("coarse-to-fine: " + summary.report);
-    if (!within(fallback.uv, "the carried default map"))
-        bring_within(fallback.uv, fallback_below, false);
-    result.uv = std::move(fallback.uv);
-    return "";
-}
-
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
 // untouched.
@@ -741,54 +639,11 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     LayoutResult coarse_placed;
     at_level(levels.size(), coarsest, coarse_input, coarse_placed);
 
-    // The level whose `keep` map is the look retry's reference (recheck_look_retry()): the
-    // finest of at most MultilevelOptions::look_reference_vertices vertices, above the coarsest.
-    std::size_t depth = 0;
-    if (multilevel.look_reference_vertices > 0)
-        while (depth + 1 < levels.size() &&
-               (depth == 0 ? mesh : levels[depth - 1].mesh).n_vertices() >
-                   static_cast<std::size_t>(multilevel.look_reference_vertices))
-            ++depth;
-    const Mesh& checked = depth == 0 ? mesh : levels[depth - 1].mesh;
-    LayoutInput checked_input;
-    LayoutResult checked_placed;
-    if (depth > 0)
-        at_level(depth, checked, checked_input, checked_placed);
-    const LayoutInput& check_input = depth > 0 ? checked_input : input;
-    const LayoutResult& check_placed = depth > 0 ? checked_placed : placed;
-
-    // The look retry's reference on that level (recheck_look_retry()), made on the second
-    // core from when the retry starts on the coarse mesh, through the carry: it depends on the
-    // level's mesh alone. Where the retry does not keep its pulled map it is not used: it is
-    // then stopped at its solvers' next iteration (cancellable()) as soon as the coarse retry
-    // has decided, not waited for to its end.
-    std::atomic<bool> cancel_reference{false};
-    std::future<FlatQuality> reference;
-    const StopAhead stop_reference{[&] { cancel_reference = true; }};
-    const auto start_reference = [&] {
-        reference = std::async(std::launch::async, [&] {
-            const Eigen::MatrixX2d initial =
-                initial_map(checked, check_placed, options.initialization, nullptr);
-            const bool at_lscm = options.initialization == Initialization::LayoutLscm;
-            return keep_quality(checked, inlet_pins(check_placed, initial, at_lscm), initial,
-                                options, check_input, check_placed, &cancel_reference);
-        });
-    };
-    // On the coarse mesh the retry's area bound is an early exit: the bound itself is held at
-    // full resolution (recheck_look_retry()). It refuses there only a pulled map clearly above
-    // the bound, by more than the coarse ratio moves with rounding alone (the BLAS kernels of
-    // different CPUs; docs/overlaps.md, "Rounding").
-    constexpr double kCoarseAreaMargin = 1.05;
-    FlattenOptions coarse_options = options;
-    coarse_options.look_retry.max_area_over_keep *= kCoarseAreaMargin;
+    // The look retry runs on the coarse mesh, its area bound held there (retry_look()); a kept
+    // pulled map is carried up with its pulls, as one pulled from the start, which keeps its
+    // look (docs/overlaps.md, "The steps and the carry").
     FlattenResult solved;
-    Eigen::MatrixX2d unpulled;
-    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, coarse_options, solved,
-                                   &unpulled, start_reference);
-    // A retry that did not keep its pulled map needs no reference: stopped now, not when this
-    // function returns, so that it does not share the cores with the carry it would not serve.
-    if (!solved.look_retry.kept)
-        cancel_reference = true;
+    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved);
     char line[200];
     std::snprintf(line, sizeof line,
                   "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
@@ -800,11 +655,15 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     result.untangle = solved.untangle;
     result.injective = solved.injective;
     result.look_retry = solved.look_retry;
-    // A map pulled from the start (FlattenOptions::look_pull; no look retry then) is carried
-    // with its pulls, made on each level's carried map with hinges no tighter than it has.
+    // A pulled map (FlattenOptions::look_pull from the start, or the look retry's kept) is
+    // carried with its pulls, made on each level's carried map with hinges no tighter than it
+    // has.
+    const double pull_weight = options.look_pull.weight > 0.0 ? options.look_pull.weight
+                               : result.look_retry.kept       ? options.look_retry.pull
+                                                              : 0.0;
     LevelPulls pulls_at;
     std::vector<std::vector<BoundarySegment>> level_segments(levels.size() + 1);
-    if (options.look_pull.weight > 0.0)
+    if (pull_weight > 0.0)
     {
         level_segments[0] = input.segments;
         for (std::size_t d = 1; d <= levels.size(); ++d)
@@ -816,50 +675,15 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
         }
         pulls_at = [&](std::size_t l, const Eigen::MatrixX2d& uv) {
             const LookPullOptions& pull = options.look_pull;
-            return look_pulls(level_segments[l], uv, pull.weight, pull.form, pull.margin_deg,
+            return look_pulls(level_segments[l], uv, pull_weight, pull.form, pull.margin_deg,
                               pull.hold, HingeMargin::AtMostTheMap);
         };
     }
-    if (depth == 0 || !result.look_retry.kept)
-    {
-        Eigen::MatrixX2d below;
-        const std::string failed =
-            carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
-                     std::move(solved.uv), result, &below, pulls_at);
-        if (!failed.empty() || !result.look_retry.kept)
-            return failed;
-        return recheck_look_retry(mesh, input, placed, options, levels, boundary_levels,
-                                  std::move(unpulled), below, reference, "at full resolution",
-                                  result);
-    }
-
-    // The retry checked on level `depth`: carried up to it and checked there as at full
-    // resolution, then the map the check leaves carried on up as any other.
-    std::vector<CoarseMesh> upper(std::make_move_iterator(levels.begin()),
-                                  std::make_move_iterator(levels.begin() + depth));
-    std::vector<CoarseMesh> lower(std::make_move_iterator(levels.begin() + depth),
-                                  std::make_move_iterator(levels.end()));
-    const Mesh& level = upper.back().mesh;  // `checked`, moved
-    const std::size_t lower_boundary = boundary_levels > depth ? boundary_levels - depth : 0;
-    Eigen::MatrixX2d below;
-    std::string failed = carry_up(level, lower, check_placed, options, lower_boundary, at_layout,
-                                  std::move(solved.uv), result, &below);
+    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels,
+                                        at_layout, std::move(solved.uv), result, pulls_at);
     if (!failed.empty())
         return failed;
-    const std::string where = "on the level of " + std::to_string(level.n_vertices()) + " vertices";
-    failed = recheck_look_retry(level, check_input, check_placed, options, lower, lower_boundary,
-                                std::move(unpulled), below, reference, where, result);
-    if (!failed.empty())
-        return failed;
-    // The look retry's decision stands: the rest of the carry relaxes as for any map.
-    FlattenResult rest;
-    failed = carry_up(mesh, upper, placed, options, std::min(boundary_levels, depth), at_layout,
-                      std::move(result.uv), rest);
-    result.notes.insert(result.notes.end(), rest.notes.begin(), rest.notes.end());
-    if (!failed.empty())
-        return failed;
-    result.uv = std::move(rest.uv);
-    // The carry on up can break the look again: mended at full resolution as on the level.
+    // The carry can still break the look on a few outlets: mended at full resolution.
     if (result.look_retry.kept)
         mend_look(mesh, input, placed, options, "at full resolution", result.uv, result);
     return "";

@@ -24,14 +24,12 @@ struct LookRetryOptions
     //! CLI `--look-retry auto|off|force`.
     LookRetry mode = LookRetry::Auto;
     //! The redo's hinge weight (LookPullOptions::weight; the other fields of
-    //! FlattenOptions::look_pull apply but LookPullOptions::steps: the redo's steps take the
-    //! hinges by the diagonal proxy, PullSteps::DiagonalProxy, which moves each outlet loop as
-    //! a whole; with the exact Gauss-Newton terms Glenn split4's pulled coarse map is kept and
-    //! packs its branches so tightly that the carry breaks its look again, docs/journal/
-    //! benchmarks-2026-12.md, "The look pulls as rank-one Gauss-Newton terms").
-    //! Fitted on the Glenn tree's natural cuts: a weight that brings its walk inversions under
-    //! the broken-look line within the area bound (docs/overlaps.md, "The adaptive look").
-    //! CLI `--look-retry-pull`.
+    //! FlattenOptions::look_pull apply, its steps too: by default the hinges' exact
+    //! Gauss-Newton terms). With coarse-to-fine a kept pulled map is carried up with its pulls
+    //! at this weight, as a map pulled from the start (docs/overlaps.md, "The steps and the
+    //! carry"). Fitted on the Glenn tree's natural cuts: a weight that brings its walk
+    //! inversions under the broken-look line within the area bound (docs/overlaps.md, "The
+    //! adaptive look"). CLI `--look-retry-pull`.
     double pull = 300.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
@@ -41,13 +39,10 @@ struct LookRetryOptions
     //! The pulled map is kept only if its mean |log area| (both FlatQuality measures) is at
     //! most this factor times that of the unconstrained map (`--overlaps keep`, computed for the
     //! test when the pulled map's area is above the default map's): issue 7's 1.5x-keep bound,
-    //! less a margin. With coarse-to-fine (multilevel.h) the retry runs on the coarse mesh,
-    //! where this bound plus 5% (the coarse ratio moves by that much with rounding alone) only
-    //! refuses maps clearly above it, and the bound is checked on a finer level against that
-    //! level's `keep` map (the fine mesh but on the largest trees:
-    //! MultilevelOptions::look_reference_vertices): the coarse mesh's areas do not say it. A
-    //! carried map above it is relaxed further, then polished, then given up for the default
-    //! map (docs/benchmarks.md "The look retry at full resolution"). CLI `--look-retry-area`.
+    //! less a margin. With coarse-to-fine (multilevel.h) the retry runs and the bound is held
+    //! on the coarse mesh; carried up with its pulls, the kept map's area at full resolution
+    //! is not the coarse mesh's (docs/overlaps.md, "The steps and the carry", has both).
+    //! CLI `--look-retry-area`.
     double max_area_over_keep = 1.45;
     //! \brief Whether \p look is broken by the rule above.
     bool look_broken(const MapLook& look) const;
@@ -61,11 +56,11 @@ struct LookRetrySummary
     bool tried = false;          //!< the restart was redone with the pull
     bool kept = false;           //!< the pulled map replaced the default one
     double default_area = 0.0;   //!< default map's mean |log area| (normalized)
-    //! pulled map's, when tried; after coarse-to-fine, on the level where the bound was
-    //! checked if it was kept there (as keep_area), else on the coarse mesh
+    //! pulled map's, when tried; after coarse-to-fine, on the coarse mesh, where the bound
+    //! was checked (as keep_area)
     double pulled_area = 0.0;
-    //! the `keep` map's, when it was computed (else 0); after coarse-to-fine, on the level
-    //! where the bound was checked (MultilevelOptions::look_reference_vertices)
+    //! the `keep` map's, when it was computed (else 0); after coarse-to-fine, on the coarse
+    //! mesh
     double keep_area = 0.0;
     MapLook default_look;        //!< the default map's look, when tried
     std::string report;          //!< one line, also in FlattenResult::notes

@@ -10,8 +10,7 @@
 // parameterizations"). The map is carried up a hierarchy of levels, local steps at each
 // removing the error of its own wavelength; what is left is the error of wavelengths no level's
 // steps converge (docs/benchmarks.md "Coarse-to-fine"). A look retry kept on the coarse mesh is
-// checked again on a finer level (look_retry.h, LookRetryOptions::max_area_over_keep;
-// MultilevelOptions::look_reference_vertices).
+// carried up with its pulls (look_retry.h, LookRetryOptions::pull).
 
 #include "vessel/core/mesh.h"
 #include "vessel/layout/pins.h"
@@ -78,17 +77,6 @@ struct MultilevelOptions
     //! far from its minimum: SLIM's scaffold steps stalling on a decimated many-outlet tree).
     //! Relaxed maps mostly end near 1 (docs/benchmarks.md "Coarse-to-fine"). Must be > 1.
     double max_energy_ratio = 1.05;
-    //! A look retry kept on the coarse mesh has its area bound (LookRetryOptions::
-    //! max_area_over_keep) checked again against a `keep` map made on the finest level of at
-    //! most this many vertices, on the second core while the coarse maps are solved: on the
-    //! level above the coarse mesh at least, whose areas do not say how the maps compare at
-    //! full resolution, and below the full resolution of the largest trees, where that `keep`
-    //! map would cost several times the rest of stage F. The check's map (the pulled one, or
-    //! the default one where the check undoes the retry) is then carried on up as any map,
-    //! its look mended at full resolution if the carry broke it. A level of a quarter of the
-    //! vertices reads the full-resolution comparison; a sixteenth did not (docs/benchmarks.md
-    //! "The look retry at full resolution"). 0 = at full resolution on every mesh.
-    int look_reference_vertices = 50000;
     //! Called by relax_area() after each sweep with the number of sweeps made (progress).
     std::function<void(int sweeps)> on_sweep;
     //! \throw InvalidInputError naming the bad field.
