@@ -490,10 +490,12 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 AreaPolishOptions polish = options.area_polish;
                 polish.area_weight = lambda;  // the energy the bound is held on
                 polish.keep_boundary_simple = keep_simple;
-                if (pulled)
+                if (pulled)  // with the steps of SLIM's (refine_map())
                 {
                     polish.centre_pulls = pulls_at(0, uv);
-                    polish.pull_steps = PullSteps::GaussNewton;
+                    polish.pull_steps = options.look_pull.form == LookPullForm::Rays
+                                            ? PullSteps::DiagonalProxy
+                                            : options.look_pull.steps;
                 }
                 const AreaPolishSummary polished = area_polish(above, uv, pins, polish);
                 MultilevelOptions measure = multilevel;  // no sweep: the energy alone
@@ -523,22 +525,21 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
 }
 
 // The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full
-// resolution, with the look retry's pulls when \p pulled, at most \p newton_steps Newton steps
-// if > 0; one note.
+// resolution with the look retry's pulls, their hinges asking for the look's whole margin
+// (mend_look()), at most \p newton_steps Newton steps if > 0; one note.
 AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
-                                 const FlattenOptions& options, bool pulled, Eigen::MatrixX2d& uv,
-                                 FlattenResult& result, int newton_steps = 0,
-                                 HingeMargin margins = HingeMargin::AtMostTheMap)
+                                 const FlattenOptions& options, Eigen::MatrixX2d& uv,
+                                 FlattenResult& result, int newton_steps = 0)
 {
     AreaPolishOptions polish = options.area_polish;
     polish.keep_boundary_simple = true;
     if (newton_steps > 0)
         polish.newton_max_iterations = std::min(polish.newton_max_iterations, newton_steps);
-    if (pulled)
-        polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
-                                         options.look_pull.form, options.look_pull.margin_deg,
-                                         options.look_pull.hold, margins);
-    polish.pull_steps = PullSteps::DiagonalProxy;  // the look retry's (LookRetryOptions::pull)
+    polish.centre_pulls = look_pulls(input.segments, uv, options.look_retry.pull,
+                                     options.look_pull.form, options.look_pull.margin_deg,
+                                     options.look_pull.hold, HingeMargin::Whole);
+    // The mend moves each broken loop as a whole (the proxy), as it was measured.
+    polish.pull_steps = PullSteps::DiagonalProxy;
     AreaPolishSummary summary = area_polish(mesh, uv, {}, polish);
     result.notes.push_back("coarse-to-fine: " + summary.report);
     return summary;
@@ -568,14 +569,13 @@ bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     const AreaPolishOptions& polish = options.area_polish;
     // The hinges ask for the look's whole margin: made from the broken map, they would pull an
     // outlet below the inlet's line only onto it (HingeMargin).
-    constexpr HingeMargin whole = HingeMargin::Whole;
     if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
-        polish_carried(mesh, input, options, true, uv, result, 0, whole);
+        polish_carried(mesh, input, options, uv, result);
     else
     {
         const int chunk = std::max(polish.newton_chunk_iterations, 1);
         for (int made = 0; made < polish.newton_max_iterations; made += chunk)
-            if (polish_carried(mesh, input, options, true, uv, result, chunk, whole).iterations <
+            if (polish_carried(mesh, input, options, uv, result, chunk).iterations <
                     chunk ||
                 !look_broken_in(mesh, input, placed, options, uv))
                 break;
