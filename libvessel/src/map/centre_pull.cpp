@@ -73,6 +73,11 @@ void for_each_active_vertex(const std::vector<CentrePull>& pulls, const Eigen::V
 
 }  // namespace
 
+PullSteps LookPullOptions::solver_steps() const
+{
+    return form == LookPullForm::Rays ? PullSteps::DiagonalProxy : steps;
+}
+
 void LookPullOptions::validate() const
 {
     if (!(weight >= 0.0 && std::isfinite(weight)))

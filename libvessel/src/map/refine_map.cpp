@@ -52,10 +52,7 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
             slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull.weight,
                                            options.look_pull.form, options.look_pull.margin_deg,
                                            options.look_pull.hold);
-        // The rays keep the proxy (LookPullOptions::steps).
-        slim.pull_steps = options.look_pull.form == LookPullForm::Rays
-                              ? PullSteps::DiagonalProxy
-                              : options.look_pull.steps;
+        slim.pull_steps = options.look_pull.solver_steps();
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }
     if (slim.max_iterations > 0)

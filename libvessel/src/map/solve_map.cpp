@@ -3,7 +3,6 @@
 #include "detail/solve_map.h"
 
 #include "detail/look_retry.h"
-#include "detail/map_distortion.h"
 #include "detail/boundary_guard.h"
 #include "detail/face_jacobian.h"
 #include "detail/segments.h"
@@ -23,7 +22,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cstdio>
 #include <functional>
 #include <future>
@@ -490,12 +488,10 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 AreaPolishOptions polish = options.area_polish;
                 polish.area_weight = lambda;  // the energy the bound is held on
                 polish.keep_boundary_simple = keep_simple;
-                if (pulled)  // with the steps of SLIM's (refine_map())
+                if (pulled)
                 {
                     polish.centre_pulls = pulls_at(0, uv);
-                    polish.pull_steps = options.look_pull.form == LookPullForm::Rays
-                                            ? PullSteps::DiagonalProxy
-                                            : options.look_pull.steps;
+                    polish.pull_steps = options.look_pull.solver_steps();
                 }
                 const AreaPolishSummary polished = area_polish(above, uv, pins, polish);
                 MultilevelOptions measure = multilevel;  // no sweep: the energy alone

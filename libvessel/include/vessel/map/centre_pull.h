@@ -104,9 +104,12 @@ struct LookPullOptions
     //! start of a many-outlet tree only at more area, or not at all (docs/overlaps.md, "The
     //! steps and the carry"). LookPullForm::Rays takes the proxy whatever this says: a ray is a
     //! line through the inlet's centre, along which the exact steps let an outlet slide through
-    //! the inlet to the other side. The look retry's pulled map keeps the proxy (look_retry.h,
-    //! LookRetryOptions::pull).
+    //! the inlet to the other side. The look retry's pulled map takes these steps too
+    //! (look_retry.h, LookRetryOptions::pull).
     PullSteps steps = PullSteps::GaussNewton;
+    //! The steps SLIM and the area polish take with these pulls: `steps`, but the proxy with
+    //! LookPullForm::Rays (above).
+    PullSteps solver_steps() const;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
