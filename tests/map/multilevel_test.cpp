@@ -845,11 +845,11 @@ TEST_CASE("multilevel: with overlaps kept the map is carried, the inlet's pins h
     CHECK_FALSE(noted(r, "solved again at full resolution"));
     CHECK_FALSE(noted(r, "tried again with the whole boundary"));
     CHECK(r.quality.flipped_triangles == 0);
-    // Its carry's sweeps converge below 1.001 times the minimum: not relaxed further.
+    // Its carry's sweeps converge below 1.001 times the minimum: not finished by Newton steps.
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
     REQUIRE(carried.size() == 1);
     CHECK(carried[0].second <= 1.001);
-    CHECK_FALSE(noted(r, "relaxed further"));
+    CHECK_FALSE(noted(r, "coarse-to-fine: finished with"));
 }
 
 TEST_CASE("multilevel: a coarse SLIM whose clamped direction stops descending goes on and is carried")
@@ -867,16 +867,16 @@ TEST_CASE("multilevel: a coarse SLIM whose clamped direction stops descending go
     CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
 }
 
-TEST_CASE("multilevel: a carry whose relaxation stops short of its minimum is relaxed further")
+TEST_CASE("multilevel: a carry whose relaxation stops short of its minimum is finished by Newton steps")
 {
     // The 30-outlet tree phantom, seed 1 (edge 0.5): its coarse map moves far from the layout
     // circle, and the finest level's 16 sweeps end above 1.001 times the isometric minimum,
-    // where the sweeps are still lowering it; the carry then relaxes that level further, and
-    // the map is kept.
+    // where the sweeps are still lowering it; the carry then finishes that level with Newton
+    // steps of the whole map, and the map is kept.
     const Mesh mesh = test::test_tree_phantom(30, 1, 0.5);
     const FlattenResult r = flatten(mesh, FlattenOptions{});
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
-    const auto further = relaxed_ratios(r, "coarse-to-fine: relaxed further: ");
+    const auto further = relaxed_ratios(r, "coarse-to-fine: finished with ");
     REQUIRE(carried.size() == 1);
     CHECK(carried[0].second > 1.001);
     REQUIRE(further.size() == 1);

@@ -360,36 +360,45 @@ double relax_note(const char* prefix, const Mesh& mesh, const RelaxSummary& rela
     return minimum;
 }
 
-// More of carry_up()'s relaxation of the fine map \p uv (twice relax_sweeps and
-// coarse_corrections, from levels[0] and its map \p below), holding \p pins (none: the map of
-// a restart). The relaxation stops at relax_sweeps on trees whose carry starts far from the
-// minimum (Glenn split4: energy / minimum 1.50 -> 1.0067), and a few more sweeps come nearer
-// it at a fraction of the cost of Newton steps at full resolution (polish_carried()); one note.
-RelaxSummary relax_further(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
-                           const Eigen::MatrixX2d& below, const FlattenOptions& options,
-                           Eigen::MatrixX2d& uv, FlattenResult& result, const Pins& pins = {},
-                           const std::vector<CentrePull>* pulls = nullptr)
+// The area polish's options for a carried map of \p options' flattening: the energy the carry
+// relaxes (weight \p lambda), its boundary kept simple unless overlaps are kept, and a pulled
+// map's \p pulls (empty: none) taken as the look pull's solvers take them.
+AreaPolishOptions carried_polish(const FlattenOptions& options, double lambda,
+                                 std::vector<CentrePull> pulls)
 {
-    MultilevelOptions further = options.multilevel;
-    further.relax_sweeps *= 2;
-    further.coarse_corrections *= 2;
-    const double lambda = relax_weight(options);
-    const RelaxSummary relaxed =
-        relax_area(mesh, uv, pins, lambda, further, &levels[0], &below,
-                   options.overlaps != OverlapPolicy::Keep, nullptr, nullptr, pulls);
-    relax_note("coarse-to-fine: relaxed further: ", mesh, relaxed, result);
-    return relaxed;
+    AreaPolishOptions polish = options.area_polish;
+    polish.area_weight = lambda;  // the energy the bound is held on
+    polish.keep_boundary_simple = options.overlaps != OverlapPolicy::Keep;
+    polish.centre_pulls = std::move(pulls);
+    polish.pull_steps = options.look_pull.solver_steps();
+    return polish;
+}
+
+// The energy of \p uv that relax_area() lowers (its sweeps' energy, no sweep made).
+double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& pins,
+                      double lambda, const MultilevelOptions& multilevel)
+{
+    MultilevelOptions measure = multilevel;
+    measure.relax_sweeps = 0;
+    Eigen::MatrixX2d copy = uv;
+    return relax_area(mesh, copy, pins, lambda, measure).energy_after;
 }
 
 // Where the carry's relaxation of the finest level stopped at MultilevelOptions::relax_sweeps
-// short of where its sweeps lead, it is relaxed further (relax_further()): its energy above
-// kRelaxFurtherRatio times the isometric minimum, and its last sweep still lowering it by more
-// than kRelaxFurtherProgress of that excess. Carries whose sweeps have converged end below the
-// ratio on the carotids and most trees; above it, many-outlet trees whose coarse map moved far
-// are still moving, a surface of intrinsic distortion (an aneurysm's sac) is not
-// (docs/benchmarks.md "Relaxed further where the carry stops short").
-constexpr double kRelaxFurtherRatio = 1.001;
-constexpr double kRelaxFurtherProgress = 0.01;
+// short of its minimum, the map is finished with kFinishNewtonSteps projected Newton steps of
+// the whole map (area_polish(), one scaffold; a pulled map with its pulls): its energy above
+// kFinishRatio times the isometric minimum (a pulled map whatever its energy: its energy does
+// not see the area's error), and its last sweep still lowering it by more than kFinishProgress
+// of that excess. Carries whose sweeps have converged end below the ratio on the carotids and
+// most trees; above it, many-outlet trees whose coarse map moved far are still moving, where
+// the sweeps and coarse-grid corrections remove the rest only slowly (the energy's own slow
+// tail near its minimum); a surface of intrinsic distortion (an aneurysm's sac) is not
+// (docs/benchmarks.md "The carry finished by Newton steps"). Three steps cost about as much as
+// 32 more sweeps and 16 corrections and leave less area distortion (Glenn 0.0116 against
+// 0.0131); more go on lowering it at about one sweep's gain per step.
+constexpr double kFinishRatio = 1.001;
+constexpr double kFinishProgress = 0.01;
+constexpr int kFinishNewtonSteps = 3;
 
 // The look pulls on a level's map: level l of a carry (0 = its finest mesh, l > 0 =
 // levels[l - 1].mesh) and the map there.
@@ -399,10 +408,10 @@ using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eige
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
 // \param pulls_at if set: a pulled map (FlattenOptions::look_pull from the start, or the look
 // retry's kept on the coarse mesh). Each level relaxes with the pulls made on its carried map;
-// the finest is relaxed further with them wherever its last sweep still lowered the energy,
-// whatever the energy's ratio to its minimum (the pulled map's energy does not see the area's
-// error, which the further sweeps still lower), and polished with them where its energy is
-// above the bound (without them the polish undoes the look; docs/overlaps.md, "The steps and
+// the finest is finished by Newton steps with them wherever its last sweep still lowered the
+// energy, whatever the energy's ratio to its minimum (the pulled map's energy does not see the
+// area's error, which the steps still lower), and polished with them where its energy is above
+// the bound (without them the polish undoes the look; docs/overlaps.md, "The steps and
 // the carry").
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
@@ -468,35 +477,35 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             double energy = relaxed.energy_after;
             const bool pulled = static_cast<bool>(pulls_at);
             if (!relaxed.area_within_tolerance &&
-                (pulled || energy > kRelaxFurtherRatio * minimum) &&
-                relaxed.last_decrease > kRelaxFurtherProgress * (energy - minimum) &&
+                (pulled || energy > kFinishRatio * minimum) &&
+                relaxed.last_decrease > kFinishProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
-                const std::vector<CentrePull> further_pulls =
-                    pulled ? pulls_at(0, uv) : std::vector<CentrePull>{};
-                energy = relax_further(mesh, levels, coarser_uv, options, uv, result, pins,
-                                       pulled ? &further_pulls : nullptr)
-                             .energy_after;
+                AreaPolishOptions polish =
+                    carried_polish(options, lambda, pulled ? pulls_at(0, uv) : std::vector<CentrePull>{});
+                polish.newton_max_iterations = kFinishNewtonSteps;
+                polish.newton_chunk_iterations = kFinishNewtonSteps;
+                const AreaPolishSummary finished = area_polish(above, uv, pins, polish);
+                const double before = energy;
+                energy = relaxed_energy(above, uv, pins, lambda, multilevel);
+                std::snprintf(line, sizeof line,
+                              "coarse-to-fine: finished with %d Newton steps: energy / minimum "
+                              "%.5f -> %.5f",
+                              finished.iterations, before / minimum, energy / minimum);
+                result.notes.push_back(line);
                 if (keep_simple && boundary_self_intersection(above, uv).first >= 0)
-                    return "the relaxed map's boundary crosses itself";
+                    return "the finished map's boundary crosses itself";
             }
             if (!(energy <= multilevel.max_energy_ratio * minimum))
             {
                 // Local steps and coarse-grid corrections can stall on what is left of such a
                 // carry, Newton steps of the whole map do not, at a fraction of the cost of
                 // solving the map again (docs/benchmarks.md "Coarse-to-fine").
-                AreaPolishOptions polish = options.area_polish;
-                polish.area_weight = lambda;  // the energy the bound is held on
-                polish.keep_boundary_simple = keep_simple;
-                if (pulled)
-                {
-                    polish.centre_pulls = pulls_at(0, uv);
-                    polish.pull_steps = options.look_pull.solver_steps();
-                }
-                const AreaPolishSummary polished = area_polish(above, uv, pins, polish);
-                MultilevelOptions measure = multilevel;  // no sweep: the energy alone
-                measure.relax_sweeps = 0;
-                energy = relax_area(above, uv, pins, lambda, measure).energy_after;
+                const AreaPolishSummary polished = area_polish(
+                    above, uv, pins,
+                    carried_polish(options, lambda,
+                                   pulled ? pulls_at(0, uv) : std::vector<CentrePull>{}));
+                energy = relaxed_energy(above, uv, pins, lambda, multilevel);
                 std::snprintf(line, sizeof line,
                               "coarse-to-fine: above the bound, polished (%d steps): "
                               "energy / minimum %.5f",
