@@ -6,6 +6,7 @@
 // coarse-grid corrections (coarse_correction.h).
 
 #include "detail/face_jacobian.h"
+#include "solve/paired_pattern.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
@@ -133,27 +134,24 @@ public:
     PolishHessian(const std::vector<FaceOperator>& faces, const std::vector<int>& slot, int m)
         : H_(m, m), entry_(faces.size()), diagonal_(m)
     {
-        std::vector<Eigen::Triplet<double>> triplets;
-        for (int i = 0; i < m; ++i)
-            triplets.emplace_back(i, i, 0.0);
-        const auto row = [&](const FaceOperator& op, int a) {
-            const int s = slot[op.corner[a / 2]];
-            return s < 0 ? -1 : 2 * s + a % 2;
-        };
-        for (const FaceOperator& op : faces)
-            for (int a = 0; a < 6; ++a)
-                for (int b = 0; b <= a; ++b)
-                    if (const int ra = row(op, a), rb = row(op, b); ra >= 0 && rb >= 0)
-                        triplets.emplace_back(std::min(ra, rb), std::max(ra, rb), 0.0);
-        H_.setFromTriplets(triplets.begin(), triplets.end());
-        H_.makeCompressed();
-        const auto index = [&](int r, int c) {
-            const int* begin = H_.innerIndexPtr() + H_.outerIndexPtr()[c];
-            const int* end = H_.innerIndexPtr() + H_.outerIndexPtr()[c + 1];
-            return static_cast<int>(std::lower_bound(begin, end, r) - H_.innerIndexPtr());
-        };
+        // Two free vertices couple when they share a face.
+        const PairedPattern pattern = PairedPattern::of_triangles(
+            m / 2, faces.size(), [&](std::size_t f, std::array<int, 3>& s) {
+                int count = 0;
+                for (int v : faces[f].corner)
+                    if (slot[v] >= 0)
+                        s[count++] = slot[v];
+                std::sort(s.begin(), s.begin() + count);
+                return count;
+            });
+        pattern.into(H_);
+        const auto index = [&](int r, int c) { return pattern.index(r, c); };
         for (int i = 0; i < m; ++i)
             diagonal_[i] = index(i, i);
+        const auto row = [&](const FaceOperator& op, int a) {
+            const int v = slot[op.corner[a / 2]];
+            return v < 0 ? -1 : 2 * v + a % 2;
+        };
         for (std::size_t f = 0; f < faces.size(); ++f)
         {
             int e = 0;

@@ -6,6 +6,7 @@
 #include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
 #include "solve/paired_cholmod.h"
+#include "solve/paired_pattern.h"
 #include "detail/scaffold.h"
 #include "solve/serial_openmp.h"
 #include "vessel/quality/metrics.h"
@@ -145,6 +146,7 @@ namespace {
 using detail::FaceOperator;
 using detail::face_operators;
 using detail::face_threads;
+using detail::PairedPattern;
 using detail::parallel_chunks;
 
 Eigen::Matrix2d jacobian(const FaceOperator& op, const Eigen::VectorXd& x)
@@ -242,84 +244,28 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
                 block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
             }
     }
-    // The pattern, built directly (no triplets to sort): vertex I couples with vertex J >= I
-    // when they share a face; then the u and v of both couple, upper triangle only.
-    std::vector<int> vertex_start(n + 1, 0);
-    for (std::size_t f = 0; f < ops.size(); ++f)
-        for (int k = 1; k < 3; ++k)
-            vertex_start[ops[f].corner[M.blocks[f].corner[k]] + 1] += k;
-    for (int J = 0; J < n; ++J)
-        vertex_start[J + 1] += vertex_start[J];
-    std::vector<int> vertex_rows(vertex_start[n]);
-    {
-        std::vector<int> fill(vertex_start.begin(), vertex_start.end() - 1);
-        for (std::size_t f = 0; f < ops.size(); ++f)
-            for (int k = 1; k < 3; ++k)
-                for (int l = 0; l < k; ++l)
-                {
-                    const int J = ops[f].corner[M.blocks[f].corner[k]];
-                    vertex_rows[fill[J]++] = ops[f].corner[M.blocks[f].corner[l]];
-                }
-    }
-    // Per vertex J, its distinct neighbours I < J, sorted: column 2J + k (k = 0 for u, 1 for
-    // v) holds rows 2I and 2I + 1 of each, then 2J, and for k = 1 also 2J + 1. An entry's value
-    // index therefore follows from the rank of I among J's neighbours alone.
-    std::vector<int> distinct(n);  // per vertex J, how many distinct neighbours I < J
-    std::vector<int> outer(2 * n + 1, 0), inner;
-    inner.reserve(4 * vertex_rows.size() + 3 * n);
-    for (int J = 0; J < n; ++J)
-    {
-        const auto begin = vertex_rows.begin() + vertex_start[J];
-        auto end = vertex_rows.begin() + vertex_start[J + 1];
-        std::sort(begin, end);
-        end = std::unique(begin, end);
-        distinct[J] = static_cast<int>(end - begin);
-        for (int k = 0; k < 2; ++k)  // columns 2J (u) and 2J + 1 (v)
-        {
-            for (auto I = begin; I != end; ++I)
-            {
-                inner.push_back(2 * *I);
-                inner.push_back(2 * *I + 1);
-            }
-            inner.push_back(2 * J);
-            if (k == 1)
-                inner.push_back(2 * J + 1);
-            outer[2 * J + 1 + k] = static_cast<int>(inner.size());
-        }
-    }
-    M.A.resize(2 * n, 2 * n);
-    M.A.resizeNonZeros(static_cast<Eigen::Index>(inner.size()));
-    std::copy(outer.begin(), outer.end(), M.A.outerIndexPtr());
-    std::copy(inner.begin(), inner.end(), M.A.innerIndexPtr());
-    std::fill(M.A.valuePtr(), M.A.valuePtr() + inner.size(), 0.0);
-    // The rank of vertex I among the distinct neighbours I' < J of vertex J.
-    const auto rank = [&](int I, int J) {
-        const auto first = vertex_rows.begin() + vertex_start[J];
-        return static_cast<int>(std::lower_bound(first, first + distinct[J], I) - first);
-    };
+    // Two vertices couple when they share a face.
+    const PairedPattern pattern = PairedPattern::of_triangles(
+        n, ops.size(), [&](std::size_t f, std::array<int, 3>& s) {
+            for (int k = 0; k < 3; ++k)
+                s[k] = ops[f].corner[M.blocks[f].corner[k]];
+            return 3;
+        });
+    pattern.into(M.A);
     for (std::size_t f = 0; f < ops.size(); ++f)
     {
         std::array<int, 3> vertex{};  // the face's corners in increasing order
         for (int k = 0; k < 3; ++k)
             vertex[k] = ops[f].corner[M.blocks[f].corner[k]];
-        // Where the rows of the sorted corner l start in the column of sorted corner k (l < k),
-        // and where the column's own vertex starts (l = k).
-        std::array<std::array<int, 3>, 3> start{};
-        for (int k = 0; k < 3; ++k)
-        {
-            start[k][k] = 2 * distinct[vertex[k]];
-            for (int l = 0; l < k; ++l)
-                start[k][l] = 2 * rank(vertex[l], vertex[k]);
-        }
         int s = 0;
         for (int a = 0; a < 6; ++a)  // local column: corner a / 2, u or v by a % 2
             for (int b = 0; b <= a; ++b)
                 M.blocks[f].slot[s++] =
-                    outer[2 * vertex[a / 2] + a % 2] + start[a / 2][b / 2] + b % 2;
+                    pattern.index(2 * vertex[b / 2] + b % 2, 2 * vertex[a / 2] + a % 2);
     }
     M.diagonal.resize(2 * n);
     for (int i = 0; i < 2 * n; ++i)
-        M.diagonal[i] = outer[i] + 2 * distinct[i / 2] + i % 2;
+        M.diagonal[i] = pattern.index(i, i);
     return M;
 }
 
