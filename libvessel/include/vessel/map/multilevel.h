@@ -39,16 +39,16 @@ struct MultilevelOptions
     //! `tolerance` of its excess over the isometric minimum. The sweeps remove the carry's
     //! short-wavelength error; the corrections the long-wavelength error that sweeps alone remove
     //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine"). Stage F's carry
-    //! relaxes its finest level for twice as many sweeps and corrections more where they
-    //! stopped short: the energy still above 1.001 times its isometric minimum, and the last
-    //! sweep still lowering it by more than a hundredth of that excess (docs/benchmarks.md
-    //! "Relaxed further where the carry stops short").
+    //! finishes its finest level with three Newton steps of the whole map where they stopped
+    //! short: the energy still above 1.001 times its isometric minimum, and the last sweep
+    //! still lowering it by more than a hundredth of that excess (docs/benchmarks.md "The
+    //! carry finished by Newton steps where it stops short").
     int relax_sweeps = 16;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
     //! relax_area() stops after a coarse-grid correction that leaves the map's mean |log area|
     //! (FlatQuality::mean_abs_log_area_normalized) at most this; >= 0, 0 = never (the whole
     //! schedule). Stage F's carry applies it to the finest level only (a coarser level's area
-    //! is not the map's), and a carry stopped by it is not relaxed further. The area error
+    //! is not the map's), and a carry stopped by it is not finished by Newton steps. The area error
     //! falls by a few percent per sweep to the schedule's end; at a mean of 0.15% a region's
     //! area on the map, or a per-area field summed over it, is off by far less than wall shear
     //! stress differs between CFD pipelines on one geometry (Valen-Sendstad et al. 2018,
