@@ -867,6 +867,22 @@ TEST_CASE("multilevel: a coarse SLIM whose clamped direction stops descending go
     CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
 }
 
+TEST_CASE("multilevel: the carry's finish takes Newton steps whatever the area polish's minimizer")
+{
+    // The 16-outlet tree phantom of seed 1 at edge 1.2 keeps its look retry's pulled map, whose
+    // carry is finished. With the area polish set to L-BFGS the finish still takes its three
+    // Newton steps, not the polish's up to 1000 L-BFGS iterations.
+    const Mesh mesh = test::test_tree_phantom(16, 1, 1.2);
+    FlattenOptions options;
+    options.area_polish.newton = false;
+    const FlattenResult r = flatten(mesh, options);
+    const auto finished = relaxed_ratios(r, "coarse-to-fine: finished with ");
+    REQUIRE(finished.size() == 1);
+    CHECK(noted(r, "coarse-to-fine: finished with 3 Newton steps"));
+    CHECK(finished[0].second < finished[0].first);
+    check_carry_kept(r);
+}
+
 TEST_CASE("multilevel: a carry whose relaxation stops short of its minimum is finished by Newton steps")
 {
     // The 30-outlet tree phantom, seed 1 (edge 0.5): its coarse map moves far from the layout

@@ -483,6 +483,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             {
                 AreaPolishOptions polish =
                     carried_polish(options, lambda, pulled ? pulls_at(0, uv) : std::vector<CentrePull>{});
+                polish.newton = true;  // whatever the polish's own minimizer
                 polish.newton_max_iterations = kFinishNewtonSteps;
                 polish.newton_chunk_iterations = kFinishNewtonSteps;
                 const AreaPolishSummary finished = area_polish(above, uv, pins, polish);
