@@ -145,9 +145,8 @@ public:
                 return count;
             });
         pattern.into(H_);
-        const auto index = [&](int r, int c) { return pattern.index(r, c); };
         for (int i = 0; i < m; ++i)
-            diagonal_[i] = index(i, i);
+            diagonal_[i] = pattern.index(i, i);
         const auto row = [&](const FaceOperator& op, int a) {
             const int v = slot[op.corner[a / 2]];
             return v < 0 ? -1 : 2 * v + a % 2;
@@ -159,7 +158,9 @@ public:
                 for (int b = 0; b <= a; ++b, ++e)
                 {
                     const int ra = row(faces[f], a), rb = row(faces[f], b);
-                    entry_[f][e] = ra >= 0 && rb >= 0 ? index(std::min(ra, rb), std::max(ra, rb)) : -1;
+                    entry_[f][e] = ra >= 0 && rb >= 0
+                                       ? pattern.index(std::min(ra, rb), std::max(ra, rb))
+                                       : -1;
                 }
         }
     }

@@ -392,10 +392,9 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // of that excess. Carries whose sweeps have converged end below the ratio on the carotids and
 // most trees; above it, many-outlet trees whose coarse map moved far are still moving, where
 // the sweeps and coarse-grid corrections remove the rest only slowly (the energy's own slow
-// tail near its minimum); a surface of intrinsic distortion (an aneurysm's sac) is not
-// (docs/benchmarks.md "The carry finished by Newton steps"). Three steps cost about as much as
-// 32 more sweeps and 16 corrections and leave less area distortion (Glenn 0.0116 against
-// 0.0131); more go on lowering it at about one sweep's gain per step.
+// tail near its minimum); a surface of intrinsic distortion (an aneurysm's sac) is not. Three
+// steps cost about as much as the 32 sweeps and 16 corrections they replaced and leave less
+// area distortion (docs/benchmarks.md "The carry finished by Newton steps where it stops short").
 constexpr double kFinishRatio = 1.001;
 constexpr double kFinishProgress = 0.01;
 constexpr int kFinishNewtonSteps = 3;
@@ -481,8 +480,8 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 relaxed.last_decrease > kFinishProgress * (energy - minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
-                AreaPolishOptions polish =
-                    carried_polish(options, lambda, pulled ? pulls_at(0, uv) : std::vector<CentrePull>{});
+                AreaPolishOptions polish = carried_polish(
+                    options, lambda, pulled ? pulls_at(0, uv) : std::vector<CentrePull>{});
                 polish.newton = true;  // whatever the polish's own minimizer
                 polish.newton_max_iterations = kFinishNewtonSteps;
                 polish.newton_chunk_iterations = kFinishNewtonSteps;
