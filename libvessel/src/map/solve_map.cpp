@@ -530,8 +530,9 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
 }
 
 // The area polish (FlattenOptions::area_polish, boundary kept simple) of a carried map at full
-// resolution with the look retry's pulls, their hinges asking for the look's whole margin
-// (mend_look()), at most \p newton_steps Newton steps if > 0; one note.
+// resolution with the look retry's pulls (mend_look()), at most \p newton_steps Newton steps if
+// > 0; one note. The hinges ask for the look's whole margin: made from the broken map, they
+// would pull an outlet below the inlet's line only onto it (HingeMargin).
 AreaPolishSummary polish_carried(const Mesh& mesh, const LayoutInput& input,
                                  const FlattenOptions& options, Eigen::MatrixX2d& uv,
                                  FlattenResult& result, int newton_steps = 0)
@@ -572,16 +573,13 @@ bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
                            ": the carry broke the pulled map's look; polished with the pulls "
                            "until it is whole");
     const AreaPolishOptions& polish = options.area_polish;
-    // The hinges ask for the look's whole margin: made from the broken map, they would pull an
-    // outlet below the inlet's line only onto it (HingeMargin).
     if (!polish.newton)  // L-BFGS: no chunks of Newton steps to stop between
         polish_carried(mesh, input, options, uv, result);
     else
     {
         const int chunk = std::max(polish.newton_chunk_iterations, 1);
         for (int made = 0; made < polish.newton_max_iterations; made += chunk)
-            if (polish_carried(mesh, input, options, uv, result, chunk).iterations <
-                    chunk ||
+            if (polish_carried(mesh, input, options, uv, result, chunk).iterations < chunk ||
                 !look_broken_in(mesh, input, placed, options, uv))
                 break;
     }
