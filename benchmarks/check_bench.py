@@ -7,7 +7,9 @@
 Each check reads the executable's JSON and asserts properties of what it measured: every stage
 timed in every run, the runs' totals equal to the sums of their stages, a peak RSS, both
 pipelines' map quality and cut winding reported, and the peer's search on our costs finding our
-paths. The quality bounds are requirements per method, each of which a broken value fails:
+paths; and `targets_table.py`, read on the default's and the paper's method's runs, prints the
+mesh's row with their median Totals and the peer's. The quality bounds are requirements per
+method, each of which a broken value fails:
 
 - every map of ours (and the peer's ARAP map): total area ratio within AREA_RATIO_TOLERANCE of 1
   (stage F maps at the surface's scale; the same bound as pipeline_test's real meshes);
@@ -151,7 +153,43 @@ def check_table(exe, mesh, workdir):
         check_winding(where, p["quality"], MAX_PEER_WINDING_DEG, MAX_PEER_WINDING_DEG)
         expect("arap" in p["quality"], f"{where}: no ARAP quality")
         check_area_ratio(where + " ARAP", p["quality"]["arap"])
+    check_targets_table(os.path.join(workdir, "table-default-default.json"),
+                        os.path.join(workdir, "table-paper-default.json"))
     print(f"check_bench table: {mesh}: all four pipelines, ours and the peer, checked")
+
+
+def check_targets_table(default_json, paper_json):
+    """targets_table.py on the runs above: the mesh's row reads the medians of both methods'
+    Totals and the peer's, in the real trees' table."""
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "targets_table.py")
+    run = subprocess.run([sys.executable, script, "--default", default_json,
+                          "--paper", paper_json], check=True, capture_output=True, text=True)
+    with open(default_json) as f:
+        ours = json.load(f)["results"][0]
+    with open(paper_json) as f:
+        paper = json.load(f)["results"][0]
+    tables = run.stdout.split("**Carotid phantoms**")
+    expect(len(tables) == 2 and "**Real trees**" in tables[0],
+           f"targets_table: no real trees' and phantoms' tables in\n{run.stdout}")
+    rows = [line for line in tables[0].splitlines() if line.startswith("| ") and "---" not in line]
+    expect(len(rows) == 2, f"targets_table: {len(rows) - 1} rows for one real mesh")
+    cells = [c.strip() for c in rows[1].strip("|").split("|")]
+    header = [c.strip() for c in rows[0].strip("|").split("|")]
+    row = dict(zip(header, cells))
+
+    def seconds(x):
+        return "%.2f" % x if x >= 1 else "%.3f" % x if x >= 0.1 else "%.3g" % x
+
+    expect(row["Total"] == seconds(ours["stages"]["Total"]["median"]),
+           f"targets_table: Total {row['Total']}, the runs' median "
+           f"{ours['stages']['Total']['median']}")
+    theirs = row["paper's method"]
+    expect(theirs == seconds(paper["stages"]["Total"]["median"]),
+           f"targets_table: paper's method {theirs}, the runs' median "
+           f"{paper['stages']['Total']['median']}")
+    expect(row["CGAL peer"] == seconds(ours["peer"]["stages"]["Total"]["median"]),
+           f"targets_table: CGAL peer {row['CGAL peer']}, its runs' median "
+           f"{ours['peer']['stages']['Total']['median']}")
 
 
 def check_cut(exe, mesh_name):
