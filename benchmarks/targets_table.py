@@ -6,7 +6,8 @@ one per mesh set (the real trees, the carotid phantoms): per mesh the default's 
 its stages Z, VC and F (s), issue 27's target, the paper's method's median Total (the runs made
 with `--method paper`), the paper's own Table 1 (Eulzer et al., Python + libigl on an 8-core
 Ryzen 7 5800X; carotid 44k and 300k only), the CGAL peer's Total (or where its ARAP fails), and
-the maps' quality. Medians are over every sample of every file given for a method, so several
+the maps' quality. The paper's Table 1 is read from the files too (`paper_table_1`, written by
+the bench beside its results). Medians are over every sample of every file given for a method, so several
 runs of the bench can be pooled.
 
     /usr/bin/python3 benchmarks/targets_table.py --default default.json [more.json ...] \
@@ -20,8 +21,6 @@ import json
 import re
 import statistics
 
-# The paper's Table 1 (wall seconds, whole pipeline), by the bench's phantom names.
-PAPER_TABLE_1 = {"carotid-44k": 11.2, "carotid-300k": 175.8}
 # Issue 27's targets for the default (Total, s).
 TARGETS = {
     "pulmonary-glenn-wall": 1.5,
@@ -44,14 +43,17 @@ LABELS = {
 
 
 def load(paths):
-    """Each mesh's result rows (one per file that ran it), in the first file's order."""
-    rows = {}
+    """Each mesh's result rows (one per file that ran it), in the first file's order, and the
+    paper's Table 1 as the files give it."""
+    rows, table_1 = {}, {}
     for path in paths:
         with open(path) as f:
-            for row in json.load(f)["results"]:
-                if "stages" in row:
-                    rows.setdefault(row["name"], []).append(row)
-    return rows
+            doc = json.load(f)
+        table_1.update(doc.get("paper_table_1", {}))
+        for row in doc["results"]:
+            if "stages" in row:
+                rows.setdefault(row["name"], []).append(row)
+    return rows, table_1
 
 
 def samples(rows, stage):
@@ -91,7 +93,7 @@ def peer_area(rows):
     return "–"
 
 
-def table(names, default, paper):
+def table(names, default, paper, table_1):
     out = [
         "| mesh | triangles | Total | Z | VC | F | target | paper's method | paper's Table 1 | "
         "CGAL peer | mean \\|log A\\| (default / paper's method / peer) | flipped / overlapping "
@@ -111,7 +113,7 @@ def table(names, default, paper):
             seconds(median(rows, "F")),
             "%g" % TARGETS[name] if name in TARGETS else "",
             seconds(median(theirs, "Total")) if theirs else "–",
-            "%g" % PAPER_TABLE_1[name] if name in PAPER_TABLE_1 else "",
+            "%g" % table_1[name]["Total"] if name in table_1 else "",
             peer_total(rows),
             "%.4f / %s / %s"
             % (
@@ -137,11 +139,11 @@ def main():
     parser.add_argument("--default", nargs="+", required=True, help="vessel-bench-table JSON files")
     parser.add_argument("--paper", nargs="+", default=[], help="the same with --method paper")
     args = parser.parse_args()
-    default, paper = load(args.default), load(args.paper)
+    (default, table_1), (paper, _) = load(args.default), load(args.paper)
     real = [n for n in default if not n.startswith("carotid-")]
     phantoms = [n for n in default if n.startswith("carotid-")]
-    print("**Real trees**\n\n" + table(real, default, paper))
-    print("\n**Carotid phantoms**\n\n" + table(phantoms, default, paper))
+    print("**Real trees**\n\n" + table(real, default, paper, table_1))
+    print("\n**Carotid phantoms**\n\n" + table(phantoms, default, paper, table_1))
     print()
     for name in default:
         total = samples(default[name], "Total")
