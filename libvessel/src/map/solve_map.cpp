@@ -403,12 +403,11 @@ constexpr int kFinishNewtonSteps = 3;
 // kStalledShare of the carried map's excess over the isometric minimum and left it above
 // kStalledRatio times that minimum. Such a carry has squeezed faces that the sweeps cannot
 // open, as their steps hold the boundary's near contacts (relax_area()); the polish at full
-// resolution then spends its whole budget and can still end above the bound (pulmonary Glenn
-// with the direction field's cuts: 519 -> 501 times the minimum in 16 sweeps, 1.13 after 100
-// Newton steps, about 16 s, before the whole boundary kept on every level solved it in 4 s).
-// Where that second try is to come, such a carry goes to it at once. Every carry that the
-// polish brought within the bound on the real trees and the tree phantoms had ended its sweeps
-// below 8 times the minimum (docs/benchmarks.md, "Coarse-to-fine").
+// resolution then spends its whole budget and can still end above the bound, while the second
+// try (the whole boundary kept on every level) solves it at a fraction of that cost. Where that
+// second try is to come, such a carry goes to it at once. The carries that the polish does bring
+// within the bound end their sweeps far below kStalledRatio (docs/benchmarks.md, "A stalled
+// carry goes to the second try at once").
 constexpr double kStalledRatio = 10.0;
 constexpr double kStalledShare = 0.5;
 
@@ -418,8 +417,8 @@ using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eige
 
 // The coarse map \p uv (on levels.back()) carried up every level of \p levels to \p mesh into
 // result.uv (notes into result.notes); on failure the reason, and result.uv untouched.
-// \param tried_again a failure is followed by a second try: a finest level whose relaxation
-// stalls (kStalledRatio) fails without the polish.
+// \param second_try_follows a failure is followed by a second try: a finest level whose
+// relaxation stalls (kStalledRatio) fails without the polish.
 // \param pulls_at if set: a pulled map (FlattenOptions::look_pull from the start, or the look
 // retry's kept on the coarse mesh). Each level relaxes with the pulls made on its carried map;
 // the finest is finished by Newton steps with them wherever its last sweep still lowered the
@@ -430,7 +429,8 @@ using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eige
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
                      std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
-                     FlattenResult& result, bool tried_again, const LevelPulls& pulls_at = {})
+                     FlattenResult& result, bool second_try_follows,
+                     const LevelPulls& pulls_at = {})
 {
     const MultilevelOptions& multilevel = options.multilevel;
     char line[200];
@@ -490,7 +490,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
             const double minimum = relax_note("coarse-to-fine: ", mesh, relaxed, result);
             double energy = relaxed.energy_after;
             const bool pulled = static_cast<bool>(pulls_at);
-            if (tried_again && energy > kStalledRatio * minimum &&
+            if (second_try_follows && energy > kStalledRatio * minimum &&
                 energy - minimum > kStalledShare * (relaxed.energy_before - minimum))
             {
                 std::snprintf(line, sizeof line,
@@ -611,11 +611,11 @@ bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
 
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
-// untouched. \p tried_again: a failure is followed by a second try (solve_multilevel()), so a
-// carry whose relaxation stalls fails at once (kStalledRatio).
+// untouched. \p second_try_follows: a failure is followed by a second try
+// (solve_multilevel()), so a carry whose relaxation stalls fails at once (kStalledRatio).
 std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                                  const LayoutResult& placed, const FlattenOptions& options,
-                                 std::size_t boundary_levels, bool tried_again,
+                                 std::size_t boundary_levels, bool second_try_follows,
                                  FlattenResult& result, bool& at_layout)
 {
     // The hierarchy, each segment keeping its ends and evenly spaced vertices between them,
@@ -706,9 +706,8 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                               pull.hold, HingeMargin::AtMostTheMap);
         };
     }
-    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels,
-                                        at_layout, std::move(solved.uv), result, tried_again,
-                                        pulls_at);
+    const std::string failed = carry_up(mesh, levels, placed, options, boundary_levels, at_layout,
+                                        std::move(solved.uv), result, second_try_follows, pulls_at);
     if (!failed.empty())
         return failed;
     // The carry can still break the look on a few outlets: mended at full resolution.
