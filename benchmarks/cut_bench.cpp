@@ -130,8 +130,8 @@ vessel::CutPlan paper_vc(Ours& o)
 // made in stage Z), a winding-bounded route where the winding price leaves one unnatural.
 vessel::CutPlan default_vc(Ours& o)
 {
-    return vessel::plan_cuts(*o.graph, o.loops, o.winding, vessel::CutPlanOptions{}, o.stream,
-                             o.H);
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, vessel::CutPlanOptions{}, o.stream, o.H,
+                             o.z);
 }
 
 // The default with --no-natural-cuts (the aligned route alone: no winding-bounded routes).
@@ -139,7 +139,7 @@ vessel::CutPlan aligned_vc(Ours& o)
 {
     vessel::CutPlanOptions options;
     options.natural_cuts = false;
-    return vessel::plan_cuts(*o.graph, o.loops, o.winding, options, o.stream, o.H);
+    return vessel::plan_cuts(*o.graph, o.loops, o.winding, options, o.stream, o.H, o.z);
 }
 
 // FNV-1a over the halfedges of every path, in order, cut to 48 bits (exact in a double): equal

@@ -245,7 +245,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
         traces_stream(options.cuts) && options.cuts.stream_field == StreamField::Direction;
     result.plan = forced_plan ? *forced_plan
                               : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
-                                          trace_z ? z : zstage.stream, zstage.H);
+                                          trace_z ? z : zstage.stream, zstage.H, z);
     graph.reset();
     result.timings.VC = clock.lap("VC");
 

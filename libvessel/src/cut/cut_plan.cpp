@@ -231,11 +231,11 @@ void check_route(const Mesh& mesh, const PathQuery& query, const GraphPath& path
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options, const Eigen::MatrixX3d& stream_field,
-                  const Eigen::VectorXd& longitudinal)
+                  const Eigen::VectorXd& longitudinal, const Eigen::MatrixX3d& direction)
 {
     options.validate();
     CutGraph graph(mesh, weights);
-    return plan_cuts(graph, loops, winding_rate, options, stream_field, longitudinal);
+    return plan_cuts(graph, loops, winding_rate, options, stream_field, longitudinal, direction);
 }
 
 namespace {
@@ -275,15 +275,18 @@ double widest_turn(const WindingMeter& meter, const CutPlan& plan)
 // plan_cuts() with the policy's ends as given.
 CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                        const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
-                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal);
+                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal,
+                       const Eigen::MatrixX3d& direction);
 
 }  // namespace
 
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                   const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
-                  const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal)
+                  const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal,
+                  const Eigen::MatrixX3d& direction)
 {
-    CutPlan plan = plan_with_ends(graph, loops, winding_rate, options, stream_field, longitudinal);
+    CutPlan plan =
+        plan_with_ends(graph, loops, winding_rate, options, stream_field, longitudinal, direction);
     // An endpoint policy that fixes the first cut's end on the inlet fixes that cut's side at
     // both ends; where the vessel turns round the view between them (a far side that moves
     // round the tube) no natural route joins them, as the bound chooses among routes between
@@ -299,7 +302,8 @@ CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         return plan;
     CutPlanOptions freed = options;
     freed.endpoints = std::make_shared<InletFreeEndpoints>(options.endpoints);
-    CutPlan again = plan_with_ends(graph, loops, winding_rate, freed, stream_field, longitudinal);
+    CutPlan again =
+        plan_with_ends(graph, loops, winding_rate, freed, stream_field, longitudinal, direction);
     return widest_turn(meter, again) < widest ? again : plan;
 }
 
@@ -307,7 +311,8 @@ namespace {
 
 CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                        const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options,
-                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal)
+                       const Eigen::MatrixX3d& stream_field, const Eigen::VectorXd& longitudinal,
+                       const Eigen::MatrixX3d& direction)
 {
     options.validate();
     const Mesh& mesh = graph.mesh();
@@ -370,8 +375,8 @@ CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
         query.is_blocked[v.idx()] = 0;
     }
 
-    const CutPlanContext context{&graph,        &loops,        &loop_of,     &options,
-                                 &winding_rate, &stream_field, &longitudinal};
+    const CutPlanContext context{&graph,        &loops,        &loop_of,      &options,
+                                 &winding_rate, &stream_field, &longitudinal, &direction};
     const std::unique_ptr<CutRouter> router = route->start(context);
     const std::unique_ptr<CutJoiner> joiner = join->start(context);
     CutPlan plan;

@@ -47,6 +47,37 @@ bool keep_traced(const Mesh& mesh, const GraphPath& cheapest, const GraphPath& t
                         std::abs(meter->measure(a).winding_deg) - options.winding_min_gain_deg;
 }
 
+// A natural cut with options.natural_cuts: within winding_limit_deg end to end and in span.
+bool within_limit(const PathWinding& w, const CutPlanOptions& options)
+{
+    return std::abs(w.winding_deg) <= options.winding_limit_deg &&
+           w.span_deg <= options.winding_limit_deg;
+}
+
+// CutRoute::Aligned: whether \p other, traced along the vessel direction z, replaces \p current,
+// a natural cut (traced or not) whose angle spans more than twice winding_target_deg. On a long
+// tube the descent of the discrete harmonic coordinate carries a small lateral error (about a
+// degree on a coarse helix, varying round the tube: docs/design.md, "Per-cut route choice") that
+// its streamline integrates into a drift of a column or more, where z, fitted per vertex, has
+// none. \p other is kept if it is natural, winds no more than \p current or the target,
+// spans less by winding_min_gain_deg and is at most winding_max_alignment_loss less aligned
+// with the stream field.
+bool keep_direction_trace(const Mesh& mesh, const PathWinding& current_winding,
+                          const GraphPath& current, const GraphPath& other,
+                          const Eigen::MatrixX3d& stream_field, const WindingMeter& meter,
+                          const CutPlanOptions& options)
+{
+    const PathWinding w = meter.measure(as_cut(mesh, other));
+    if (!within_limit(w, options) ||
+        !(w.span_deg < current_winding.span_deg - options.winding_min_gain_deg) ||
+        !(std::abs(w.winding_deg) <=
+          std::max(std::abs(current_winding.winding_deg), options.winding_target_deg)))
+        return false;
+    return path_alignment(mesh, as_cut(mesh, other), stream_field).mean >=
+           path_alignment(mesh, as_cut(mesh, current), stream_field).mean -
+               options.winding_max_alignment_loss;
+}
+
 // The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
 // ring radius (WindingMeter::step()). With the meter's own restart at every such vertex the
 // search can turn where a band fails the spread test by noise alone, unseen by this meter and
@@ -275,6 +306,22 @@ public:
             cut.path = std::move(*along);
             cut.traced = true;
         }
+        // A natural cut that spans wide is offered the streamline of z too.
+        if (traces_direction(context))
+            if (const WindingMeter* meter = winding_meter())
+            {
+                const PathWinding now = meter->measure(as_cut(mesh, cut.path));
+                std::optional<GraphPath> other;
+                if (within_limit(now, options) && now.span_deg > 2.0 * options.winding_target_deg)
+                    other = tracer_.trace(step, mesh.from_vertex_handle(cut.path.halfedges.front()),
+                                          context.direction);
+                if (other && keep_direction_trace(mesh, now, cut.path, *other, stream_field, *meter,
+                                                  options))
+                {
+                    cut.path = std::move(*other);
+                    cut.traced = true;
+                }
+            }
         if (!step.join_narrows_ends())
             if (const WindingMeter* reader = winding_meter())
             {
@@ -295,6 +342,13 @@ public:
     void added(const CutStep& step, const CutPath& cut) override { tracer_.added(step, cut); }
 
 private:
+    // Whether the plan has a vessel direction to trace beside a harmonic stream field.
+    static bool traces_direction(const CutPlanContext& context)
+    {
+        return context.options->stream_field == StreamField::Harmonic && context.direction &&
+               static_cast<std::size_t>(context.direction->rows()) == context.mesh().n_vertices();
+    }
+
     // The bounded searches' A* bound, one field grown over the plan's cuts.
     detail::CostToTree& tree_cost(const CutGraph& graph)
     {

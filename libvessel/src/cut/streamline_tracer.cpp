@@ -25,7 +25,8 @@ StreamlineTracer::StreamlineTracer(const CutPlanContext& context)
     tree_.reset(nv);
 }
 
-std::optional<GraphPath> StreamlineTracer::trace(const CutStep& step, VertexHandle start)
+std::optional<GraphPath> StreamlineTracer::trace(const CutStep& step, VertexHandle start,
+                                                 const Eigen::MatrixX3d* field)
 {
     const CutPlanContext& context = step.context();
     CutGraph& graph = *context.graph;
@@ -45,7 +46,8 @@ std::optional<GraphPath> StreamlineTracer::trace(const CutStep& step, VertexHand
     TreeDistance* tree = l == 1 ? nullptr : &tree_;
     const double slack = context.options->join_rings * mean_edge_;
 
-    const Streamline line = trace_streamline(mesh, *context.stream_field, start, stop_at_);
+    const Streamline line =
+        trace_streamline(mesh, field ? *field : *context.stream_field, start, stop_at_);
     std::size_t n_faces = line.faces.size();
     if (n_faces == 0 || (!tree && line.stop != StreamlineStop::Target))
         return std::nullopt;

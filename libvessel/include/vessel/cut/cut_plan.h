@@ -28,7 +28,12 @@ enum class CutRoute
     //! better aligned with the stream field (path_alignment() of cut_metrics.h, windowed |cos|
     //! against the field); ties keep the cheapest path. A rule per cut, not per mesh: the
     //! cheapest path where it already follows the vessel, the traced one where it drifts or
-    //! winds (docs/design.md, "Per-cut route choice").
+    //! winds (docs/design.md, "Per-cut route choice"). With StreamField::Harmonic and the
+    //! vessel direction z given to plan_cuts(), a natural cut whose angle spans more than twice
+    //! winding_target_deg is also offered the streamline of z, kept if it is natural, winds no
+    //! more (or within the target), spans less by winding_min_gain_deg and is as aligned
+    //! within winding_max_alignment_loss: the discrete harmonic descent drifts round a long
+    //! coarse tube, z does not.
     Aligned,
 };
 
@@ -204,6 +209,9 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! CutRoute::ShortestPath.
 //! \param longitudinal |V| harmonic_longitudinal() values: CutRoute::Aligned then chooses by
 //! winding (WindingMeter); empty = by alignment only.
+//! \param direction |V| x 3 vessel direction z toward the root (the field of the travel cost):
+//! CutRoute::Aligned's second trace where the harmonic one spans wide (see CutRoute::Aligned);
+//! empty = none.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
 //! reach the cut tree; if the route needs a stream field (CutRoutePolicy::needs_stream_field())
 //! and \p stream_field has not |V| rows; if a policy returns a path or end that breaks its
@@ -212,12 +220,14 @@ CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options = {},
                   const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d(),
-                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd());
+                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd(),
+                  const Eigen::MatrixX3d& direction = Eigen::MatrixX3d());
 
 //! plan_cuts() on a cut graph already built (flatten() builds it in stage GC); the same plan.
 CutPlan plan_cuts(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                   const Eigen::MatrixX3d& winding_rate, const CutPlanOptions& options = {},
                   const Eigen::MatrixX3d& stream_field = Eigen::MatrixX3d(),
-                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd());
+                  const Eigen::VectorXd& longitudinal = Eigen::VectorXd(),
+                  const Eigen::MatrixX3d& direction = Eigen::MatrixX3d());
 
 }  // namespace vessel

@@ -29,6 +29,9 @@ struct CutPlanContext
     const Eigen::MatrixX3d* stream_field = nullptr;
     //! |V| harmonic_longitudinal() values (the winding meter's axis), or empty.
     const Eigen::VectorXd* longitudinal = nullptr;
+    //! |V| x 3 vessel direction z toward the root (vessel_direction_guided()), or empty:
+    //! CutRoute::Aligned's second trace (CutPlanOptions::route).
+    const Eigen::MatrixX3d* direction = nullptr;
 
     const Mesh& mesh() const { return graph->mesh(); }
 };
