@@ -164,6 +164,12 @@ TEST_CASE("cut_plan: the streamline and aligned routes keep the helical tube's c
     CHECK_THROWS_AS(plan_cuts(p.mesh, p.loops, evaluate_cost(p.mesh, CurvatureCost{&p.z}), p.rate,
                               route),
                     InvalidInputError);
+    // A vessel direction of another mesh is refused, not read past its end.
+    CutPlanOptions aligned;
+    CHECK_THROWS_AS(
+        plan_cuts(p.mesh, p.loops, evaluate_cost(p.mesh, CurvatureCost{&p.z}), p.rate, aligned, p.z,
+                  Eigen::VectorXd(), Eigen::MatrixX3d(p.z.topRows(p.z.rows() - 1))),
+        InvalidInputError);
     route.band_rings = -1;
     CHECK_THROWS_AS(route.validate(), InvalidInputError);
 }

@@ -329,6 +329,10 @@ CutPlan plan_with_ends(CutGraph& graph, const std::vector<BoundaryLoop>& loops,
                                 "' needs a stream field with one row per vertex (" +
                                 std::to_string(nv) + "), got " +
                                 std::to_string(stream_field.rows()));
+    if (direction.rows() != 0 && static_cast<std::size_t>(direction.rows()) != nv)
+        throw InvalidInputError("plan_cuts: " + std::to_string(direction.rows()) +
+                                " direction rows for " + std::to_string(nv) +
+                                " vertices; pass the vessel direction z of the same mesh, or none");
 
     // path_of[v]: first cut through v (-1 if none); loop_of[v]: boundary loop of v (-1 if none).
     std::vector<int> path_of(nv, -1), loop_of(nv, -1);

@@ -346,7 +346,7 @@ private:
     static bool traces_direction(const CutPlanContext& context)
     {
         return context.options->stream_field == StreamField::Harmonic && context.direction &&
-               static_cast<std::size_t>(context.direction->rows()) == context.mesh().n_vertices();
+               context.direction->rows() != 0;
     }
 
     // The bounded searches' A* bound, one field grown over the plan's cuts.

@@ -214,8 +214,8 @@ Eigen::MatrixX3d winding_rate(const Mesh& mesh, const Eigen::MatrixX3d& directio
 //! empty = none.
 //! \throw InvalidInputError if fewer than two loops or options are invalid; if an outlet cannot
 //! reach the cut tree; if the route needs a stream field (CutRoutePolicy::needs_stream_field())
-//! and \p stream_field has not |V| rows; if a policy returns a path or end that breaks its
-//! contract (the message names the policy).
+//! and \p stream_field has not |V| rows; if \p direction is neither empty nor |V| rows; if a
+//! policy returns a path or end that breaks its contract (the message names the policy).
 CutPlan plan_cuts(const Mesh& mesh, const std::vector<BoundaryLoop>& loops,
                   const HalfedgeWeights& weights, const Eigen::MatrixX3d& winding_rate,
                   const CutPlanOptions& options = {},
