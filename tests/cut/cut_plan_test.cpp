@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "support/checks.h"
+#include "support/meshes.h"
 
 #include "vessel/cut/boundary.h"
 #include "vessel/direction/curvature.h"
@@ -54,21 +55,6 @@ Prepared prepare(Mesh mesh, const DirectionOptions& direction = guided(0.0))
     return p;
 }
 
-// Unwrapped change of the frame angle around the helix centerline along the cut, in degrees.
-double helix_winding_deg(const HelicalTubeOptions& options, const Mesh& mesh,
-                         const CutPath& path)
-{
-    double total = 0.0;
-    double previous = helical_tube_angle(options, to_eigen(mesh.point(path.start)));
-    for (auto h : path.halfedges)
-    {
-        const double a = helical_tube_angle(options, to_eigen(mesh.point(mesh.to_vertex_handle(h))));
-        total += std::remainder(a - previous, 2.0 * M_PI);
-        previous = a;
-    }
-    return std::abs(total) * 180.0 / M_PI;
-}
-
 // The demo carotid phantom with the E_c weights, planned with the paper's route and \p join.
 struct CarotidJoin
 {
@@ -103,12 +89,14 @@ TEST_CASE("cut_plan: the E_c cut of a twisted helical tube stays on one side")
         const HalfedgeWeights w = evaluate_cost(p.mesh, CurvatureCost{&p.z});
         const CutPlan plan = plan_cuts(p.mesh, p.loops, w, p.rate, paper_route());
         REQUIRE(plan.paths.size() == 1);
-        const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
+        const double winding =
+            std::abs(test::helix_turn(options, p.mesh, plan.paths[0]).winding_deg);
         // The trap: the plain shortest path drifts around the tube at (almost) no extra cost.
         CutPlanOptions plain = paper_route();
         plain.tie_tolerance = 0.0;
         const CutPlan drifting = plan_cuts(p.mesh, p.loops, w, p.rate, plain);
-        const double drift = helix_winding_deg(options, p.mesh, drifting.paths[0]);
+        const double drift =
+            std::abs(test::helix_turn(options, p.mesh, drifting.paths[0]).winding_deg);
         MESSAGE("helical tube (" << n_around << " around, confident_anisotropy "
                                  << direction.confident_anisotropy << ") E_c cut winds " << winding
                                  << " degrees; plain Dijkstra " << drift << " degrees");
@@ -147,7 +135,8 @@ TEST_CASE("cut_plan: the streamline and aligned routes keep the helical tube's c
             REQUIRE(plan.paths.size() == 1);
             if (kind == CutRoute::Streamline)
                 CHECK(plan.paths[0].traced);
-            const double winding = helix_winding_deg(options, p.mesh, plan.paths[0]);
+            const double winding =
+                std::abs(test::helix_turn(options, p.mesh, plan.paths[0]).winding_deg);
             MESSAGE("helical tube (" << n_around << " around) "
                                      << (kind == CutRoute::Aligned ? "aligned" : "streamline")
                                      << "-route cut winds " << winding << " degrees");

@@ -713,27 +713,15 @@ TEST_CASE(
         const Eigen::VectorXd G = heat_geodesic_distance(mesh, result.loops[0].vertices);
         const WindingMeter meter(mesh, harmonic_longitudinal(mesh, result.loops, G));
         const PathWinding w = meter.measure(cut);
-        // The cut's span in the phantom's frame: its angles unwrapped along the path.
-        const auto angle_deg = [&](VertexHandle v) {
-            const auto p = mesh.point(v);
-            return helical_tube_angle(tube, Eigen::Vector3d(p[0], p[1], p[2])) * 180.0 / M_PI;
-        };
-        double previous = angle_deg(cut.start), unwrapped = previous;
-        double low = unwrapped, high = unwrapped;
-        for (HalfedgeHandle h : cut.halfedges)
-        {
-            const double a = angle_deg(mesh.to_vertex_handle(h));
-            unwrapped += std::remainder(a - previous, 360.0);
-            previous = a;
-            low = std::min(low, unwrapped);
-            high = std::max(high, unwrapped);
-        }
+        const test::HelixTurn exact = test::helix_turn(tube, mesh, cut);
         MESSAGE("1.5-turn helix, " << n_around << " around: the meter " << w.winding_deg
                                    << " degrees end to end, span " << w.span_deg
-                                   << "; the phantom's frame: span " << high - low);
+                                   << "; the phantom's frame: " << exact.winding_deg << ", span "
+                                   << exact.span_deg);
         CHECK(std::abs(w.winding_deg) <= 15.0);
         CHECK(w.span_deg <= 30.0);
-        CHECK(high - low <= 30.0);
+        CHECK(std::abs(exact.winding_deg) <= 15.0);
+        CHECK(exact.span_deg <= 30.0);
         CHECK(result.quality.flipped_triangles == 0);
     }
 }

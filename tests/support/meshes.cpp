@@ -28,6 +28,24 @@ void add_grid_faces(Mesh& mesh, const std::vector<VertexHandle>& v, int cols, in
 
 }  // namespace
 
+HelixTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path)
+{
+    const auto angle = [&](VertexHandle v) {
+        const auto p = mesh.point(v);
+        return helical_tube_angle(options, Eigen::Vector3d(p[0], p[1], p[2]));
+    };
+    double previous = angle(path.start), unwrapped = 0.0, low = 0.0, high = 0.0;
+    for (auto h : path.halfedges)
+    {
+        const double a = angle(mesh.to_vertex_handle(h));
+        unwrapped += std::remainder(a - previous, 2.0 * M_PI);
+        previous = a;
+        low = std::min(low, unwrapped);
+        high = std::max(high, unwrapped);
+    }
+    return {unwrapped * 180.0 / M_PI, (high - low) * 180.0 / M_PI};
+}
+
 Mesh test_tree_phantom(int outlets)
 {
     return test_tree_phantom(outlets, static_cast<std::uint32_t>(outlets));

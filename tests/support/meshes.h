@@ -1,8 +1,10 @@
 #pragma once
 
+#include "vessel/core/mesh.h"
+#include "vessel/cut/cut_plan.h"
 #include "vessel/io/io.h"
 #include "vessel/io/vtk_io.h"
-#include "vessel/core/mesh.h"
+#include "vessel/phantom/phantom.h"
 
 #include <Eigen/Geometry>
 
@@ -22,6 +24,15 @@ Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
 Mesh test_tree_phantom(int outlets);
 //! As test_tree_phantom(outlets), with another seed (and edge length).
 Mesh test_tree_phantom(int outlets, std::uint32_t seed, double edge_length = 0.75);
+
+//! How a cut turns round a helical_tube() in the phantom's own frame (helical_tube_angle()),
+//! degrees: its frame angle unwrapped along the path from the outlet.
+struct HelixTurn
+{
+    double winding_deg = 0.0;  //!< signed, first vertex to last
+    double span_deg = 0.0;     //!< largest minus smallest unwrapped angle
+};
+HelixTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path);
 
 //! \brief Flat n x n quad grid of side \p size split into triangles, mapped into 3D by \p pose
 //! (a rigid motion). Vertex (i, j) has index j * (n + 1) + i and planar position

@@ -136,8 +136,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         return std::nullopt;
     const bool strict = options.natural_cuts;
     const auto natural = [&](const PathWinding& w) {
-        return std::abs(w.winding_deg) <= options.winding_limit_deg &&
-               (!strict || w.span_deg <= options.winding_limit_deg);
+        return strict ? within_limit(w, options)
+                      : std::abs(w.winding_deg) <= options.winding_limit_deg;
     };
     const PathWinding now = meter.measure(as_cut(mesh, current));
     const double wound = std::abs(now.winding_deg);
