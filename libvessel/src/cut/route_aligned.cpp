@@ -56,12 +56,12 @@ bool within_limit(const PathWinding& w, const CutPlanOptions& options)
 
 // CutRoute::Aligned: whether \p other, traced along the vessel direction z, replaces \p current,
 // a natural cut (traced or not) whose angle spans more than twice winding_target_deg. On a long
-// tube the descent of the discrete harmonic coordinate carries a small lateral error (about a
-// degree on a coarse helix, varying round the tube: docs/design.md, "Per-cut route choice") that
-// its streamline integrates into a drift of a column or more, where z, fitted per vertex, has
-// none. \p other is kept if it is natural, winds no more than \p current or the target,
-// spans less by winding_min_gain_deg and is at most winding_max_alignment_loss less aligned
-// with the stream field.
+// coarse tube the descent of the discrete harmonic coordinate carries a small lateral error that
+// varies round the tube, which its streamline integrates into a drift of a column or more; z,
+// fitted per vertex, has none there (docs/design.md, "Per-cut route choice"). \p other is
+// kept if it is natural, winds no more than \p current or the target, spans less by
+// winding_min_gain_deg and is at most winding_max_alignment_loss less aligned with the stream
+// field.
 bool keep_direction_trace(const Mesh& mesh, const PathWinding& current_winding,
                           const GraphPath& current, const GraphPath& other,
                           const Eigen::MatrixX3d& stream_field, const WindingMeter& meter,
