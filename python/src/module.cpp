@@ -476,6 +476,14 @@ py::dict carotid_phantom(double stenosis, double edge_length)
     return generated([&] { return vessel::carotid_phantom(options); });
 }
 
+py::dict aneurysm_phantom(double sac_radius, double edge_length)
+{
+    vessel::AneurysmPhantomOptions options;
+    options.sac_radius = sac_radius;
+    options.edge_length = edge_length;
+    return generated([&] { return vessel::aneurysm_phantom(options); });
+}
+
 py::dict tree_phantom(int outlets, std::uint32_t seed, double edge_length)
 {
     vessel::TreePhantomOptions options;
@@ -586,6 +594,7 @@ PYBIND11_MODULE(_vessel, m)
     m.def("read", &read_surface, py::arg("path"));
     m.def("flatten", &flatten_arrays, py::arg("points"), py::arg("faces"), py::arg("preset"),
           py::arg("options"));
+    m.def("aneurysm_phantom", &aneurysm_phantom, py::arg("sac_radius"), py::arg("edge_length"));
     m.def("carotid_phantom", &carotid_phantom, py::arg("stenosis"), py::arg("edge_length"));
     m.def("tree_phantom", &tree_phantom, py::arg("outlets"), py::arg("seed"),
           py::arg("edge_length"));

@@ -116,15 +116,18 @@ def read(path: str) -> Surface:
 
 
 def phantom(kind: str = "carotid", *, stenosis: float = 0.5, outlets: int = 4, seed: int = 1,
-            edge_length: float = 0.5) -> Surface:
+            sac_radius: float = 3.0, edge_length: float = 0.5) -> Surface:
     """A generated vessel surface, as ``vessel-phantom`` makes them (lengths in mm).
 
     Args:
-        kind: ``"carotid"`` (CCA -> ICA with a sinus bulb and a stenosis, + ECA; 3 open ends) or
-            ``"tree"`` (a seeded random planar-ish tree with ``outlets`` outlets).
+        kind: ``"carotid"`` (CCA -> ICA with a sinus bulb and a stenosis, + ECA; 3 open ends),
+            ``"tree"`` (a seeded random planar-ish tree with ``outlets`` outlets) or
+            ``"aneurysm"`` (a straight 2 mm parent artery with a spherical sac on its side; 2
+            open ends).
         stenosis: carotid: fractional diameter reduction of the ICA narrowing, in [0, 0.8].
         outlets: tree: number of outlets, in [1, 30].
         seed: tree: random seed (the same tree for the same seed).
+        sac_radius: aneurysm: radius of the sac, in [1.5, 6] mm (0.75 to 3 parent radii).
         edge_length: target edge length (mm).
 
     Raises:
@@ -134,8 +137,10 @@ def phantom(kind: str = "carotid", *, stenosis: float = 0.5, outlets: int = 4, s
         d = _vessel.carotid_phantom(stenosis, edge_length)
     elif kind == "tree":
         d = _vessel.tree_phantom(outlets, seed, edge_length)
+    elif kind == "aneurysm":
+        d = _vessel.aneurysm_phantom(sac_radius, edge_length)
     else:
-        raise InvalidInputError(f"unknown phantom '{kind}'; known: carotid, tree")
+        raise InvalidInputError(f"unknown phantom '{kind}'; known: aneurysm, carotid, tree")
     return _surface(d["points"], d["corners"], d["offsets"], {}, {})
 
 

@@ -307,6 +307,61 @@ TEST_CASE("phantom: carotid is deterministic and validates its options")
     CHECK_NOTHROW(CarotidPhantomOptions{}.validate());
 }
 
+TEST_CASE("phantom: lateral aneurysm is a valid open tube with a round sac on its side")
+{
+    for (double sac_radius : {3.0, 5.0})
+    {
+        CAPTURE(sac_radius);
+        AneurysmPhantomOptions options;
+        options.sac_radius = sac_radius;
+        const Mesh mesh = aneurysm_phantom(options);
+        check_vessel_surface(mesh, 2, options.edge_length);
+        CHECK(fraction_below(mesh, 10.0) < 0.01);
+        const auto loops = boundary_loops(mesh);
+        REQUIRE(loops.size() == 2);
+        // The loops lie in the end planes, on the parent's circle.
+        for (const auto& loop : loops)
+        {
+            CHECK(std::abs(std::abs(loop.centroid.z()) - 0.5 * options.parent_length) < 1e-6);
+            for (auto v : loop.vertices)
+            {
+                const Eigen::Vector3d p = to_eigen(mesh.point(v));
+                CHECK(std::hypot(p.x(), p.y()) ==
+                      doctest::Approx(options.parent_radius).epsilon(0.1));
+            }
+        }
+        // The sac: the surface reaches the far side of the sphere (its dome), and away from the
+        // neck its vertices lie on the sphere.
+        const Eigen::Vector3d centre = aneurysm_sac_centre(options);
+        double dome = 0.0;
+        int on_sac = 0, on_sphere = 0;
+        for (auto v : mesh.vertices())
+        {
+            const Eigen::Vector3d p = to_eigen(mesh.point(v));
+            dome = std::max(dome, p.x());
+            if (p.x() > centre.x())
+            {
+                ++on_sac;
+                on_sphere += std::abs((p - centre).norm() - sac_radius) < 0.05 * sac_radius;
+            }
+        }
+        CHECK(dome == doctest::Approx(centre.x() + sac_radius).epsilon(0.02));
+        CHECK(on_sac > 100);
+        CHECK(on_sphere == on_sac);
+    }
+    CHECK(same_mesh(aneurysm_phantom(), aneurysm_phantom()));
+    AneurysmPhantomOptions options;
+    options.sac_radius = 10.0;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options = {};
+    options.edge_length = 1.0;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options = {};
+    options.parent_length = 10.0;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    CHECK_NOTHROW(AneurysmPhantomOptions{}.validate());
+}
+
 TEST_CASE("phantom: random trees are valid open tree surfaces")
 {
     for (int outlets : {1, 3, 10, 30})

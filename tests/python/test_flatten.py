@@ -2,6 +2,7 @@
 and report; and the properties of the result itself."""
 
 import json
+import subprocess
 
 import numpy as np
 import pytest
@@ -66,6 +67,18 @@ def test_phantom_same_map_as_cli(carotid, flatten_exe, tmp_path):
     cli = json.loads(report.read_text())
     for part in ("quality", "cuts", "counts", "relief_cuts", "notes"):
         assert flat.report[part] == cli[part], part
+
+
+def test_aneurysm_phantom_same_surface_as_cli(phantom_exe, tmp_path):
+    path = tmp_path / "aneurysm.ply"
+    subprocess.run([str(phantom_exe), "aneurysm", "--sac-radius", "5", "--edge-length", "0.5",
+                    "-q", "-o", str(path)], check=True)
+    cli = vessel.read(path)
+    made = vessel.phantom("aneurysm", sac_radius=5.0, edge_length=0.5)
+    assert np.array_equal(made.faces, cli.faces)
+    assert np.allclose(made.points, cli.points, rtol=0, atol=1e-5)
+    # The sac bulges on +x, 2 + 0.8 * 5 + 5 = 11 mm off the parent's axis.
+    assert made.points[:, 0].max() == pytest.approx(11.0, rel=0.02)
 
 
 def test_phantom_same_map_as_cli_with_options(carotid, flatten_exe, tmp_path):

@@ -38,6 +38,8 @@ int main(int argc, char** argv)
 {
     CLI::App app{
         "vessel-phantom: write a synthetic vessel surface mesh.\n"
+        "  aneurysm straight parent artery with a spherical sac on its side (lateral\n"
+        "           aneurysm); 2 boundary loops, lengths in mm\n"
         "  carotid  common carotid splitting into internal (with sinus bulb and stenosis) and\n"
         "           external carotid; 3 boundary loops, lengths in mm\n"
         "  helix    open tube swept along a helix with a rotation-minimizing frame and\n"
@@ -48,9 +50,9 @@ int main(int argc, char** argv)
     app.get_formatter()->column_width(36);
 
     std::string kind, output;
-    app.add_option("kind", kind, "Phantom to generate: carotid, helix or tree")
+    app.add_option("kind", kind, "Phantom to generate: aneurysm, carotid, helix or tree")
         ->required()
-        ->check(CLI::IsMember({"carotid", "helix", "tree"}));
+        ->check(CLI::IsMember({"aneurysm", "carotid", "helix", "tree"}));
     app.add_option("-o,--output", output,
                    "Output mesh file; the format follows the extension: .ply (binary), .obj, "
                    ".off or .stl (binary)")
@@ -58,8 +60,13 @@ int main(int argc, char** argv)
 
     double edge_length = 0.0;
     app.add_option("--edge-length", edge_length,
-                   "Target edge length (carotid, tree: default 0.5 mm; helix: slanted edge "
-                   "length, default = spacing around the tube)");
+                   "Target edge length (carotid, tree: default 0.5 mm; aneurysm: 0.4 mm; helix: "
+                   "slanted edge length, default = spacing around the tube)");
+
+    vessel::AneurysmPhantomOptions aneurysm;
+    app.add_option("--sac-radius", aneurysm.sac_radius,
+                   "aneurysm: radius of the sac (mm), 0.75 to 3 x the parent's 2 mm")
+        ->capture_default_str();
 
     vessel::CarotidPhantomOptions carotid;
     app.add_option("--stenosis", carotid.stenosis,
@@ -121,6 +128,7 @@ int main(int argc, char** argv)
     {
         // Reject options that belong to another phantom rather than silently ignoring them.
         const std::vector<std::pair<std::string, std::vector<std::string>>> owners = {
+            {"aneurysm", {"--sac-radius"}},
             {"carotid",
              {"--stenosis", "--branch-angle", "--cca-radius", "--ica-radius", "--eca-radius",
               "--cca-length", "--ica-length", "--eca-length"}},
@@ -139,7 +147,13 @@ int main(int argc, char** argv)
 
         const bool has_edge_length = app.count("--edge-length") > 0;
         vessel::Mesh mesh;
-        if (kind == "carotid")
+        if (kind == "aneurysm")
+        {
+            if (has_edge_length)
+                aneurysm.edge_length = edge_length;
+            mesh = vessel::aneurysm_phantom(aneurysm);
+        }
+        else if (kind == "carotid")
         {
             if (has_edge_length)
                 carotid.edge_length = edge_length;

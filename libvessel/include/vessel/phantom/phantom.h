@@ -118,4 +118,32 @@ struct TreePhantomOptions
 //! \throw TopologyError if no layout or surface could be built (not expected within the limits).
 Mesh tree_phantom(const TreePhantomOptions& options = {});
 
+struct AneurysmPhantomOptions
+{
+    double parent_radius = 2.0;   //!< radius of the parent artery (mm)
+    double parent_length = 40.0;  //!< (mm) from the inlet to the outlet
+    //! Radius of the spherical sac (mm), in [0.75, 3] x parent_radius. Its centre lies
+    //! parent_radius + 0.8 sac_radius off the parent's axis, so that the neck is narrower than
+    //! the sac, as in a saccular aneurysm.
+    double sac_radius = 3.0;
+    double edge_length = 0.4;  //!< target edge length (mm), at most parent_radius / 3
+    //! \throw InvalidInputError naming the bad field.
+    void validate() const;
+};
+
+//! \brief Lateral (side-wall) aneurysm phantom: a straight parent artery with a spherical sac
+//! on its side, the test shape for what a cut and its measures do where "around the vessel"
+//! has no meaning.
+//!
+//! The parent runs along +z from the inlet at z = -parent_length / 2 to the outlet at
+//! +parent_length / 2 (the two boundary loops, each in its end plane); the sac's centre lies
+//! on +x at z = 0, at aneurysm_sac_centre(). Built as carotid_phantom() is (a smooth union
+//! sampled by surface nets), with a fillet at the neck. Deterministic.
+//! \throw InvalidInputError if `options.validate()` fails.
+//! \throw TopologyError if no valid surface could be built (not expected within the limits).
+Mesh aneurysm_phantom(const AneurysmPhantomOptions& options = {});
+
+//! The centre of aneurysm_phantom()'s sac: (parent_radius + 0.8 sac_radius, 0, 0).
+Eigen::Vector3d aneurysm_sac_centre(const AneurysmPhantomOptions& options);
+
 }  // namespace vessel

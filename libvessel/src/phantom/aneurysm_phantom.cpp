@@ -1,0 +1,58 @@
+#include "vessel/phantom/phantom.h"
+
+#include "detail/implicit_vessel.h"
+#include "vessel/core/errors.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace vessel {
+
+void AneurysmPhantomOptions::validate() const
+{
+    auto fail = [](const std::string& what) {
+        throw InvalidInputError("AneurysmPhantomOptions: " + what);
+    };
+    if (!(parent_radius > 0.0) || !std::isfinite(parent_radius))
+        fail("parent_radius must be finite and > 0");
+    if (!(sac_radius >= 0.75 * parent_radius && sac_radius <= 3.0 * parent_radius))
+        fail("sac_radius must be in [0.75, 3] x parent_radius (" +
+             std::to_string(0.75 * parent_radius) + " to " + std::to_string(3.0 * parent_radius) +
+             "), got " + std::to_string(sac_radius));
+    if (!(edge_length > 0.0 && edge_length <= parent_radius / 3.0))
+        fail("edge_length must be in (0, parent_radius / 3 = " +
+             std::to_string(parent_radius / 3.0) + "], got " + std::to_string(edge_length));
+    // The sac and its fillet must end well before the end planes.
+    const double min_length = 2.0 * (sac_radius + 2.0 * parent_radius) + 4.0 * edge_length;
+    if (!(parent_length >= min_length) || !std::isfinite(parent_length))
+        fail("parent_length must be >= 2 (sac_radius + 2 parent_radius) + 4 edge_length (" +
+             std::to_string(min_length) + "), got " + std::to_string(parent_length));
+}
+
+Eigen::Vector3d aneurysm_sac_centre(const AneurysmPhantomOptions& options)
+{
+    return {options.parent_radius + 0.8 * options.sac_radius, 0.0, 0.0};
+}
+
+Mesh aneurysm_phantom(const AneurysmPhantomOptions& options)
+{
+    options.validate();
+    const double r = options.parent_radius, R = options.sac_radius, h = options.edge_length;
+    const double blend = 0.5 * r;
+    detail::VesselField field(blend, 3.0 * h + blend);
+    const Eigen::Vector3d z(0, 0, 1), x(1, 0, 0);
+    const double half = 0.5 * options.parent_length, overshoot = r + 3.0 * h;
+    field.add_tube(-(half + overshoot) * z, (half + overshoot) * z, [r](double) { return r; });
+    // The sac: a tube far shorter than the edge length is a sphere to the field's precision
+    // (the distance to its axis segment, less its radius).
+    const Eigen::Vector3d centre = aneurysm_sac_centre(options);
+    const double tiny = 1e-6 * R;
+    field.add_tube(centre - tiny * x, centre + tiny * x, [R](double) { return R; });
+    std::vector<detail::EndPlane> ends;
+    ends.push_back({-half * z, -z, r, overshoot + r});
+    ends.push_back({half * z, z, r, overshoot + r});
+    return detail::vessel_surface(field, ends, h, "aneurysm_phantom");
+}
+
+}  // namespace vessel
