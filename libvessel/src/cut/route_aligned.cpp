@@ -121,15 +121,15 @@ constexpr double kSearchBridge = 1.0;
 // (CutStep::join(), e.g. the cut back of CutJoin::Approach) and of a bounded route, which keeps
 // to its side of the vessel (CutStep::join_held()); a bounded route keeps its cut back only if
 // it stays within the bound.
-// Empty = keep \p current.
+// \p current_winding: the meter's reading of \p current where the caller has it (null: measured
+// here). Empty = keep \p current.
 template <class Finish, class FinishHeld>
 std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query,
                                     const Eigen::MatrixX3d& winding_rate, const WindingMeter& meter,
-                                    const GraphPath& current, bool traced,
-                                    const Eigen::MatrixX3d& stream_field,
-                                    const CutPlanOptions& options,
-                                    detail::CostToTree& tree_cost, Finish finish,
-                                    FinishHeld finish_held)
+                                    const GraphPath& current, const PathWinding* current_winding,
+                                    bool traced, const Eigen::MatrixX3d& stream_field,
+                                    const CutPlanOptions& options, detail::CostToTree& tree_cost,
+                                    Finish finish, FinishHeld finish_held)
 {
     const Mesh& mesh = graph.mesh();
     if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
@@ -139,7 +139,8 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         return strict ? within_limit(w, options)
                       : std::abs(w.winding_deg) <= options.winding_limit_deg;
     };
-    const PathWinding now = meter.measure(as_cut(mesh, current));
+    const PathWinding now =
+        current_winding ? *current_winding : meter.measure(as_cut(mesh, current));
     const double wound = std::abs(now.winding_deg);
     const bool was_natural = natural(now);
     if (was_natural && ((traced && !strict) || !(wound > options.winding_target_deg)))
@@ -306,20 +307,23 @@ public:
             cut.path = std::move(*along);
             cut.traced = true;
         }
-        // A natural cut that spans wide is offered the streamline of z too.
+        // A natural cut that spans wide is offered the streamline of z too. Its reading of the
+        // cut, while the cut stays, is steer_path()'s too.
+        std::optional<PathWinding> now;
         if (traces_direction(context))
             if (const WindingMeter* meter = winding_meter())
             {
-                const PathWinding now = meter->measure(as_cut(mesh, cut.path));
+                now = meter->measure(as_cut(mesh, cut.path));
                 std::optional<GraphPath> other;
-                if (within_limit(now, options) && now.span_deg > 2.0 * options.winding_target_deg)
+                if (within_limit(*now, options) && now->span_deg > 2.0 * options.winding_target_deg)
                     other = tracer_.trace(step, mesh.from_vertex_handle(cut.path.halfedges.front()),
                                           context.direction);
-                if (other && keep_direction_trace(mesh, now, cut.path, *other, stream_field, *meter,
-                                                  options))
+                if (other && keep_direction_trace(mesh, *now, cut.path, *other, stream_field,
+                                                  *meter, options))
                 {
                     cut.path = std::move(*other);
                     cut.traced = true;
+                    now.reset();
                 }
             }
         if (!step.join_narrows_ends())
@@ -327,7 +331,8 @@ public:
             {
                 std::optional<GraphPath> held = steer_path(
                     *context.graph, step.query(), *context.winding_rate, *reader, cut.path,
-                    cut.traced, stream_field, options, tree_cost(*context.graph),
+                    now ? &*now : nullptr, cut.traced, stream_field, options,
+                    tree_cost(*context.graph),
                     [&step](GraphPath p) { return step.join(std::move(p)); },
                     [&step](GraphPath p) { return step.join_held(std::move(p)); });
                 if (held)
