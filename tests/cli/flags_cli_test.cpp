@@ -597,3 +597,19 @@ TEST_CASE("cli: --scaffold-tolerance and --crossing-patience steer SLIM's scaffo
         CHECK((*r)["quality"]["overlapping_triangles"] == 0);
     }
 }
+
+TEST_CASE("cli: vessel-phantom aneurysm writes a lateral aneurysm; --sac-radius is its alone")
+{
+    const std::string dir = temp_dir("flags_phantom_aneurysm");
+    const std::string phantom = std::string(VESSEL_PHANTOM_EXE);
+    REQUIRE(run(phantom + " aneurysm --sac-radius 4 -q -o " + dir + "/sac4.ply") == 0);
+    const vessel::RawMesh mesh = vessel::read_raw_mesh(dir + "/sac4.ply");
+    double dome = 0.0;
+    for (const auto& p : mesh.points)
+        dome = std::max(dome, p.x());
+    // The sac's centre 2 + 0.8 x 4 off the parent's axis, its dome 4 beyond.
+    CHECK(dome == doctest::Approx(9.2).epsilon(0.02));
+    CHECK(run(phantom + " carotid --sac-radius 4 -q -o " + dir + "/no.ply") != 0);
+    CHECK(run(phantom + " aneurysm --sac-radius 9 -q -o " + dir + "/no.ply") != 0);
+    CHECK(!std::filesystem::exists(dir + "/no.ply"));
+}
