@@ -598,7 +598,7 @@ TEST_CASE("cli: --scaffold-tolerance and --crossing-patience steer SLIM's scaffo
     }
 }
 
-TEST_CASE("cli: vessel-phantom aneurysm writes a lateral aneurysm; --sac-radius is its alone")
+TEST_CASE("cli: vessel-phantom aneurysm writes a lateral aneurysm and refuses --sac-radius elsewhere")
 {
     const std::string dir = temp_dir("flags_phantom_aneurysm");
     const std::string phantom = std::string(VESSEL_PHANTOM_EXE);
