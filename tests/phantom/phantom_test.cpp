@@ -350,6 +350,22 @@ TEST_CASE("phantom: lateral aneurysm is a valid open tube with a round sac on it
         CHECK(on_sphere == on_sac);
     }
     CHECK(same_mesh(aneurysm_phantom(), aneurysm_phantom()));
+    {
+        // A branch off the sac: a third loop, the shortest, in its end plane 2 parent radii
+        // beyond the sphere at 45 degrees between +x and +z.
+        AneurysmPhantomOptions options;
+        options.branch_radius = 0.8;
+        const Mesh mesh = aneurysm_phantom(options);
+        check_vessel_surface(mesh, 3, options.edge_length);
+        const auto loops = boundary_loops(mesh);
+        REQUIRE(loops.size() == 3);
+        const Eigen::Vector3d along = Eigen::Vector3d(1, 0, 1).normalized();
+        const Eigen::Vector3d end = aneurysm_sac_centre(options) +
+                                    (options.sac_radius + 2.0 * options.parent_radius) * along;
+        CHECK((loops[2].centroid - end).norm() < 0.05);
+        for (auto v : loops[2].vertices)
+            CHECK(std::abs((to_eigen(mesh.point(v)) - end).dot(along)) < 1e-6);
+    }
     AneurysmPhantomOptions options;
     options.sac_radius = 10.0;
     CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
@@ -358,6 +374,11 @@ TEST_CASE("phantom: lateral aneurysm is a valid open tube with a round sac on it
     CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
     options = {};
     options.parent_length = 10.0;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options = {};
+    options.branch_radius = 0.5;  // below two edge lengths
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options.branch_radius = 1.5;  // above 0.6 parent radii
     CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
     CHECK_NOTHROW(AneurysmPhantomOptions{}.validate());
 }

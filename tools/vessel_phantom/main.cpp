@@ -67,6 +67,10 @@ int main(int argc, char** argv)
     app.add_option("--sac-radius", aneurysm.sac_radius,
                    "aneurysm: radius of the sac (mm), 0.75 to 3 x the parent's 2 mm")
         ->capture_default_str();
+    app.add_option("--branch-radius", aneurysm.branch_radius,
+                   "aneurysm: radius of a small branch off the sac (mm; 0 = none), a third "
+                   "loop whose cut crosses the sac")
+        ->capture_default_str();
 
     vessel::CarotidPhantomOptions carotid;
     app.add_option("--stenosis", carotid.stenosis,
@@ -128,7 +132,7 @@ int main(int argc, char** argv)
     {
         // Reject options that belong to another phantom rather than silently ignoring them.
         const std::vector<std::pair<std::string, std::vector<std::string>>> owners = {
-            {"aneurysm", {"--sac-radius"}},
+            {"aneurysm", {"--sac-radius", "--branch-radius"}},
             {"carotid",
              {"--stenosis", "--branch-angle", "--cca-radius", "--ica-radius", "--eca-radius",
               "--cca-length", "--ica-length", "--eca-length"}},

@@ -23,6 +23,11 @@ void AneurysmPhantomOptions::validate() const
     if (!(edge_length > 0.0 && edge_length <= parent_radius / 3.0))
         fail("edge_length must be in (0, parent_radius / 3 = " +
              std::to_string(parent_radius / 3.0) + "], got " + std::to_string(edge_length));
+    if (!(branch_radius == 0.0 ||
+          (branch_radius >= 2.0 * edge_length && branch_radius <= 0.6 * parent_radius)))
+        fail("branch_radius must be 0 (no branch) or in [2 edge_length, 0.6 parent_radius] (" +
+             std::to_string(2.0 * edge_length) + " to " + std::to_string(0.6 * parent_radius) +
+             "), got " + std::to_string(branch_radius));
     // The sac and its fillet must end well before the end planes.
     const double min_length = 2.0 * (sac_radius + 2.0 * parent_radius) + 4.0 * edge_length;
     if (!(parent_length >= min_length) || !std::isfinite(parent_length))
@@ -52,6 +57,14 @@ Mesh aneurysm_phantom(const AneurysmPhantomOptions& options)
     std::vector<detail::EndPlane> ends;
     ends.push_back({-half * z, -z, r, overshoot + r});
     ends.push_back({half * z, z, r, overshoot + r});
+    if (options.branch_radius > 0.0)
+    {
+        const double b = options.branch_radius, b_overshoot = b + 3.0 * h;
+        const Eigen::Vector3d along = Eigen::Vector3d(1, 0, 1).normalized();
+        const Eigen::Vector3d end = centre + (R + 2.0 * r) * along;
+        field.add_tube(centre, end + b_overshoot * along, [b](double) { return b; });
+        ends.push_back({end, along, b, b_overshoot + b});
+    }
     return detail::vessel_surface(field, ends, h, "aneurysm_phantom");
 }
 

@@ -127,6 +127,11 @@ struct AneurysmPhantomOptions
     //! the sac, as in a saccular aneurysm.
     double sac_radius = 3.0;
     double edge_length = 0.4;  //!< target edge length (mm), at most parent_radius / 3
+    //! Radius (mm) of a small branch leaving the sac's wall (0 = none, else in [2 edge_length,
+    //! 0.6 parent_radius]): a third open end, whose cut must cross the sac to reach the others.
+    //! It leaves from the sac's centre at 45 degrees between +x and +z and ends 2 parent_radius
+    //! beyond the sphere.
+    double branch_radius = 0.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -137,7 +142,8 @@ struct AneurysmPhantomOptions
 //!
 //! The parent runs along +z from the inlet at z = -parent_length / 2 to the outlet at
 //! +parent_length / 2 (the two boundary loops, each in its end plane); the sac's centre lies
-//! on +x at z = 0, at aneurysm_sac_centre(). Built as carotid_phantom() is (a smooth union
+//! on +x at z = 0, at aneurysm_sac_centre(). With branch_radius > 0 a third loop ends the
+//! branch off the sac. Built as carotid_phantom() is (a smooth union
 //! sampled by surface nets), with a fillet at the neck. Deterministic.
 //! \throw InvalidInputError if `options.validate()` fails.
 //! \throw TopologyError if no valid surface could be built (not expected within the limits).
