@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -714,7 +713,7 @@ TEST_CASE(
         const Eigen::VectorXd G = heat_geodesic_distance(mesh, result.loops[0].vertices);
         const WindingMeter meter(mesh, harmonic_longitudinal(mesh, result.loops, G));
         const PathWinding w = meter.measure(cut);
-        const test::HelixTurn exact = test::helix_turn(tube, mesh, cut);
+        const test::PathTurn exact = test::helix_turn(tube, mesh, cut);
         MESSAGE("1.5-turn helix, " << n_around << " around: the meter " << w.winding_deg
                                    << " degrees end to end, span " << w.span_deg
                                    << "; the phantom's frame: " << exact.winding_deg << ", span "
@@ -747,22 +746,13 @@ TEST_CASE(
         REQUIRE(result.plan.paths.size() == 1);
         const CutPath& cut = result.plan.paths.front();
         const Eigen::Vector3d centre = aneurysm_sac_centre(phantom);
-        double nearest = std::numeric_limits<double>::infinity();
-        std::vector<VertexHandle> vertices{cut.start};
+        double nearest = (to_eigen(mesh.point(cut.start)) - centre).norm();
         for (auto h : cut.halfedges)
-            vertices.push_back(mesh.to_vertex_handle(h));
-        double lo = 0.0, hi = 0.0, previous = 0.0, angle = 0.0;
-        for (std::size_t i = 0; i < vertices.size(); ++i)
-        {
-            const Eigen::Vector3d p = to_eigen(mesh.point(vertices[i]));
-            nearest = std::min(nearest, (p - centre).norm());
-            const double a = std::atan2(p.y(), p.x());
-            angle += i == 0 ? 0.0 : std::remainder(a - previous, 2.0 * M_PI);
-            previous = a;
-            lo = std::min(lo, angle);
-            hi = std::max(hi, angle);
-        }
-        const double span_deg = (hi - lo) * 180.0 / M_PI;
+            nearest =
+                std::min(nearest, (to_eigen(mesh.point(mesh.to_vertex_handle(h))) - centre).norm());
+        const double span_deg = test::path_turn(mesh, cut, [](const Eigen::Vector3d& p) {
+                                    return std::atan2(p.y(), p.x());
+                                }).span_deg;
         MESSAGE("aneurysm phantom, sac radius " << sac_radius << ": cut " << nearest
                                                 << " from the sac's centre, span " << span_deg
                                                 << " degrees round the parent");

@@ -28,22 +28,27 @@ void add_grid_faces(Mesh& mesh, const std::vector<VertexHandle>& v, int cols, in
 
 }  // namespace
 
-HelixTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path)
+PathTurn path_turn(const Mesh& mesh, const CutPath& path,
+                   const std::function<double(const Eigen::Vector3d&)>& angle)
 {
-    const auto angle = [&](VertexHandle v) {
-        const auto p = mesh.point(v);
-        return helical_tube_angle(options, Eigen::Vector3d(p[0], p[1], p[2]));
-    };
-    double previous = angle(path.start), unwrapped = 0.0, low = 0.0, high = 0.0;
+    const auto at = [&](VertexHandle v) { return angle(to_eigen(mesh.point(v))); };
+    double previous = at(path.start), unwrapped = 0.0, low = 0.0, high = 0.0;
     for (auto h : path.halfedges)
     {
-        const double a = angle(mesh.to_vertex_handle(h));
+        const double a = at(mesh.to_vertex_handle(h));
         unwrapped += std::remainder(a - previous, 2.0 * M_PI);
         previous = a;
         low = std::min(low, unwrapped);
         high = std::max(high, unwrapped);
     }
     return {unwrapped * 180.0 / M_PI, (high - low) * 180.0 / M_PI};
+}
+
+PathTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path)
+{
+    return path_turn(mesh, path, [&options](const Eigen::Vector3d& p) {
+        return helical_tube_angle(options, p);
+    });
 }
 
 Mesh test_tree_phantom(int outlets)

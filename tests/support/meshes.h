@@ -8,6 +8,8 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
+
 #include <cstdint>
 #include <vector>
 
@@ -25,14 +27,18 @@ Mesh test_tree_phantom(int outlets);
 //! As test_tree_phantom(outlets), with another seed (and edge length).
 Mesh test_tree_phantom(int outlets, std::uint32_t seed, double edge_length = 0.75);
 
-//! How a cut turns round a helical_tube() in the phantom's own frame (helical_tube_angle()),
-//! degrees: its frame angle unwrapped along the path from the outlet.
-struct HelixTurn
+//! How a cut turns round its vessel by a phantom's exact angle, degrees: \p angle (radians, of a
+//! point) unwrapped along the path from the outlet.
+struct PathTurn
 {
     double winding_deg = 0.0;  //!< signed, first vertex to last
     double span_deg = 0.0;     //!< largest minus smallest unwrapped angle
 };
-HelixTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path);
+PathTurn path_turn(const Mesh& mesh, const CutPath& path,
+                   const std::function<double(const Eigen::Vector3d&)>& angle);
+
+//! path_turn() round a helical_tube(), in the phantom's own frame (helical_tube_angle()).
+PathTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const CutPath& path);
 
 //! \brief Flat n x n quad grid of side \p size split into triangles, mapped into 3D by \p pose
 //! (a rigid motion). Vertex (i, j) has index j * (n + 1) + i and planar position

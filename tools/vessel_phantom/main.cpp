@@ -39,7 +39,7 @@ int main(int argc, char** argv)
     CLI::App app{
         "vessel-phantom: write a synthetic vessel surface mesh.\n"
         "  aneurysm straight parent artery with a spherical sac on its side (lateral\n"
-        "           aneurysm); 2 boundary loops, lengths in mm\n"
+        "           aneurysm); 2 boundary loops (3 with --branch-radius), lengths in mm\n"
         "  carotid  common carotid splitting into internal (with sinus bulb and stenosis) and\n"
         "           external carotid; 3 boundary loops, lengths in mm\n"
         "  helix    open tube swept along a helix with a rotation-minimizing frame and\n"

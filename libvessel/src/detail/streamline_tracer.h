@@ -24,8 +24,8 @@ public:
     // Trace \p field (|V| x 3; null = the context's stream field) from \p start until a face
     // touches the join rings of the tree (CutPlanOptions::join_rings; for the first cut, the
     // inlet's targets), then take the cheapest path of the step's query from \p start inside
-    // the band of CutPlanOptions::band_rings rings around the crossed faces. For a later cut the trace is
-    // cut back to where it first comes within join_rings mean edge lengths of its nearest
+    // the band of CutPlanOptions::band_rings rings around the crossed faces. For a later cut the
+    // trace is cut back to where it first comes within join_rings mean edge lengths of its nearest
     // approach to the tree, and the band also covers the shortest bridge from there to the
     // tree. Empty when the trace does not arrive or the band holds no route.
     std::optional<GraphPath> trace(const CutStep& step, VertexHandle start,

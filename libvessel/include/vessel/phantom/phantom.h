@@ -143,8 +143,8 @@ struct AneurysmPhantomOptions
 //! The parent runs along +z from the inlet at z = -parent_length / 2 to the outlet at
 //! +parent_length / 2 (the two boundary loops, each in its end plane); the sac's centre lies
 //! on +x at z = 0, at aneurysm_sac_centre(). With branch_radius > 0 a third loop ends the
-//! branch off the sac. Built as carotid_phantom() is (a smooth union
-//! sampled by surface nets), with a fillet at the neck. Deterministic.
+//! branch off the sac. Built as carotid_phantom() is (a smooth union sampled by surface nets),
+//! with a fillet at the neck. Deterministic.
 //! \throw InvalidInputError if `options.validate()` fails.
 //! \throw TopologyError if no valid surface could be built (not expected within the limits).
 Mesh aneurysm_phantom(const AneurysmPhantomOptions& options = {});
