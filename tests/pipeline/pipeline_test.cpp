@@ -105,6 +105,10 @@ vessel::test::FlatObjCheck check_real_mesh(const std::string& relative, int loop
         CHECK(cut["alignment"].get<double>() >= 0.0);
         CHECK(cut["alignment"].get<double>() <= 1.0);
         CHECK(cut["length"].get<double>() > 0.0);
+        // The part of the cut read on open bands (WindingMeter::open_stretch()).
+        CHECK(cut["winding_open_length"].get<double>() >= 0.0);
+        CHECK(cut["winding_open_length"].get<double>() <= cut["length"].get<double>() + 1e-9);
+        CHECK(cut["winding_open_turn_deg"].get<double>() >= 0.0);
     }
     MESSAGE(relative << ": flipped " << c.flipped << ", overlapping pairs " << overlaps
                      << ", area ratio " << c.area_ratio << ", mean |log area| "

@@ -23,6 +23,7 @@ struct CutFigures
 {
     std::vector<PathAlignment> aligned;
     std::vector<PathWinding> winding;
+    std::vector<OpenStretch> open;  // the vessel cuts' only
 };
 
 CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
@@ -39,6 +40,8 @@ CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
             figures.aligned.push_back(path_alignment(uncut, path, reference));
             figures.winding.push_back(meter.measure(path));
         }
+    for (const auto& path : r.plan.paths)
+        figures.open.push_back(meter.open_stretch(path));
     return figures;
 }
 
@@ -102,20 +105,21 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     for (std::size_t i = 0; i < r.plan.paths.size(); ++i)
     {
         const CutPath& c = r.plan.paths[i];
-        cuts.push_back({{"outlet", c.outlet},
-                        {"ends_on", c.parent < 0 ? std::string("inlet")
-                                                 : "cut " + std::to_string(c.parent)},
-                        {"edges", c.halfedges.size()},
-                        {"cost", c.cost},
-                        {"winding_deg", figures.winding[i].winding_deg},
-                        {"winding_span_deg", figures.winding[i].span_deg},
-                        {"winding_measured_fraction",
-                         static_cast<double>(figures.winding[i].measured) /
-                             std::max(1, figures.winding[i].vertices)},
-                        {"traced", c.traced},
-                        {"length", aligned[i].length},
-                        {"alignment", aligned[i].mean},
-                        {"beside_length", beside[i]}});
+        cuts.push_back(
+            {{"outlet", c.outlet},
+             {"ends_on", c.parent < 0 ? std::string("inlet") : "cut " + std::to_string(c.parent)},
+             {"edges", c.halfedges.size()},
+             {"cost", c.cost},
+             {"winding_deg", figures.winding[i].winding_deg},
+             {"winding_span_deg", figures.winding[i].span_deg},
+             {"winding_measured_fraction", static_cast<double>(figures.winding[i].measured) /
+                                               std::max(1, figures.winding[i].vertices)},
+             {"winding_open_length", figures.open[i].length},
+             {"winding_open_turn_deg", figures.open[i].turn_deg},
+             {"traced", c.traced},
+             {"length", aligned[i].length},
+             {"alignment", aligned[i].mean},
+             {"beside_length", beside[i]}});
     }
     j["cuts"] = cuts;
     nlohmann::json relief = nlohmann::json::array();

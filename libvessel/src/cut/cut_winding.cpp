@@ -418,6 +418,59 @@ PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
     return result;
 }
 
+bool WindingMeter::band_open(VertexHandle p) const
+{
+    // open_stretch()'s bounds on a band's largest empty arc.
+    constexpr double kOpenGapDeg = 60.0;
+    constexpr double kOpenGapOfMean = 4.0;
+    Ring ring;
+    if (!ring_at(p, ring, stamp_.data(), ++round_))
+        return false;
+    const Eigen::Vector3d e1 = ring.axis.unitOrthogonal(), e2 = ring.axis.cross(e1);
+    std::vector<double> angles;
+    angles.reserve(ring.vertices.size());
+    for (auto v : ring.vertices)
+    {
+        const Eigen::Vector3d q = to_eigen(mesh_.point(v)) - ring.centre;
+        angles.push_back(std::atan2(q.dot(e2), q.dot(e1)));
+    }
+    std::sort(angles.begin(), angles.end());
+    double gap = 2.0 * M_PI - (angles.back() - angles.front());
+    for (std::size_t i = 1; i < angles.size(); ++i)
+        gap = std::max(gap, angles[i] - angles[i - 1]);
+    const double mean = 2.0 * M_PI / static_cast<double>(angles.size());
+    return gap > kOpenGapDeg * M_PI / 180.0 && gap > kOpenGapOfMean * mean;
+}
+
+OpenStretch WindingMeter::open_stretch(const CutPath& path) const
+{
+    std::vector<VertexHandle> vertices{path.start};
+    for (auto h : path.halfedges)
+        vertices.push_back(mesh_.to_vertex_handle(h));
+    measure(vertices);  // checks the path
+    OpenStretch result;
+    std::vector<char> open(vertices.size(), 0);
+    VertexHandle last, previous;  // as measure()
+    for (std::size_t i = 0; i < vertices.size(); ++i)
+    {
+        const VertexHandle p = vertices[i];
+        const double turn = step(last, p, previous != last);
+        previous = p;
+        if (std::isnan(turn))
+            continue;
+        last = p;
+        if (band_open(p))
+        {
+            open[i] = 1;
+            result.turn_deg += std::abs(turn) * 180.0 / M_PI;
+        }
+    }
+    for (std::size_t i = 1; i < vertices.size(); ++i)
+        if (open[i - 1] || open[i])
+            result.length += (mesh_.point(vertices[i]) - mesh_.point(vertices[i - 1])).norm();
+    return result;
+}
+
 bool WindingMeter::offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const
 {
     Ring scratch;

@@ -40,6 +40,22 @@ struct PathWinding
     double length = 0.0;    //!< 3D length of the path
 };
 
+//! \brief The part of a cut's winding read where the wall does not close round one axis
+//! (WindingMeter::open_stretch()).
+//!
+//! The ring test (WindingOptions::max_spread) skips a band that is not round, as at most
+//! junctions, but a band can be round enough and still not close round the vessel: its
+//! vertices leave an arc of the circle round its axis empty. So it is at the neck of a sac,
+//! where the harmonic coordinate's level runs out over the sac, and where a coarse or
+//! irregular mesh breaks the band (an edge longer than the band is wide carries it across
+//! no vertex). There the angle round the vessel is not defined by the wall, yet measure()
+//! reads one from the open band's centroid, which lies off the vessel's axis.
+struct OpenStretch
+{
+    double length = 0.0;    //!< 3D length of the cut's edges with an end on an open band
+    double turn_deg = 0.0;  //!< sum of |angle| that measure() adds at vertices on open bands
+};
+
 //! \brief Ring-based winding of cuts (the library's version of the yardstick seamwinding.py).
 //!
 //! At every vertex p of a cut: the ring through p (WindingOptions::band) of the harmonic
@@ -84,6 +100,15 @@ public:
 
     //! The same for a path given as its vertices, in order.
     PathWinding measure(const std::vector<VertexHandle>& path) const;
+
+    //! \brief Where measure() reads \p path's angle from bands that do not close round their
+    //! axis (OpenStretch). A measured vertex's band is open when the largest angle between
+    //! consecutive band vertices round the band's axis exceeds both 60 degrees and four times
+    //! their mean angle (360 / band vertices): on a closed tube the largest is about twice the
+    //! mean, and a band of a few vertices round a thin vessel still closes. A second pass over
+    //! the cut's rings, for the report; the planner does not read it.
+    //! \throw InvalidInputError as measure().
+    OpenStretch open_stretch(const CutPath& path) const;
 
     //! \brief The signed angle (radians) measure() adds when a path reaches \p w with \p last
     //! the path's last measured vertex: the angle around w's ring axis from last's offset,
@@ -140,6 +165,9 @@ private:
     //! The ring through p into \p ring, the band's search marked in \p stamp with \p round
     //! (a thread's own marks: Prefetch fits rings on another thread).
     bool ring_at(VertexHandle p, Ring& ring, int* stamp, int round) const;
+    //! Whether p's band is a ring (ring_at()) that does not close round its axis
+    //! (open_stretch()).
+    bool band_open(VertexHandle p) const;
     struct RingFit;
     //! ring_at()'s answer for p as kept per vertex (\p ring holds the ring's vertices).
     RingFit fit_ring(VertexHandle p, Ring& ring, int* stamp, int round) const;
