@@ -37,6 +37,7 @@ struct WindingMeter::Ring
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();  // unit, along increasing u
     double radius = 0.0;                              // mean distance from the axis
+    double coherence = 0.0;                          // Band::coherence, set by ring_at()
     std::vector<VertexHandle> vertices;
 };
 
@@ -239,6 +240,8 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const i
     // neighbour is written past the ring's end and kept by moving the end.
     std::vector<VertexHandle>& out = ring.vertices;
     out.assign(1, p);
+    ring.radius = 0.0;
+    ring.coherence = std::numeric_limits<double>::quiet_NaN();
     stamp[p.idx()] = round;
     // Plain pointers: the stores below may alias the members for the compiler, which would
     // then load them again for every neighbour.
@@ -281,6 +284,7 @@ bool WindingMeter::ring_at(VertexHandle p, Ring& ring, int* const stamp, const i
         axis += unit;
     }
     ring.centre /= n;
+    ring.coherence = axis.norm() / n;
     if (!(axis.norm() > 0.0))
         return false;
     ring.axis = axis.normalized();
@@ -306,6 +310,7 @@ WindingMeter::RingFit WindingMeter::fit_ring(VertexHandle p, Ring& ring, int* co
     fit.centre = ring.centre;
     fit.axis = ring.axis;
     fit.radius = ring.radius;
+    fit.coherence = ring.coherence;
     return fit;
 }
 
@@ -534,6 +539,13 @@ Eigen::Vector3d WindingMeter::angular_rate(VertexHandle v) const
     if (!(offset > options_.min_offset * ring.radius))
         return Eigen::Vector3d::Zero();
     return ring.axis.cross(d) / (offset * offset);
+}
+
+WindingMeter::Band WindingMeter::band(VertexHandle v) const
+{
+    Ring scratch;
+    const RingFit& fit = ring_fit(v, scratch);
+    return Band{fit.ok, fit.radius, fit.coherence};
 }
 
 SeamWinding seam_winding(const std::vector<PathWinding>& paths)

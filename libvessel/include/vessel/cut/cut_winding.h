@@ -3,6 +3,7 @@
 #include "vessel/cut/cut_graph.h"
 #include "vessel/cut/cut_plan.h"
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -132,6 +133,20 @@ public:
     //! junction, a sac, an end) or v lies too near the axis. Cached like the rings.
     Eigen::Vector3d angular_rate(VertexHandle v) const;
 
+    //! The band of u through a vertex as the meter fits it (cached like the rings).
+    struct Band
+    {
+        bool ring = false;    //!< a clean ring: measure() measures the band's vertices
+        double radius = 0.0;  //!< mean distance of its vertices from the fitted axis
+        //! |mean| of its vertices' unit gradients of u: about 1 where the band closes round
+        //! one axis (a tube), low where they point apart (a sac's wall, where the band runs
+        //! round the bulge); NaN for a band of fewer than WindingOptions::min_ring_vertices.
+        double coherence = 0.0;
+    };
+    //! \brief The band through \p v: what the ring test saw there, for a caller that must
+    //! tell where "around the vessel" is undefined (route_aligned.cpp, the passage across a sac).
+    Band band(VertexHandle v) const;
+
     //! \brief Rings fitted ahead on a second thread while one search asks this meter for its
     //! steps (winding_bounded_path()'s `settled`): hint(v) for each vertex the search settles
     //! queues the vertices within two edges of v, whose rings the search asks for next. The
@@ -195,6 +210,7 @@ private:
     {
         Eigen::Vector3d centre, axis;
         double radius = 0.0;
+        double coherence = std::numeric_limits<double>::quiet_NaN();  //!< Band::coherence
         bool ok = false;
     };
     //! \p scratch: the ring, made with it the first time p is asked.
