@@ -383,41 +383,54 @@ void WindingMeter::Prefetch::hint(VertexHandle v)
     s.ready.notify_one();
 }
 
-PathWinding WindingMeter::measure(const CutPath& path) const
+std::vector<VertexHandle> WindingMeter::path_vertices(const CutPath& path) const
 {
     std::vector<VertexHandle> vertices{path.start};
     for (auto h : path.halfedges)
         vertices.push_back(mesh_.to_vertex_handle(h));
-    return measure(vertices);
+    return vertices;
 }
 
-PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
+template <class Visit>
+void WindingMeter::walk(const std::vector<VertexHandle>& path, Visit&& visit) const
 {
-    PathWinding result;
-    result.vertices = static_cast<int>(path.size());
     for (auto v : path)
         if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= mesh_.n_vertices())
             throw InvalidInputError("WindingMeter: the path passes vertex " +
                                     std::to_string(v.idx()) + " of a mesh with " +
                                     std::to_string(mesh_.n_vertices()) +
                                     " vertices; measure on the mesh the cut was planned on");
-    for (std::size_t i = 1; i < path.size(); ++i)
-        result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
-
-    double total = 0.0, low = 0.0, high = 0.0;
     VertexHandle last, previous;  // the last measured vertex, the vertex before p
-    for (auto p : path)
+    for (std::size_t i = 0; i < path.size(); ++i)
     {
+        const VertexHandle p = path[i];
         const double turn = step(last, p, previous != last);
         previous = p;
         if (std::isnan(turn))
             continue;  // p is not measured: the frame waits at `last`
+        visit(i, turn);
+        last = p;
+    }
+}
+
+PathWinding WindingMeter::measure(const CutPath& path) const
+{
+    return measure(path_vertices(path));
+}
+
+PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
+{
+    PathWinding result;
+    result.vertices = static_cast<int>(path.size());
+    double total = 0.0, low = 0.0, high = 0.0;
+    walk(path, [&](std::size_t, double turn) {
         ++result.measured;
         total += turn;
         low = std::min(low, total);
         high = std::max(high, total);
-        last = p;
-    }
+    });
+    for (std::size_t i = 1; i < path.size(); ++i)
+        result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
     result.winding_deg = total * 180.0 / M_PI;
     result.span_deg = (high - low) * 180.0 / M_PI;
     return result;
@@ -449,27 +462,15 @@ bool WindingMeter::band_open(VertexHandle p) const
 
 OpenStretch WindingMeter::open_stretch(const CutPath& path) const
 {
-    std::vector<VertexHandle> vertices{path.start};
-    for (auto h : path.halfedges)
-        vertices.push_back(mesh_.to_vertex_handle(h));
-    measure(vertices);  // checks the path
+    const std::vector<VertexHandle> vertices = path_vertices(path);
     OpenStretch result;
     std::vector<char> open(vertices.size(), 0);
-    VertexHandle last, previous;  // as measure()
-    for (std::size_t i = 0; i < vertices.size(); ++i)
-    {
-        const VertexHandle p = vertices[i];
-        const double turn = step(last, p, previous != last);
-        previous = p;
-        if (std::isnan(turn))
-            continue;
-        last = p;
-        if (band_open(p))
-        {
-            open[i] = 1;
-            result.turn_deg += std::abs(turn) * 180.0 / M_PI;
-        }
-    }
+    walk(vertices, [&](std::size_t i, double turn) {
+        if (!band_open(vertices[i]))
+            return;
+        open[i] = 1;
+        result.turn_deg += std::abs(turn) * 180.0 / M_PI;
+    });
     for (std::size_t i = 1; i < vertices.size(); ++i)
         if (open[i - 1] || open[i])
             result.length += (mesh_.point(vertices[i]) - mesh_.point(vertices[i - 1])).norm();

@@ -3,6 +3,7 @@
 #include "detail/cost_to_tree.h"
 #include "detail/streamline_tracer.h"
 #include "vessel/core/errors.h"
+#include "vessel/cut/cut_cost.h"
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/cut/cut_winding.h"
 #include "vessel/cut/winding_bound.h"
@@ -426,9 +427,7 @@ private:
         const Mesh& mesh = step.context().mesh();
         if (!length_graph_)
         {
-            lengths_.resize(mesh.n_halfedges());
-            for (auto h : mesh.halfedges())
-                lengths_[static_cast<std::size_t>(h.idx())] = mesh.calc_edge_length(h);
+            lengths_ = evaluate_cost(mesh, LengthCost{});  // E_g in mm
             length_graph_.emplace(mesh, lengths_);
         }
         PathQuery query = step.query();

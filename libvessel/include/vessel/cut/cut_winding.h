@@ -183,6 +183,13 @@ private:
     //! Whether p's band is a ring (ring_at()) that does not close round its axis
     //! (open_stretch()).
     bool band_open(VertexHandle p) const;
+    //! The vertices of \p path, its start first.
+    std::vector<VertexHandle> path_vertices(const CutPath& path) const;
+    //! Checks that \p path lies on the mesh, then follows it as measure() does: visit(i, turn)
+    //! for each measured vertex path[i], with the angle step() adds there (the frame restarts
+    //! after every vertex not measured).
+    template <class Visit>
+    void walk(const std::vector<VertexHandle>& path, Visit&& visit) const;
     struct RingFit;
     //! ring_at()'s answer for p as kept per vertex (\p ring holds the ring's vertices).
     RingFit fit_ring(VertexHandle p, Ring& ring, int* stamp, int round) const;
