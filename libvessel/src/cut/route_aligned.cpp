@@ -107,9 +107,8 @@ bool crosses_sac(const Mesh& mesh, const GraphPath& path, const WindingMeter& me
 // CutRoute::Aligned: whether \p passage, the shortest path of the cut's query (by length),
 // replaces \p traced, a streamline cut that crosses a sac (crosses_sac()). On a sac the vessel
 // has no direction and its bands no axis: the harmonic streamline follows u's meanders over
-// the bulge, and keep_traced() took it for an alignment that means nothing there (on the
-// lateral-aneurysm phantom with a branch off a sac of radius 3: 20.4 mm against 13.2 for the
-// shortest passage, alignment 0.72 against the cheapest path's 0.63). The shortest passage is
+// the bulge, and keep_traced() took it for an alignment that means nothing there
+// (docs/results.md, "Sacs: the lateral-aneurysm phantom"). The shortest passage is
 // taken if it is natural (the meter, as any cut), at least as aligned with the stream field,
 // and \p traced is longer by more than kPassageMinGain: then it is no worse by any measure the
 // route weighs.
