@@ -165,7 +165,7 @@ private:
     GraphPath cut_back_from(const CutStep& step, const GraphPath& path, double excess)
     {
         const CutPlanContext& context = step.context();
-        const double radius = (*context.loops)[step.outlet()].arc_length / (2.0 * M_PI);
+        const double radius = (*context.loops)[step.outlet()].radius();
         return cut_back(*context.graph, path, tree_, *context.loop_of,
                         context.options->join_reach * radius, excess * radius);
     }

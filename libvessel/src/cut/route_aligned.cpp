@@ -359,8 +359,7 @@ public:
         if (cut.traced && !step.join_narrows_ends())
             if (const WindingMeter* meter = winding_meter())
             {
-                const double outlet_radius =
-                    (*context.loops)[step.outlet()].arc_length / (2.0 * M_PI);
+                const double outlet_radius = (*context.loops)[step.outlet()].radius();
                 if (crosses_sac(mesh, cut.path, *meter, outlet_radius))
                 {
                     const GraphPath passage = shortest_passage(step);

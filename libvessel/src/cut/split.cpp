@@ -275,7 +275,7 @@ std::vector<TreePiece> split_tree(const Mesh& mesh, const std::vector<std::vecto
         const MergeLevels m = merge_levels(soup, set);
         double radius = 0.0;
         for (int l : set)
-            radius += loops[l].arc_length / (2.0 * M_PI) / static_cast<double>(set.size());
+            radius += loops[l].radius() / static_cast<double>(set.size());
         const double level = m.out + std::min(options.offset_radii * radius, 0.5 * (m.in - m.out));
         for (double& g : soup.G)  // no vertex on the ring: no sliver triangles
             if (std::abs(g - level) < eps)

@@ -64,7 +64,7 @@ Eigen::MatrixX2d tutte_embedding(const Mesh& mesh)
     const auto& loop = loops[0];
     // Boundary halfedges run clockwise around the disk; walking them backwards is
     // counter-clockwise, which makes the faces counter-clockwise.
-    const double radius = loop.arc_length / (2.0 * M_PI);
+    const double radius = loop.radius();
     double s = 0.0;
     Pins boundary;
     for (std::size_t i = 0; i < loop.halfedges.size(); ++i)

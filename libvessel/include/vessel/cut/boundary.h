@@ -2,6 +2,7 @@
 
 #include "vessel/core/mesh.h"
 
+#include <cmath>
 #include <vector>
 
 namespace vessel {
@@ -16,6 +17,10 @@ struct BoundaryLoop
     std::vector<VertexHandle> vertices;
     double arc_length = 0.0;  //!< perimeter, in mesh units
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  //!< arc-length weighted centre
+
+    //! The radius of the circle as long as the loop: the vessel's radius at an open end cut
+    //! across it, and the scale of the distances measured from it.
+    double radius() const { return arc_length / (2.0 * M_PI); }
 };
 
 //! \brief All boundary loops, sorted by arc length, longest first: `loops[0]` is the inlet, the
