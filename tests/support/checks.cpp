@@ -156,13 +156,30 @@ int run(const std::string& command)
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+namespace {
+
+// The JSON that ../shared/tools/<tool>.py prints for \p flat_obj (from \p input), written beside
+// it.
+nlohmann::json shared_tool(const std::string& tool, const std::string& input,
+                           const std::string& flat_obj, const std::string& flags)
+{
+    const std::string out = flat_obj + "." + tool + ".json";
+    if (run("/usr/bin/python3 " + std::string(VESSEL_SHARED_TOOLS) + "/" + tool + ".py " + input +
+            " " + flat_obj + flags + " > " + out) != 0)
+        throw std::runtime_error(tool + ".py failed on " + flat_obj + " (from " + input + ")");
+    return nlohmann::json::parse(std::ifstream(out));
+}
+
+}  // namespace
+
 nlohmann::json flatcheck(const std::string& input, const std::string& flat_obj)
 {
-    const std::string out = flat_obj + ".flatcheck.json";
-    if (run("/usr/bin/python3 " + std::string(VESSEL_SHARED_TOOLS) + "/flatcheck.py " + input +
-            " " + flat_obj + " --json > " + out) != 0)
-        throw std::runtime_error("flatcheck.py failed on " + flat_obj + " (from " + input + ")");
-    return nlohmann::json::parse(std::ifstream(out));
+    return shared_tool("flatcheck", input, flat_obj, " --json");
+}
+
+nlohmann::json seamwinding(const std::string& input, const std::string& flat_obj)
+{
+    return shared_tool("seamwinding", input, flat_obj, "");
 }
 
 std::string temp_dir(const std::string& name)

@@ -53,6 +53,11 @@ int run(const std::string& command);
 //! std::runtime_error if the script fails.
 nlohmann::json flatcheck(const std::string& input, const std::string& flat_obj);
 
+//! The JSON report of ../shared/tools/seamwinding.py (how far each piece of the seam between
+//! junctions winds round its vessel) on \p flat_obj, flattened from \p input; written beside
+//! \p flat_obj. Throws std::runtime_error if the script fails.
+nlohmann::json seamwinding(const std::string& input, const std::string& flat_obj);
+
 //! The message of the exception \p f throws, or "(no error)".
 std::string error_of(const std::function<void()>& f);
 

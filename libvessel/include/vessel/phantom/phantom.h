@@ -145,11 +145,10 @@ struct AneurysmPhantomOptions
 //! on +x at z = 0, at aneurysm_sac_centre(). With branch_radius > 0 a third loop ends the
 //! branch off the sac. Built as carotid_phantom() is (a smooth union sampled by surface nets),
 //! with a fillet at the neck. Deterministic. The two end loops of the straight parent are
-//! equally long but for rounding, so a tool that takes the longest loop for the inlet may take
-//! either end (at sac radii 3-5 and the default edge length boundary_loops() takes the one at
-//! -parent_length / 2, seamwinding.py the other), and their longitudinal coordinates then run
-//! opposite ways (docs/results.md, "Sacs: the
-//! lateral-aneurysm phantom").
+//! equally long but for rounding, so a tool that takes the longest loop for the inlet takes
+//! either end, and which one can change with the file's precision: boundary_loops() and
+//! seamwinding.py can take different ones, and their longitudinal coordinates then run
+//! opposite ways (docs/results.md, "Sacs: the lateral-aneurysm phantom").
 //! \throw InvalidInputError if `options.validate()` fails.
 //! \throw TopologyError if no valid surface could be built (not expected within the limits).
 Mesh aneurysm_phantom(const AneurysmPhantomOptions& options = {});
