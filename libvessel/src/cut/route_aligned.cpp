@@ -55,6 +55,14 @@ bool within_limit(const PathWinding& w, const CutPlanOptions& options)
            w.span_deg <= options.winding_limit_deg;
 }
 
+// A natural cut as the route weighs it: within_limit() with options.natural_cuts, else only
+// its winding end to end within winding_limit_deg.
+bool is_natural(const PathWinding& w, const CutPlanOptions& options)
+{
+    return options.natural_cuts ? within_limit(w, options)
+                                : std::abs(w.winding_deg) <= options.winding_limit_deg;
+}
+
 // CutRoute::Aligned: whether \p other, traced along the vessel direction z, replaces \p current,
 // a natural cut (traced or not) whose angle spans more than twice winding_target_deg. On a long
 // coarse tube the descent of the discrete harmonic coordinate carries a small lateral error that
@@ -120,9 +128,7 @@ bool keep_passage(const Mesh& mesh, const GraphPath& traced, const GraphPath& pa
     const PathAlignment b = path_alignment(mesh, as_cut(mesh, passage), stream_field);
     if (!(a.length > kPassageMinGain * b.length) || !(b.mean >= a.mean))
         return false;
-    const PathWinding w = meter.measure(as_cut(mesh, passage));
-    return options.natural_cuts ? within_limit(w, options)
-                                : std::abs(w.winding_deg) <= options.winding_limit_deg;
+    return is_natural(meter.measure(as_cut(mesh, passage)), options);
 }
 
 // The bounded search of steer_path() carries a cut's frame over unmeasured vertices up to one
@@ -182,14 +188,10 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
     if (winding_rate.rows() == 0 || options.winding_target_deg <= 0.0)
         return std::nullopt;
     const bool strict = options.natural_cuts;
-    const auto natural = [&](const PathWinding& w) {
-        return strict ? within_limit(w, options)
-                      : std::abs(w.winding_deg) <= options.winding_limit_deg;
-    };
     const PathWinding now =
         current_winding ? *current_winding : meter.measure(as_cut(mesh, current));
     const double wound = std::abs(now.winding_deg);
-    const bool was_natural = natural(now);
+    const bool was_natural = is_natural(now, options);
     if (was_natural && ((traced && !strict) || !(wound > options.winding_target_deg)))
         return std::nullopt;
     PathQuery query = step_query;  // steered below
@@ -204,25 +206,24 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         const CutPath cut = as_cut(mesh, p);
         const PathWinding w = meter.measure(cut);
         const double wound_p = std::abs(w.winding_deg);
-        const bool is_natural = natural(w);
+        const bool natural = is_natural(w, options);
         const bool aligned = path_alignment(mesh, cut, stream_field).mean >= floor_alignment;
         // A natural cut above the target gives way to an aligned natural route within it
         // whatever the gain.
-        const bool on_target = strict && is_natural && aligned &&
+        const bool on_target = strict && natural && aligned &&
                                wound_p <= options.winding_target_deg &&
                                best_actual > options.winding_target_deg && wound_p < best_actual;
         const bool better =
-            on_target ||
-            (strict ? (!best_natural && is_natural) ||
-                          (wound_p < best_wound && (is_natural || !best_natural) &&
-                           (aligned || (is_natural && !was_natural)))
-                    : wound_p < best_wound && aligned);
+            on_target || (strict ? (!best_natural && natural) ||
+                                       (wound_p < best_wound && (natural || !best_natural) &&
+                                        (aligned || (natural && !was_natural)))
+                                 : wound_p < best_wound && aligned);
         if (better)
         {
             // A route taken for the target alone keeps the gain's threshold for the next ones.
             best_wound = on_target ? std::min(wound_p, best_wound) : wound_p;
             best_actual = wound_p;
-            best_natural = is_natural;
+            best_natural = natural;
             best = std::move(p);
         }
         return w.winding_deg;
