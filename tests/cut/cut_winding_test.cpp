@@ -765,16 +765,16 @@ TEST_CASE(
         CHECK(span_deg <= 30.0);
         const Eigen::VectorXd G = heat_geodesic_distance(mesh, result.loops[0].vertices);
         const WindingMeter meter(mesh, harmonic_longitudinal(mesh, result.loops, G));
-        const PathWinding w = meter.measure(cut);
+        OpenStretch open;
+        const PathWinding w = meter.measure(cut, &open);
         CHECK(std::abs(w.winding_deg) <= 15.0);
         CHECK(result.quality.flipped_triangles == 0);
         CHECK(result.quality.mean_abs_log_area_normalized <= 0.03);
         // Where "around the vessel" is undefined the meter says so: at the neck the band
         // through the cut's vertex passes the ring test but leaves an arc round its axis
         // empty, and the angle measure() reads there swings with the band's centroid (a span
-        // of about 37 degrees at sac radius 3). open_stretch() puts the meter's excess over
-        // the exact span down to that short stretch.
-        const OpenStretch open = meter.open_stretch(cut);
+        // of about 37 degrees at sac radius 3). measure()'s `open` puts the meter's excess
+        // over the exact span down to that short stretch.
         MESSAGE("the meter's span " << w.span_deg << ", of it " << open.turn_deg << " degrees over "
                                     << open.length << " mm of open bands");
         CHECK(open.length > 0.0);
@@ -785,7 +785,7 @@ TEST_CASE(
 
 TEST_CASE("cut_winding: on a tube of regular rings no band is open round the vessel")
 {
-    // The other side of open_stretch() (the lateral aneurysm test above): where every band
+    // The other side of measure()'s `open` (the lateral aneurysm test above): where every band
     // closes, at any resolution, nothing of a cut's reading is put down to open bands.
     for (int n_around : {12, 24, 48})
     {
@@ -796,7 +796,8 @@ TEST_CASE("cut_winding: on a tube of regular rings no band is open round the ves
         const FlattenResult result = flatten(mesh, FlattenOptions{});
         REQUIRE(result.plan.paths.size() == 1);
         const WindingMeter meter(mesh, longitudinal(mesh));
-        const OpenStretch open = meter.open_stretch(result.plan.paths.front());
+        OpenStretch open;
+        meter.measure(result.plan.paths.front(), &open);
         CHECK(open.length == 0.0);
         CHECK(open.turn_deg == 0.0);
     }

@@ -105,7 +105,7 @@ vessel::test::FlatObjCheck check_real_mesh(const std::string& relative, int loop
         CHECK(cut["alignment"].get<double>() >= 0.0);
         CHECK(cut["alignment"].get<double>() <= 1.0);
         CHECK(cut["length"].get<double>() > 0.0);
-        // The part of the cut read on open bands (WindingMeter::open_stretch()).
+        // The part of the cut read on open bands (WindingMeter::measure()'s `open`).
         CHECK(cut["winding_open_length"].get<double>() >= 0.0);
         CHECK(cut["winding_open_length"].get<double>() <= cut["length"].get<double>() + 1e-9);
         CHECK(cut["winding_open_turn_deg"].get<double>() >= 0.0);

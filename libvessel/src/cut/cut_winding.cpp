@@ -391,8 +391,12 @@ std::vector<VertexHandle> WindingMeter::path_vertices(const CutPath& path) const
     return vertices;
 }
 
-template <class Visit>
-void WindingMeter::walk(const std::vector<VertexHandle>& path, Visit&& visit) const
+PathWinding WindingMeter::measure(const CutPath& path, OpenStretch* open) const
+{
+    return measure(path_vertices(path), open);
+}
+
+PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path, OpenStretch* open) const
 {
     for (auto v : path)
         if (!v.is_valid() || static_cast<std::size_t>(v.idx()) >= mesh_.n_vertices())
@@ -400,6 +404,20 @@ void WindingMeter::walk(const std::vector<VertexHandle>& path, Visit&& visit) co
                                     std::to_string(v.idx()) + " of a mesh with " +
                                     std::to_string(mesh_.n_vertices()) +
                                     " vertices; measure on the mesh the cut was planned on");
+    // With `open`, every vertex's ring is fitted here with the open test (the walk below then
+    // finds them fitted): the test needs the ring's vertices, which the fits do not keep.
+    std::vector<char> on_open;
+    if (open)
+    {
+        *open = OpenStretch{};
+        on_open.assign(path.size(), 0);
+        for (auto v : path)
+            open_tested_fit(v);
+    }
+    PathWinding result;
+    result.vertices = static_cast<int>(path.size());
+    double total = 0.0, low = 0.0, high = 0.0;
+    // The frame restarts after every vertex step() does not measure (bridge 0).
     VertexHandle last, previous;  // the last measured vertex, the vertex before p
     for (std::size_t i = 0; i < path.size(); ++i)
     {
@@ -408,42 +426,34 @@ void WindingMeter::walk(const std::vector<VertexHandle>& path, Visit&& visit) co
         previous = p;
         if (std::isnan(turn))
             continue;  // p is not measured: the frame waits at `last`
-        visit(i, turn);
         last = p;
-    }
-}
-
-PathWinding WindingMeter::measure(const CutPath& path) const
-{
-    return measure(path_vertices(path));
-}
-
-PathWinding WindingMeter::measure(const std::vector<VertexHandle>& path) const
-{
-    PathWinding result;
-    result.vertices = static_cast<int>(path.size());
-    double total = 0.0, low = 0.0, high = 0.0;
-    walk(path, [&](std::size_t, double turn) {
         ++result.measured;
         total += turn;
         low = std::min(low, total);
         high = std::max(high, total);
-    });
+        if (open && open_tested_fit(p).open == 1)  // fitted above: no ring again
+        {
+            on_open[i] = 1;
+            open->turn_deg += std::abs(turn) * 180.0 / M_PI;
+        }
+    }
     for (std::size_t i = 1; i < path.size(); ++i)
-        result.length += (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
+    {
+        const double edge = (mesh_.point(path[i]) - mesh_.point(path[i - 1])).norm();
+        result.length += edge;
+        if (open && (on_open[i - 1] || on_open[i]))
+            open->length += edge;
+    }
     result.winding_deg = total * 180.0 / M_PI;
     result.span_deg = (high - low) * 180.0 / M_PI;
     return result;
 }
 
-bool WindingMeter::band_open(VertexHandle p) const
+bool WindingMeter::ring_open(const Ring& ring) const
 {
-    // open_stretch()'s bounds on a band's largest empty arc.
+    // The bounds on a band's largest empty arc (measure()'s `open`).
     constexpr double kOpenGapDeg = 60.0;
     constexpr double kOpenGapOfMean = 4.0;
-    Ring ring;
-    if (!ring_at(p, ring, stamp_.data(), ++round_))
-        return false;
     const Eigen::Vector3d e1 = ring.axis.unitOrthogonal(), e2 = ring.axis.cross(e1);
     std::vector<double> angles;
     angles.reserve(ring.vertices.size());
@@ -460,21 +470,18 @@ bool WindingMeter::band_open(VertexHandle p) const
     return gap > kOpenGapDeg * M_PI / 180.0 && gap > kOpenGapOfMean * mean;
 }
 
-OpenStretch WindingMeter::open_stretch(const CutPath& path) const
+const WindingMeter::RingFit& WindingMeter::open_tested_fit(VertexHandle p) const
 {
-    const std::vector<VertexHandle> vertices = path_vertices(path);
-    OpenStretch result;
-    std::vector<char> open(vertices.size(), 0);
-    walk(vertices, [&](std::size_t i, double turn) {
-        if (!band_open(vertices[i]))
-            return;
-        open[i] = 1;
-        result.turn_deg += std::abs(turn) * 180.0 / M_PI;
-    });
-    for (std::size_t i = 1; i < vertices.size(); ++i)
-        if (open[i - 1] || open[i])
-            result.length += (mesh_.point(vertices[i]) - mesh_.point(vertices[i - 1])).norm();
-    return result;
+    Ring ring;  // holds p's ring after ring_fit() if it was fitted just now on this thread
+    ring_fit(p, ring);
+    RingFit& fit = fits_[static_cast<std::size_t>(fit_of_[static_cast<std::size_t>(p.idx())])];
+    if (fit.open < 0)
+    {
+        if (fit.ok && ring.vertices.empty())
+            ring_at(p, ring, stamp_.data(), ++round_);
+        fit.open = fit.ok && ring_open(ring);
+    }
+    return fit;
 }
 
 bool WindingMeter::offset(VertexHandle p, Eigen::Vector3d& d, const RingFit*& fit) const

@@ -42,7 +42,7 @@ struct PathWinding
 };
 
 //! \brief The part of a cut's winding read where the wall does not close round one axis
-//! (WindingMeter::open_stretch()).
+//! (WindingMeter::measure()'s `open`).
 //!
 //! The ring test (WindingOptions::max_spread) skips a band that is not round, as at most
 //! junctions, but a band can be round enough and still not close round the vessel: its
@@ -96,20 +96,18 @@ public:
     WindingMeter(const CutGraph& graph, const Eigen::VectorXd& longitudinal, double mean_edge,
                  const Eigen::MatrixX3d& axis_direction, const WindingOptions& options = {});
 
+    //! \brief How far \p path winds round its vessel.
+    //! \param open if set, also where that reading comes from bands that do not close round
+    //! their axis (OpenStretch), in the same walk over the path's rings: a measured vertex's
+    //! band is open when the largest angle between consecutive band vertices round the band's
+    //! axis exceeds both 60 degrees and four times their mean angle (360 / band vertices). On
+    //! a closed tube the largest is about twice the mean, and a band of a few vertices round a
+    //! thin vessel still closes. For the report; the planner does not ask for it.
     //! \throw InvalidInputError if the path leaves the mesh's vertex range.
-    PathWinding measure(const CutPath& path) const;
+    PathWinding measure(const CutPath& path, OpenStretch* open = nullptr) const;
 
     //! The same for a path given as its vertices, in order.
-    PathWinding measure(const std::vector<VertexHandle>& path) const;
-
-    //! \brief Where measure() reads \p path's angle from bands that do not close round their
-    //! axis (OpenStretch). A measured vertex's band is open when the largest angle between
-    //! consecutive band vertices round the band's axis exceeds both 60 degrees and four times
-    //! their mean angle (360 / band vertices): on a closed tube the largest is about twice the
-    //! mean, and a band of a few vertices round a thin vessel still closes. A second pass over
-    //! the cut's rings, for the report; the planner does not read it.
-    //! \throw InvalidInputError as measure().
-    OpenStretch open_stretch(const CutPath& path) const;
+    PathWinding measure(const std::vector<VertexHandle>& path, OpenStretch* open = nullptr) const;
 
     //! \brief The signed angle (radians) measure() adds when a path reaches \p w with \p last
     //! the path's last measured vertex: the angle around w's ring axis from last's offset,
@@ -180,17 +178,15 @@ private:
     //! The ring through p into \p ring, the band's search marked in \p stamp with \p round
     //! (a thread's own marks: Prefetch fits rings on another thread).
     bool ring_at(VertexHandle p, Ring& ring, int* stamp, int round) const;
-    //! Whether p's band is a ring (ring_at()) that does not close round its axis
-    //! (open_stretch()).
-    bool band_open(VertexHandle p) const;
+    //! Whether \p ring (a clean ring: ring_at() true) leaves an arc round its axis empty
+    //! (measure()'s \p open).
+    bool ring_open(const Ring& ring) const;
     //! The vertices of \p path, its start first.
     std::vector<VertexHandle> path_vertices(const CutPath& path) const;
-    //! Checks that \p path lies on the mesh, then follows it as measure() does: visit(i, turn)
-    //! for each measured vertex path[i], with the angle step() adds there (the frame restarts
-    //! after every vertex not measured).
-    template <class Visit>
-    void walk(const std::vector<VertexHandle>& path, Visit&& visit) const;
     struct RingFit;
+    //! ring_fit() with RingFit::open set, the ring fitted again only where a fit made without
+    //! that test kept no vertices.
+    const RingFit& open_tested_fit(VertexHandle p) const;
     //! ring_at()'s answer for p as kept per vertex (\p ring holds the ring's vertices).
     RingFit fit_ring(VertexHandle p, Ring& ring, int* stamp, int round) const;
     //! The unit offset \p d of p from its ring's axis, and the ring; false where measure()
@@ -219,6 +215,7 @@ private:
         double radius = 0.0;
         double coherence = std::numeric_limits<double>::quiet_NaN();  //!< Band::coherence
         bool ok = false;
+        signed char open = -1;  //!< ring_open() once asked (open_tested_fit()), else -1
     };
     //! \p scratch: the ring, made with it the first time p is asked.
     const RingFit& ring_fit(VertexHandle p, Ring& scratch) const;
