@@ -37,9 +37,12 @@ using detail::kMaxElements;
 
 using ScratchMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 
-// Records every vertex and face the reader emits before OpenMesh's importer sees them; the
-// importer duplicates vertices of faces it cannot add (non-manifold, mis-oriented) and drops
-// faces with repeated corners, which would hide exactly the defects we must report.
+// Records every vertex and face the reader emits, in file indices. The faces are recorded only:
+// OpenMesh's importer would add them to its mesh, duplicate the vertices of those it cannot add
+// (non-manifold, mis-oriented) and drop those with repeated corners, which would hide exactly
+// the defects make_tree_surface() reports, and building that mesh took a third of the reading.
+// A face's handle is its index in RawMesh::faces; the setters of face attributes (normals,
+// colours, texture coordinates), which would look for it in the importer's mesh, do nothing.
 class RecordingImporter : public OpenMesh::IO::ImporterT<ScratchMesh>
 {
 public:
@@ -59,39 +62,48 @@ public:
     }
     void set_point(VertexHandle v, const OpenMesh::Vec3f& p) override
     {
-        if (v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_index_.size())
-            raw_.points[raw_index_[v.idx()]] = {p[0], p[1], p[2]};
+        if (v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_.points.size())
+            raw_.points[static_cast<std::size_t>(v.idx())] = {p[0], p[1], p[2]};
         ImporterT::set_point(v, p);
     }
     FaceHandle add_face(const VHandles& corners) override
     {
+        // A corner beyond the file's vertices keeps the file's index (the PLY reader passes it
+        // as the handle), so that the validation names it.
         std::vector<int>& face = raw_.faces.emplace_back();
         face.reserve(corners.size());
-        // A corner beyond the file's vertices keeps the file's index (the PLY reader passes it
-        // as the handle), so that the validation names it instead of -1.
         for (auto v : corners)
-            face.push_back(v.is_valid() && static_cast<std::size_t>(v.idx()) < raw_index_.size()
-                               ? raw_index_[v.idx()]
-                               : v.idx());
-        return ImporterT::add_face(corners);
+            face.push_back(v.idx());
+        return FaceHandle(static_cast<int>(raw_.faces.size()) - 1);
     }
+    std::size_t n_faces() const override { return raw_.faces.size(); }
+    void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<OpenMesh::Vec2f>&) override
+    {}
+    void add_face_texcoords(FaceHandle, VertexHandle, const std::vector<OpenMesh::Vec3f>&) override
+    {}
+    void set_face_texindex(FaceHandle, int) override {}
+    void set_normal(FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_normal(FaceHandle, const OpenMesh::Vec3d&) override {}
+    void set_color(FaceHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(FaceHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(FaceHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    using ImporterT::set_color;
+    using ImporterT::set_normal;
+    using ImporterT::set_status;
 
 private:
-    // The importer adds scratch vertices of its own for faces it cannot add, so scratch handles
-    // and file indices diverge after the first bad face; faces are recorded in file indices.
+    // The importer's mesh holds the file's vertices alone (no face adds any), so a vertex's
+    // handle is its index in the file and in RawMesh::points.
     VertexHandle record(VertexHandle scratch, const Eigen::Vector3d& p)
     {
-        if (static_cast<std::size_t>(scratch.idx()) >= raw_index_.size())
-            raw_index_.resize(scratch.idx() + 1, -1);
-        raw_index_[scratch.idx()] = static_cast<int>(raw_.points.size());
         raw_.points.push_back(p);
         return scratch;
     }
 
     RawMesh& raw_;
-    std::vector<int> raw_index_;
 };
-
 
 // Truncated files: OpenMesh's PLY reader loops forever on a header cut before `end_header`, its
 // OFF and ASCII PLY readers turn missing lines into faces with invalid corners, and its STL reader
@@ -249,12 +261,40 @@ void check_binary_ply_lists(const std::string& path, std::istream& in, const Ele
     if (!lists)
         return;
     const std::string data{std::istreambuf_iterator<char>(in), {}};
+    // Per property, what the walk reads of it (its type's name is looked up once, not per row).
+    struct Column
+    {
+        std::size_t size = 0;  // bytes of the scalar, or of a list's count
+        bool is_signed = false, is_float = false;
+    };
     std::size_t at = 0;
     for (const auto& e : elements)
+    {
+        std::vector<Column> columns;
+        std::size_t row_bytes = 0;  // of a row without lists
+        bool row_lists = false;
+        for (const auto& p : e.properties)
+        {
+            Column& c = columns.emplace_back();
+            c.size = static_cast<std::size_t>(ply_type_size(p.type));
+            c.is_signed = p.type == "char" || p.type == "int8" || p.type == "short" ||
+                          p.type == "int16" || p.type == "int" || p.type == "int32";
+            c.is_float = p.type == "float" || p.type == "float32" || p.type == "double" ||
+                         p.type == "float64";
+            row_bytes += c.size;
+            row_lists = row_lists || p.item_size > 0;
+        }
+        if (!row_lists && row_bytes > 0 && (data.size() - at) / row_bytes >= e.count)
+        {
+            at += static_cast<std::size_t>(e.count) * row_bytes;  // rows of scalars: all there
+            continue;
+        }
         for (std::uintmax_t i = 0; i < e.count; ++i)
-            for (const auto& p : e.properties)
+            for (std::size_t k = 0; k < columns.size(); ++k)
             {
-                const auto size = static_cast<std::size_t>(ply_type_size(p.type));
+                const PlyProperty& p = e.properties[k];
+                const Column& c = columns[k];
+                const std::size_t size = c.size;
                 if (data.size() - at < size)
                     truncated(path, "the binary PLY data end inside " + e.name + " " +
                                         std::to_string(i));
@@ -269,14 +309,10 @@ void check_binary_ply_lists(const std::string& path, std::istream& in, const Ele
                                data[at + (big_endian ? size - 1 - b : b)]))
                            << (8 * b);
                 at += size;
-                const bool is_signed = p.type == "char" || p.type == "int8" ||
-                                       p.type == "short" || p.type == "int16" ||
-                                       p.type == "int" || p.type == "int32";
                 long long n = static_cast<long long>(raw);
-                if (is_signed && size < 8 && (raw >> (8 * size - 1)) != 0)
+                if (c.is_signed && size < 8 && (raw >> (8 * size - 1)) != 0)
                     n -= 1LL << (8 * size);
-                if (p.type == "float" || p.type == "float32" || p.type == "double" ||
-                    p.type == "float64")
+                if (c.is_float)
                     bad_ply_list(path, e.name, i, p, "a floating-point", "a count is an integer");
                 const std::size_t left = data.size() - at;
                 if (n < 0 || static_cast<unsigned long long>(n) > left / p.item_size)
@@ -284,6 +320,7 @@ void check_binary_ply_lists(const std::string& path, std::istream& in, const Ele
                                  "only " + std::to_string(left) + " bytes are left");
                 at += static_cast<std::size_t>(n) * p.item_size;
             }
+    }
 }
 
 // The PLY header is checked against the grammar OpenMesh's reader (`_PLYReader_::can_u_read`)
