@@ -71,8 +71,9 @@ TEST_CASE("io: missing, empty and unknown files are refused with IoError")
 
 TEST_CASE("io: faces OpenMesh cannot add are still recorded in file indices")
 {
-    // Face 2 is non-manifold (third face on edge 0-1): OpenMesh's importer duplicates its
-    // vertices, but the raw mesh must keep the file's indices.
+    // Face 2 is non-manifold (third face on edge 0-1): OpenMesh's importer would have
+    // duplicated its vertices; the raw mesh keeps the file's indices, for the validation to
+    // name.
     const std::string path = temp_path("nonmanifold.obj");
     std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
                            "f 1 2 3\nf 2 1 4\nf 1 2 5\nf 4 1 3\n";
