@@ -34,16 +34,13 @@ CutFigures cut_figures(const Mesh& uncut, const FlattenResult& r)
     const Eigen::VectorXd H = uncut_longitudinal(r, uncut.n_vertices());
     const Eigen::MatrixX3d reference = descent_direction(uncut, H);
     const WindingMeter meter(uncut, H);
-    for (const auto& path : r.plan.paths)
-    {
-        figures.aligned.push_back(path_alignment(uncut, path, reference));
-        figures.winding.push_back(meter.measure(path, &figures.open.emplace_back()));
-    }
-    for (const auto& path : r.plan.relief)
-    {
-        figures.aligned.push_back(path_alignment(uncut, path, reference));
-        figures.winding.push_back(meter.measure(path));
-    }
+    for (const auto* list : {&r.plan.paths, &r.plan.relief})
+        for (const auto& path : *list)
+        {
+            figures.aligned.push_back(path_alignment(uncut, path, reference));
+            OpenStretch* open = list == &r.plan.paths ? &figures.open.emplace_back() : nullptr;
+            figures.winding.push_back(meter.measure(path, open));
+        }
     return figures;
 }
 

@@ -135,6 +135,12 @@ int ply_type_size(const std::string& type)
     return it == sizes.end() ? 0 : it->second;
 }
 
+// Whether the PLY \p type is floating-point (float, double and their sized names).
+bool ply_type_is_float(const std::string& type)
+{
+    return type == "float" || type == "float32" || type == "double" || type == "float64";
+}
+
 // A PLY property: a scalar of `type`, or (item_size > 0) a list with a `type` count.
 struct PlyProperty
 {
@@ -279,8 +285,7 @@ void check_binary_ply_lists(const std::string& path, std::istream& in, const Ele
             c.size = static_cast<std::size_t>(ply_type_size(p.type));
             c.is_signed = p.type == "char" || p.type == "int8" || p.type == "short" ||
                           p.type == "int16" || p.type == "int" || p.type == "int32";
-            c.is_float = p.type == "float" || p.type == "float32" || p.type == "double" ||
-                         p.type == "float64";
+            c.is_float = ply_type_is_float(p.type);
             row_bytes += c.size;
             row_lists = row_lists || p.item_size > 0;
         }
@@ -422,8 +427,7 @@ PlyHeader read_ply_header(const std::string& path, std::uintmax_t file_size)
     // either way it reads on from the wrong byte (checked: a second face list dropped a face).
     const auto check_openmesh_type = [&](std::size_t number, const PlyElement& e, bool list,
                                          const std::string& type, const std::string& name) {
-        const bool integer = type != "float" && type != "float32" && type != "double" &&
-                             type != "float64";
+        const bool integer = !ply_type_is_float(type);
         const std::string what = "the property '" + printable(name) + "' of the element '" +
                                  printable(e.name) + "'";
         if (list)
