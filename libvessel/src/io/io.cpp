@@ -40,7 +40,7 @@ using ScratchMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 // Records every vertex and face the reader emits, in file indices. The faces are recorded only:
 // OpenMesh's importer would add them to its mesh, duplicate the vertices of those it cannot add
 // (non-manifold, mis-oriented) and drop those with repeated corners, which would hide exactly
-// the defects make_tree_surface() reports, and building that mesh took a third of the reading.
+// the defects make_tree_surface() reports; and a mesh built only to be discarded is wasted work.
 // A face's handle is its index in RawMesh::faces; the setters of face attributes (normals,
 // colours, texture coordinates), which would look for it in the importer's mesh, do nothing.
 class RecordingImporter : public OpenMesh::IO::ImporterT<ScratchMesh>
