@@ -1,13 +1,17 @@
 #include <doctest/doctest.h>
 
-#include "vessel/cut/boundary.h"
-#include "vessel/core/errors.h"
-#include "vessel/phantom/phantom.h"
-#include "vessel/core/properties.h"
-#include "vessel/check/validation.h"
+#include "detail/edge_groups.h"
 #include "support/meshes.h"
+#include "vessel/check/validation.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/io/io.h"
+#include "vessel/phantom/phantom.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -30,6 +34,36 @@ std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options = {})
 }
 
 }  // namespace
+
+TEST_CASE("validation: edge groups hold each corner once, under its edge, in edge order")
+{
+    // A real mesh (irregular valences, boundary and interior edges) and a non-manifold fin.
+    const RawMesh raw =
+        read_raw_mesh(std::string(VESSEL_SHARED_DATA) + "/simvascular-tests/demo-model-open.ply");
+    std::vector<std::array<int, 3>> T;
+    for (const auto& f : raw.faces)
+        T.push_back({f[0], f[1], f[2]});
+    T.push_back({T[100][1], T[100][0], static_cast<int>(raw.points.size()) - 1});
+    const detail::EdgeGroups groups = detail::edge_groups(T, raw.points.size());
+    std::map<std::array<int, 2>, std::vector<int>> expected;  // by (smaller, larger) vertex
+    for (int c = 0; c < static_cast<int>(3 * T.size()); ++c)
+    {
+        const int a = T[c / 3][c % 3], b = T[c / 3][(c % 3 + 1) % 3];
+        expected[{std::min(a, b), std::max(a, b)}].push_back(c);
+    }
+    REQUIRE(groups.size() == expected.size());
+    REQUIRE(groups.start.size() == groups.size() + 1);
+    std::size_t e = 0;
+    int three = 0;
+    for (const auto& [edge, corners] : expected)
+    {
+        CHECK(groups.edge[e] == edge);
+        CHECK(std::vector<int>(groups.begin(e), groups.begin(e) + groups.count(e)) == corners);
+        three += groups.count(e) == 3;
+        ++e;
+    }
+    CHECK(three == 1);
+}
 
 TEST_CASE("validation: a tube is a valid tree surface and keeps input indices")
 {

@@ -1,7 +1,5 @@
 #include "detail/orient.h"
 
-#include <algorithm>
-#include <cstdint>
 #include <utility>
 
 namespace vessel::detail {
@@ -19,46 +17,29 @@ struct Neighbour
 // neighbours[3 t + k]: the other triangle across edge k (corner k to k + 1) of triangle t, if
 // exactly two triangles share that edge.
 std::vector<Neighbour> edge_neighbours(const std::vector<std::array<int, 3>>& T,
-                                       std::uint64_t n)
+                                       const EdgeGroups& edges)
 {
-    struct Run
-    {
-        std::uint64_t key;
-        int corner;  // 3 t + k
-        bool forward;
+    const auto forward = [&](int c) {
+        const auto& t = T[static_cast<std::size_t>(c / 3)];
+        return t[c % 3] < t[(c % 3 + 1) % 3];
     };
-    std::vector<Run> runs;
-    runs.reserve(3 * T.size());
-    for (std::size_t t = 0; t < T.size(); ++t)
-        for (int k = 0; k < 3; ++k)
-        {
-            const std::uint64_t a = T[t][k], b = T[t][(k + 1) % 3];
-            runs.push_back({std::min(a, b) * n + std::max(a, b), static_cast<int>(3 * t + k), a < b});
-        }
-    std::sort(runs.begin(), runs.end(), [](const Run& x, const Run& y) { return x.key < y.key; });
     std::vector<Neighbour> out(3 * T.size());
-    for (std::size_t i = 0; i < runs.size();)
-    {
-        std::size_t j = i + 1;
-        while (j < runs.size() && runs[j].key == runs[i].key)
-            ++j;
-        if (j - i == 2)
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        if (edges.count(e) == 2)
         {
-            const Run& x = runs[i];
-            const Run& y = runs[i + 1];
-            out[x.corner] = {y.corner / 3, x.forward == y.forward};
-            out[y.corner] = {x.corner / 3, x.forward == y.forward};
+            const int x = edges.begin(e)[0], y = edges.begin(e)[1];
+            const bool same_way = forward(x) == forward(y);
+            out[static_cast<std::size_t>(x)] = {y / 3, same_way};
+            out[static_cast<std::size_t>(y)] = {x / 3, same_way};
         }
-        i = j;
-    }
     return out;
 }
 
 }  // namespace
 
-Orientation orient_consistently(std::vector<std::array<int, 3>>& triangles, std::size_t n_vertices)
+Orientation orient_consistently(std::vector<std::array<int, 3>>& triangles, const EdgeGroups& edges)
 {
-    const std::vector<Neighbour> neighbours = edge_neighbours(triangles, n_vertices);
+    const std::vector<Neighbour> neighbours = edge_neighbours(triangles, edges);
     const int n = static_cast<int>(triangles.size());
     std::vector<signed char> flip(n, -1);  // -1: not reached yet; 0 keep; 1 reverse
     std::vector<int> piece;

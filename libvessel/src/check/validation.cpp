@@ -1,15 +1,15 @@
 #include "vessel/check/validation.h"
 
-#include "vessel/cut/boundary.h"
+#include "detail/edge_groups.h"
 #include "detail/orient.h"
 #include "detail/union_find.h"
 #include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
+#include "vessel/cut/boundary.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <numeric>
 #include <sstream>
 
@@ -35,15 +35,6 @@ std::string plural(std::size_t n, const std::string& word)
         return std::to_string(n) + " " + word.substr(0, word.size() - vertex.size()) + "vertices";
     return std::to_string(n) + " " + word + "s";
 }
-
-// One directed edge of a triangle; sorting by key groups the faces of each undirected edge.
-struct Corner
-{
-    std::uint64_t key;  // min * n + max of the two vertex indices
-    int triangle;
-    int local;     // the edge runs from corner `local` to corner `local + 1`
-    bool forward;  // from < to
-};
 
 struct Triangulated
 {
@@ -205,26 +196,38 @@ void check_far_vertices(const RawMesh& raw, const Triangulated& tri,
 }
 
 // Two triangles with the same three vertices (in either winding) are duplicates; they would
-// otherwise be reported as non-manifold edges, which hides the simple fix.
-void check_duplicates(const Triangulated& tri)
+// otherwise be reported as non-manifold edges, which hides the simple fix. Duplicates share the
+// edge between their two smallest vertices, so each edge's triangles are compared there; the
+// first reported is the copy with the smallest vertex triple.
+void check_duplicates(const Triangulated& tri, const detail::EdgeGroups& edges)
 {
-    std::vector<std::pair<Triangle, int>> sorted;
-    sorted.reserve(tri.triangles.size());
-    for (std::size_t t = 0; t < tri.triangles.size(); ++t)
-    {
-        Triangle key = tri.triangles[t];
-        std::sort(key.begin(), key.end());
-        sorted.emplace_back(key, static_cast<int>(t));
-    }
-    std::sort(sorted.begin(), sorted.end());
     std::size_t count = 0;
     int first = -1, original = -1;
-    for (std::size_t i = 1; i < sorted.size(); ++i)
-        if (sorted[i].first == sorted[i - 1].first && count++ == 0)
+    std::vector<std::pair<int, int>> third;  // (third vertex, triangle) of an edge's triangles
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+        if (edges.count(e) < 2)
+            continue;
+        const auto [lo, hi] = edges.edge[e];
+        third.clear();
+        for (int i = 0; i < edges.count(e); ++i)
         {
-            original = std::min(sorted[i - 1].second, sorted[i].second);
-            first = std::max(sorted[i - 1].second, sorted[i].second);
+            const int t = edges.begin(e)[i] / 3;
+            const Triangle& v = tri.triangles[static_cast<std::size_t>(t)];
+            const int other = v[0] != lo && v[0] != hi   ? v[0]
+                              : v[1] != lo && v[1] != hi ? v[1]
+                                                         : v[2];
+            if (other > hi)  // lo and hi are its two smallest vertices
+                third.emplace_back(other, t);
         }
+        std::sort(third.begin(), third.end());
+        for (std::size_t i = 1; i < third.size(); ++i)
+            if (third[i].first == third[i - 1].first && count++ == 0)
+            {
+                original = third[i - 1].second;
+                first = third[i].second;
+            }
+    }
     if (count > 0)
         refuse(plural(count, "duplicate face") + " (same three vertices as another face), first is "
                "face " + std::to_string(tri.source_face[first]) + " (a copy of face " +
@@ -273,77 +276,74 @@ void check_coincident_borders(const RawMesh& raw, std::vector<int> border)
 
 // Checks edges and vertices for 2-manifoldness and consistent orientation and that no boundary
 // loops coincide; returns the edge-connected component of every triangle (a union-find root).
-std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri)
+// \p edges: the edge_groups() of tri.triangles.
+std::vector<int> check_manifold(const RawMesh& raw, const Triangulated& tri,
+                                const detail::EdgeGroups& edges)
 {
     const auto& T = tri.triangles;
-    const std::uint64_t n = raw.points.size();
-    std::vector<Corner> corners;
-    corners.reserve(3 * T.size());
-    for (std::size_t t = 0; t < T.size(); ++t)
+    const std::size_t n = raw.points.size();
+    // Triangle c / 3's corner that starts edge e, which runs from it to the next corner; and
+    // whether it runs from the smaller vertex to the larger. (The corner's own c % 3 is the
+    // edge's before the triangles were re-wound.)
+    struct Run
+    {
+        int triangle;
+        int local;
+        bool forward;
+    };
+    const auto run = [&](std::size_t e, int i) {
+        const int t = edges.begin(e)[i] / 3;
+        const auto& tri_t = T[static_cast<std::size_t>(t)];
+        const auto [lo, hi] = edges.edge[e];
         for (int k = 0; k < 3; ++k)
         {
-            const std::uint64_t a = T[t][k], b = T[t][(k + 1) % 3];
-            corners.push_back({std::min(a, b) * n + std::max(a, b), static_cast<int>(t), k, a < b});
+            const int from = tri_t[k], to = tri_t[(k + 1) % 3];
+            if ((from == lo && to == hi) || (from == hi && to == lo))
+                return Run{t, k, from == lo};
         }
-    std::sort(corners.begin(), corners.end(),
-              [](const Corner& x, const Corner& y) { return x.key < y.key; });
-
-    // Calls visit(first, count) for the corners of every undirected edge.
-    const auto for_each_edge = [&](const auto& visit) {
-        for (std::size_t i = 0; i < corners.size();)
-        {
-            std::size_t j = i;
-            while (j < corners.size() && corners[j].key == corners[i].key)
-                ++j;
-            visit(i, j - i);
-            i = j;
-        }
+        return Run{t, -1, false};  // unreachable: the group holds the triangle's edge
     };
-    // The name of the edge of corner i, for messages (made only when refusing).
-    const auto edge_name = [&](std::size_t i) {
-        return "(" + std::to_string(corners[i].key / n) + ", " +
-               std::to_string(corners[i].key % n) + ")";
+    // The name of edge e, for messages (made only when refusing).
+    const auto edge_name = [&](std::size_t e) {
+        return "(" + std::to_string(edges.edge[e][0]) + ", " + std::to_string(edges.edge[e][1]) +
+               ")";
     };
     // Faces per edge first: an edge with three faces also looks mis-oriented, and the
     // non-manifold edge is the defect to report.
-    for_each_edge([&](std::size_t i, std::size_t count) {
-        if (count > 2)
-            refuse("non-manifold edge " + edge_name(i) + " (from " +
-                   position(raw.points[corners[i].key / n]) + " to " +
-                   position(raw.points[corners[i].key % n]) + ") is shared by " +
-                   plural(count, "face") +
-                   " (faces " + std::to_string(tri.source_face[corners[i].triangle]) + ", " +
-                   std::to_string(tri.source_face[corners[i + 1].triangle]) + ", " +
-                   std::to_string(tri.source_face[corners[i + 2].triangle]) +
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        if (edges.count(e) > 2)
+            refuse("non-manifold edge " + edge_name(e) + " (from " +
+                   position(raw.points[edges.edge[e][0]]) + " to " +
+                   position(raw.points[edges.edge[e][1]]) + ") is shared by " +
+                   plural(edges.count(e), "face") + " (faces " +
+                   std::to_string(tri.source_face[edges.begin(e)[0] / 3]) + ", " +
+                   std::to_string(tri.source_face[edges.begin(e)[1] / 3]) + ", " +
+                   std::to_string(tri.source_face[edges.begin(e)[2] / 3]) +
                    "); repair the surface so each edge has at most two faces");
-    });
 
     UnionFind faces(T.size());
     UnionFind fans(3 * T.size());  // corner (t, k) = 3t + k; unions across interior edges
-    for_each_edge([&](std::size_t i, std::size_t count) {
-        if (count != 2)
-            return;
-        const Corner& c0 = corners[i];
-        const Corner& c1 = corners[i + 1];
+    std::vector<int> border;       // the vertices of edges with one face
+    for (std::size_t e = 0; e < edges.size(); ++e)
+    {
+        if (edges.count(e) == 1)
+            border.insert(border.end(), edges.edge[e].begin(), edges.edge[e].end());
+        if (edges.count(e) != 2)
+            continue;
+        const Run c0 = run(e, 0);
+        const Run c1 = run(e, 1);
         if (c0.forward == c1.forward)
             refuse("inconsistent orientation: faces " +
                    std::to_string(tri.source_face[c0.triangle]) + " and " +
                    std::to_string(tri.source_face[c1.triangle]) + " run the same way along edge " +
-                   edge_name(i) +
+                   edge_name(e) +
                    "; orient the faces consistently (e.g. MeshLab 'Re-Orient all faces "
                    "coherently')");
         faces.unite(c0.triangle, c1.triangle);
         // Opposite runs: corner `local` of c0 and corner `local + 1` of c1 are the same vertex.
         fans.unite(3 * c0.triangle + c0.local, 3 * c1.triangle + (c1.local + 1) % 3);
         fans.unite(3 * c0.triangle + (c0.local + 1) % 3, 3 * c1.triangle + c1.local);
-    });
-
-    std::vector<int> border;  // the vertices of edges with one face, sorted
-    for_each_edge([&](std::size_t i, std::size_t count) {
-        if (count == 1)
-            border.insert(border.end(), {T[corners[i].triangle][corners[i].local],
-                                         T[corners[i].triangle][(corners[i].local + 1) % 3]});
-    });
+    }
     std::sort(border.begin(), border.end());
 
     std::vector<int> first_fan(n, -1);
@@ -510,9 +510,9 @@ void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOption
 
 // Winds all faces alike (issue 6: inconsistent orientation is fixed with a warning); refuses a
 // surface that cannot be (a Moebius strip).
-void orient(Triangulated& tri, std::size_t n_vertices, TreeSurface& out)
+void orient(Triangulated& tri, const detail::EdgeGroups& edges, TreeSurface& out)
 {
-    const detail::Orientation o = detail::orient_consistently(tri.triangles, n_vertices);
+    const detail::Orientation o = detail::orient_consistently(tri.triangles, edges);
     if (o.conflict_a >= 0)
         refuse("the surface is not orientable (like a Moebius strip): faces " +
                std::to_string(tri.source_face[o.conflict_a]) + " and " +
@@ -536,11 +536,12 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
     Triangulated tri = triangulate(raw, options);
     check_far_vertices(raw, tri, options);
     check_degenerate(raw, tri, options);
-    check_duplicates(tri);
+    const detail::EdgeGroups edges = detail::edge_groups(tri.triangles, raw.points.size());
+    check_duplicates(tri, edges);
     TreeSurface out;
     if (options.orient_consistently)
-        orient(tri, raw.points.size(), out);
-    select_component(tri, check_manifold(raw, tri), options, out.notes);
+        orient(tri, edges, out);
+    select_component(tri, check_manifold(raw, tri, edges), options, out.notes);
 
     out.input_vertices = static_cast<int>(raw.points.size());
     out.mesh = build(raw, tri, false);

@@ -3,6 +3,8 @@
 // Consistent orientation of a triangle soup (validation.cpp): issue 6's "inconsistent
 // orientation (fixed with a warning)".
 
+#include "detail/edge_groups.h"
+
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -22,7 +24,9 @@ struct Orientation
 //! is run in opposite directions by them (breadth-first over each edge-connected piece).
 //! In each piece the winding most triangles already have is kept, so the fewest are reversed.
 //! Edges with more than two triangles are ignored (the manifold check refuses them). If the
-//! surface is not orientable nothing is changed and the conflict is returned.
-Orientation orient_consistently(std::vector<std::array<int, 3>>& triangles, std::size_t n_vertices);
+//! surface is not orientable nothing is changed and the conflict is returned. \p edges: the
+//! edge_groups() of \p triangles.
+Orientation orient_consistently(std::vector<std::array<int, 3>>& triangles,
+                                const EdgeGroups& edges);
 
 }  // namespace vessel::detail
