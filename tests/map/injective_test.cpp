@@ -98,9 +98,8 @@ TEST_CASE("injective: a flipped start, a non-disk and bad options are refused")
     CHECK_THROWS_AS(injective_refine(mesh, wrong_size, {}), InvalidInputError);
     CHECK_THROWS_AS(tutte_embedding(open_cylinder(1.0, 2.0, 12, 6)), TopologyError);
     // Each bad field on its own is refused.
-    const std::array<void (*)(InjectiveOptions&), 7> spoil = {
+    const std::array<void (*)(InjectiveOptions&), 6> spoil = {
         [](InjectiveOptions& o) { o.max_iterations = 0; },
-        [](InjectiveOptions& o) { o.scaffold_rebuild_every = 0; },
         [](InjectiveOptions& o) { o.scaffold_passes = 0; },
         [](InjectiveOptions& o) { o.crossing_patience = 0; },
         [](InjectiveOptions& o) { o.momentum = 1.0; },

@@ -49,9 +49,6 @@ void InjectiveOptions::validate() const
     if (scaffold_passes < 1)
         throw InvalidInputError("InjectiveOptions: scaffold_passes must be >= 1, got " +
                                 std::to_string(scaffold_passes));
-    if (scaffold_rebuild_every < 1)
-        throw InvalidInputError("InjectiveOptions: scaffold_rebuild_every must be >= 1, got " +
-                                std::to_string(scaffold_rebuild_every));
     validate_centre_pulls(centre_pulls, "InjectiveOptions");
 }
 
@@ -529,8 +526,8 @@ private:
     // grow above \p e0.
     LineStep line_search(const std::vector<FaceOperator>& faces, const Eigen::VectorXd& y,
                          const Eigen::VectorXd& dir, double e0);
-    // ops_: the surface's faces and the scaffold's, reshaped or (every scaffold_rebuild_every
-    // iterations, or after a blocked step) triangulated anew.
+    // ops_: the surface's faces and the scaffold's, reshaped, or triangulated anew after a step
+    // that a scaffold triangle stopped.
     void place_scaffold();
     // The proxy's minimizer: assembled on threads_, factored (damped if it must be), solved.
     Eigen::VectorXd global_target();
@@ -576,7 +573,6 @@ private:
     // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
     Eigen::VectorXd last_simple_;
     int last_simple_it_ = 0;
-    int since_rebuild_ = 0;  // scaffold iterations since its last triangulation
     // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
     // continued step triangulated anew), and whether the last step stopped at a collapsing
     // scaffold triangle (then a new triangulation is due).
@@ -665,32 +661,33 @@ LineStep Slim::line_search(const std::vector<FaceOperator>& faces, const Eigen::
         e1 = total_energy(faces, line_trial_);
     }
     const bool at_bound = step < 1.0 && step == bound;
-    const bool by_scaffold =
-        at_bound && faces.size() > surface_.size() &&
-        (options_.scaffold_continue_surface_blocked ||
-         max_injective_step(faces, y, dir, threads_, surface_.size()) <= bound);
+    // Stopped where a scaffold triangle would collapse, not a surface one: only then can a new
+    // triangulation let the step go further (a new one costs a symbolic factorization).
+    const bool by_scaffold = at_bound && faces.size() > surface_.size() &&
+                             max_injective_step(faces, y, dir, threads_, surface_.size()) <= bound;
     return {step, bound, e1, by_scaffold};
 }
 
 void Slim::place_scaffold()
 {
-    // A new triangulation (and symbolic factorization) only every few iterations; in between
-    // the same scaffold triangles, reshaped to where the steps took them.
+    // A new triangulation (and symbolic factorization) only after a step that a scaffold
+    // triangle stopped; otherwise the same scaffold triangles, reshaped to where the steps took
+    // them. Triangulating anew at every iteration (Jiang et al.) made about twice the
+    // triangulations for maps within a few percent of mean |log area|; keeping a triangulation
+    // for several iterations regardless let its triangles thin out and shorten the steps
+    // (docs/journal/overlaps-2026-11.md).
     std::optional<std::vector<FaceOperator>> extra;
-    if (since_rebuild_ + 1 < options_.scaffold_rebuild_every ||
-        (options_.scaffold_keep_unblocked && !blocked_by_scaffold_))
+    if (!blocked_by_scaffold_)
         extra = scaffold_->reshape(x_);
     ops_ = surface_;
-    if (extra)
-        ++since_rebuild_;
-    else
+    const bool rebuilt = !extra;
+    if (rebuilt)
     {
         extra = scaffold_->rebuild(x_);
-        since_rebuild_ = 0;
         ++summary_.scaffold_rebuilds;
     }
     ops_.insert(ops_.end(), extra->begin(), extra->end());
-    if (since_rebuild_ == 0 || pattern_stale_)
+    if (rebuilt || pattern_stale_)
     {
         pattern_stale_ = false;
         n_all_ = static_cast<int>(x_.size() / 2);
@@ -795,9 +792,8 @@ void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
     {
         const std::vector<FaceOperator> extra = scaffold_->rebuild(x_);
         ++summary_.scaffold_rebuilds;
-        // The next iteration triangulates anew unless this one stays unblocked
-        // (scaffold_keep_unblocked); its pattern is new either way.
-        since_rebuild_ = options_.scaffold_rebuild_every;
+        // The next iteration triangulates anew unless this one stays unblocked; its pattern is
+        // new either way.
         pattern_stale_ = true;
         blocked_by_scaffold_ = false;  // a new triangulation at x
         ops_ = surface_;

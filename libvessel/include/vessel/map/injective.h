@@ -79,32 +79,11 @@ struct InjectiveOptions
     //! above the minimum (a tree from the layout circle), does not (docs/benchmarks.md, "The
     //! scaffold's skip gap").
     static constexpr double kPolishedSkipGap = 0.03;
-    //! The scaffold is triangulated anew (CGAL mesher + symbolic factorization) every this
-    //! many iterations; in between its triangles (box and Steiner vertices included) keep their
-    //! connectivity and only their rest shapes follow the map (a triangle that became
-    //! degenerate forces a new triangulation); >= 1. 1 = every iteration (Jiang et al.), the
-    //! default: on a many-outlet tree stale triangles block the steps
-    //! (docs/journal/overlaps-2026-11.md, `scaffold_rebuild_every`).
-    int scaffold_rebuild_every = 1;
     //! Line searches per global step in the scaffold phase: when a step stops where a scaffold
     //! triangle would collapse, the free space is triangulated anew and the rest of the same
     //! direction is line searched again (CGAL mesher only, no new factorization), up to this
     //! many times in all. 1 = one line search per step (Jiang et al.).
     int scaffold_passes = 4;
-    //! Keep the scaffold's triangulation (and the symbolic factorization of its pattern) for
-    //! the next iteration when no scaffold triangle stopped the last step; only its rest shapes
-    //! follow the map (as between scaffold_rebuild_every's triangulations). A step that did
-    //! stop at a collapsing scaffold triangle still gets a new triangulation. About half the
-    //! triangulations for the same maps within a few percent of mean |log area|
-    //! (docs/journal/benchmarks-2026-11.md, "F: cheaper scaffold iterations").
-    bool scaffold_keep_unblocked = true;
-    //! Treat a step stopped by a collapsing *surface* triangle like one stopped by a scaffold
-    //! triangle: triangulate the scaffold anew, continue the step (scaffold_passes) and
-    //! triangulate again at the next iteration. false (default): only a step that a scaffold
-    //! triangle stopped is continued and re-triangulated; where a surface triangle stops it a
-    //! new scaffold cannot let it go further, and each new triangulation costs a symbolic
-    //! factorization (docs/journal/benchmarks-2026-11.md, "Stage F at 1M").
-    bool scaffold_continue_surface_blocked = false;
     //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
     //! of the last iteration's motion and keeps whichever line search ends at the lower energy
     //! (flips and, with a scaffold, crossings stay excluded: the same line search). 0 = plain
