@@ -903,6 +903,27 @@ TEST_CASE("multilevel: a carry whose relaxation stops short of its minimum is fi
     CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
 }
 
+TEST_CASE(
+    "multilevel: a carry whose sweeps stall above 1.01 times its minimum is finished by "
+    "Newton steps")
+{
+    // The 20-outlet tree phantom of seed 1 at edge 0.75: the finest level's sweeps, held by the
+    // boundary's near contacts, stop lowering the energy at about 1.014 times the isometric
+    // minimum. The carry is finished all the same, and ends nearer its minimum, one-to-one.
+    const Mesh mesh = test::test_tree_phantom(20, 1, 0.75);
+    const FlattenResult r = flatten(mesh, FlattenOptions{});
+    const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
+    const auto further = relaxed_ratios(r, "coarse-to-fine: finished with ");
+    REQUIRE(carried.size() == 1);
+    CHECK(carried[0].second > 1.01);
+    REQUIRE(further.size() == 1);
+    CHECK(further[0].second < 1.01);
+    check_carry_kept(r);
+    CHECK(r.quality.overlapping_triangles == 0);
+    CHECK(r.look.outlets_below_inlet == 0);
+    CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
+}
+
 TEST_CASE("multilevel: a carry whose relaxation stalls far above its minimum goes to the second "
           "try without the polish")
 {

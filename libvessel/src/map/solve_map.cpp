@@ -395,8 +395,13 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // tail near its minimum); a surface of intrinsic distortion (an aneurysm's sac) is not. Three
 // steps cost about as much as the 32 sweeps and 16 corrections they replaced and leave less
 // area distortion (docs/benchmarks.md "The carry finished by Newton steps where it stops short").
+// A carry whose sweeps have stalled is finished as well where it stopped above
+// kStalledFinishRatio: the sweeps' local steps are then held, by the boundary's near contacts,
+// short of what Newton steps of the whole map reach, where the surface's own distortion ends
+// its sweeps below it (AneuRisk's sac at 1.006).
 constexpr double kFinishRatio = 1.001;
 constexpr double kFinishProgress = 0.01;
+constexpr double kStalledFinishRatio = 1.01;
 constexpr int kFinishNewtonSteps = 3;
 
 // A finest level whose relaxation stalls far above its minimum: the sweeps removed less than
@@ -498,9 +503,9 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                               energy / minimum);
                 return line;
             }
-            if (!relaxed.area_within_tolerance &&
-                (pulled || energy > kFinishRatio * minimum) &&
-                relaxed.last_decrease > kFinishProgress * (energy - minimum) &&
+            if (!relaxed.area_within_tolerance && (pulled || energy > kFinishRatio * minimum) &&
+                (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
+                 energy > kStalledFinishRatio * minimum) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
                 AreaPolishOptions polish = carried_polish(

@@ -41,8 +41,9 @@ struct MultilevelOptions
     //! only over hundreds of sweeps (docs/benchmarks.md "Coarse-to-fine"). Stage F's carry
     //! finishes its finest level with three Newton steps of the whole map where they stopped
     //! short: the energy still above 1.001 times its isometric minimum, and the last sweep
-    //! still lowering it by more than a hundredth of that excess (docs/benchmarks.md "The
-    //! carry finished by Newton steps where it stops short").
+    //! still lowering it by more than a hundredth of that excess, or the sweeps stalled above
+    //! 1.01 times it, held by the boundary's near contacts (docs/benchmarks.md "The carry
+    //! finished by Newton steps where it stops short").
     int relax_sweeps = 16;
     double tolerance = 3e-4;  //!< relax_area()'s stopping rule (see relax_sweeps)
     //! relax_area() stops after a coarse-grid correction that leaves the map's mean |log area|
