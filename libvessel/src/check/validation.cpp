@@ -198,7 +198,8 @@ void check_far_vertices(const RawMesh& raw, const Triangulated& tri,
 // Two triangles with the same three vertices (in either winding) are duplicates; they would
 // otherwise be reported as non-manifold edges, which hides the simple fix. Duplicates share the
 // edge between their two smallest vertices, so each edge's triangles are compared there; the
-// first reported is the copy with the smallest vertex triple.
+// first reported is the copy with the smallest vertex triple. \p edges: the edge_groups() of
+// tri.triangles as triangulated (not re-wound).
 void check_duplicates(const Triangulated& tri, const detail::EdgeGroups& edges)
 {
     std::size_t count = 0;
@@ -208,17 +209,16 @@ void check_duplicates(const Triangulated& tri, const detail::EdgeGroups& edges)
     {
         if (edges.count(e) < 2)
             continue;
-        const auto [lo, hi] = edges.edge[e];
+        const int hi = edges.edge[e][1];
         third.clear();
         for (int i = 0; i < edges.count(e); ++i)
         {
-            const int t = edges.begin(e)[i] / 3;
-            const Triangle& v = tri.triangles[static_cast<std::size_t>(t)];
-            const int other = v[0] != lo && v[0] != hi   ? v[0]
-                              : v[1] != lo && v[1] != hi ? v[1]
-                                                         : v[2];
-            if (other > hi)  // lo and hi are its two smallest vertices
-                third.emplace_back(other, t);
+            // Before any re-winding, corner c runs along the edge from corner c % 3: the
+            // triangle's third vertex is the one after the edge.
+            const int c = edges.begin(e)[i];
+            const int other = tri.triangles[static_cast<std::size_t>(c / 3)][(c % 3 + 2) % 3];
+            if (other > hi)  // the edge joins its two smallest vertices
+                third.emplace_back(other, c / 3);
         }
         std::sort(third.begin(), third.end());
         for (std::size_t i = 1; i < third.size(); ++i)

@@ -672,10 +672,9 @@ void Slim::place_scaffold()
 {
     // A new triangulation (and symbolic factorization) only after a step that a scaffold
     // triangle stopped; otherwise the same scaffold triangles, reshaped to where the steps took
-    // them. Triangulating anew at every iteration (Jiang et al.) made about twice the
-    // triangulations for maps within a few percent of mean |log area|; keeping a triangulation
-    // for several iterations regardless let its triangles thin out and shorten the steps
-    // (docs/journal/overlaps-2026-11.md).
+    // them. Triangulating anew at every iteration (Jiang et al.) pays a symbolic factorization
+    // for no better map; keeping a triangulation for several iterations regardless lets its
+    // triangles thin out and shorten the steps (docs/journal/overlaps-2026-11.md).
     std::optional<std::vector<FaceOperator>> extra;
     if (!blocked_by_scaffold_)
         extra = scaffold_->reshape(x_);
