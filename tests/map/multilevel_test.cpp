@@ -910,6 +910,8 @@ TEST_CASE(
     // The 20-outlet tree phantom of seed 1 at edge 0.75: the finest level's sweeps, held by the
     // boundary's near contacts, stop lowering the energy at about 1.014 times the isometric
     // minimum. The carry is finished all the same, and ends nearer its minimum, one-to-one.
+    // Its first three Newton steps remove most of the excess and leave it above 1.001 times
+    // the minimum, so the finish goes on, and ends within that.
     const Mesh mesh = test::test_tree_phantom(20, 1, 0.75);
     const FlattenResult r = flatten(mesh, FlattenOptions{});
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
@@ -917,7 +919,8 @@ TEST_CASE(
     REQUIRE(carried.size() == 1);
     CHECK(carried[0].second > 1.01);
     REQUIRE(further.size() == 1);
-    CHECK(further[0].second < 1.01);
+    CHECK(further[0].second <= 1.001);
+    CHECK_FALSE(noted(r, "coarse-to-fine: finished with 3 Newton steps"));
     check_carry_kept(r);
     CHECK(r.quality.overlapping_triangles == 0);
     CHECK(r.look.outlets_below_inlet == 0);

@@ -399,10 +399,17 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // kStalledFinishRatio: the sweeps' local steps are then held, by the boundary's near contacts,
 // short of what Newton steps of the whole map reach, where the surface's own distortion ends
 // its sweeps below it (AneuRisk's sac at 1.006).
+// The finish goes on, kFinishNewtonSteps at a time up to kFinishMaxNewtonSteps, while its last
+// steps removed at least kFinishGoOnShare of the energy's excess over the minimum and left it
+// above kFinishRatio times that minimum: such a carry (held by near contacts where the cuts
+// leave narrow strips between branches) is still far from where Newton's convergence ends it,
+// while one whose steps remove little (the pulmonary tree's, a fifth) gains little from more.
 constexpr double kFinishRatio = 1.001;
 constexpr double kFinishProgress = 0.01;
 constexpr double kStalledFinishRatio = 1.01;
 constexpr int kFinishNewtonSteps = 3;
+constexpr int kFinishMaxNewtonSteps = 9;
+constexpr double kFinishGoOnShare = 1.0 / 3.0;
 
 // A finest level whose relaxation stalls far above its minimum: the sweeps removed less than
 // kStalledShare of the carried map's excess over the isometric minimum and left it above
@@ -513,9 +520,22 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 polish.newton = true;  // whatever the polish's own minimizer
                 polish.newton_max_iterations = kFinishNewtonSteps;
                 polish.newton_chunk_iterations = kFinishNewtonSteps;
-                const AreaPolishSummary finished = area_polish(above, uv, pins, polish);
+                AreaPolishSummary finished = area_polish(above, uv, pins, polish);
                 const double before = energy;
                 energy = relaxed_energy(above, uv, pins, lambda, multilevel);
+                // Still converging fast and short of the ratio: go on (kFinishGoOnShare).
+                for (double chunk_start = before;
+                     energy > kFinishRatio * minimum &&
+                     finished.iterations + kFinishNewtonSteps <= kFinishMaxNewtonSteps &&
+                     chunk_start - energy >= kFinishGoOnShare * (chunk_start - minimum);)
+                {
+                    chunk_start = energy;
+                    const AreaPolishSummary more = area_polish(above, uv, pins, polish);
+                    if (more.iterations == 0)
+                        break;
+                    finished.iterations += more.iterations;
+                    energy = relaxed_energy(above, uv, pins, lambda, multilevel);
+                }
                 std::snprintf(line, sizeof line,
                               "coarse-to-fine: finished with %d Newton steps: energy / minimum "
                               "%.5f -> %.5f",
