@@ -814,6 +814,65 @@ AneurysmPhantomOptions branch_phantom(double sac_radius)
     return phantom;
 }
 
+// aneurysm_phantom(\p phantom) with its inlet end widened by 2% over its last millimetre: the
+// straight parent's two end loops are otherwise equally long but for rounding, so that which
+// one is the inlet is left to the rounding.
+Mesh widened_inlet(const AneurysmPhantomOptions& phantom)
+{
+    Mesh mesh = aneurysm_phantom(phantom);
+    const double inlet_z = -0.5 * phantom.parent_length;
+    for (auto v : mesh.vertices())
+    {
+        auto p = mesh.point(v);
+        const double widen = 1.0 + 0.02 * std::max(0.0, (inlet_z + 1.0) - p[2]);
+        p[0] *= widen;
+        p[1] *= widen;
+        mesh.set_point(v, p);
+    }
+    return mesh;
+}
+
+// The default plan's cut of the branch (loop 2) against the shortest edge path from the
+// branch's loop to the first cut, by a Dijkstra of its own; checks that it is at most
+// \p max_ratio times that path, natural by the library's meter, and the map has no flip.
+void check_branch_cut_short(const Mesh& mesh, double max_ratio, const std::string& what,
+                            double sac_radius)
+{
+    const FlattenResult result = flatten(mesh, FlattenOptions{});
+    REQUIRE(result.loops.size() == 3);
+    REQUIRE(result.plan.paths.size() == 2);
+    const CutPath& first = result.plan.paths[0];
+    const CutPath& branch = result.plan.paths[1];
+    REQUIRE(mesh.from_vertex_handle(branch.halfedges.front()) == branch.start);
+
+    HalfedgeWeights lengths(mesh.n_halfedges());
+    for (auto h : mesh.halfedges())
+        lengths[static_cast<std::size_t>(h.idx())] = mesh.calc_edge_length(h);
+    PathQuery query;
+    query.sources = result.loops[2].vertices;  // the branch's loop (the shortest)
+    query.is_target.assign(mesh.n_vertices(), 0);
+    for (auto h : first.halfedges)
+        if (!mesh.is_boundary(mesh.to_vertex_handle(h)))
+            query.is_target[static_cast<std::size_t>(mesh.to_vertex_handle(h).idx())] = 1;
+    double shortest = 0.0;
+    for (auto h : shortest_path(mesh, lengths, query).halfedges)
+        shortest += lengths[static_cast<std::size_t>(h.idx())];
+    double length = 0.0;
+    for (auto h : branch.halfedges)
+        length += lengths[static_cast<std::size_t>(h.idx())];
+
+    const Eigen::VectorXd G = heat_geodesic_distance(mesh, result.loops[0].vertices);
+    const WindingMeter meter(mesh, harmonic_longitudinal(mesh, result.loops, G));
+    const PathWinding w = meter.measure(branch);
+    MESSAGE(what << ", sac radius " << sac_radius << ": the branch's cut " << length
+                 << " mm, the shortest edge path " << shortest << " (" << length / shortest
+                 << "x), winding " << w.winding_deg << " degrees, span " << w.span_deg);
+    CHECK(length <= max_ratio * shortest);
+    CHECK(std::abs(w.winding_deg) <= 45.0);
+    CHECK(w.span_deg <= 45.0);
+    CHECK(result.quality.flipped_triangles == 0);
+}
+
 }  // namespace
 
 TEST_CASE(
@@ -826,45 +885,35 @@ TEST_CASE(
     // followed u's meanders over the sac, 20.4 mm against 13.2 for the shortest path along the
     // edges (1.55x); the aligned route now offers a streamline that crosses a sac the shortest
     // passage (route_aligned.cpp, keep_passage()). The yardstick: that shortest edge path
-    // from the branch's loop to the first cut, by a Dijkstra of its own.
+    // from the branch's loop to the first cut (check_branch_cut_short()).
     for (double sac_radius : {3.0, 4.0, 5.0})
     {
         CAPTURE(sac_radius);
-        const Mesh mesh = aneurysm_phantom(branch_phantom(sac_radius));
-        const FlattenResult result = flatten(mesh, FlattenOptions{});
-        REQUIRE(result.loops.size() == 3);
-        REQUIRE(result.plan.paths.size() == 2);
-        const CutPath& first = result.plan.paths[0];
-        const CutPath& branch = result.plan.paths[1];
-        REQUIRE(mesh.from_vertex_handle(branch.halfedges.front()) == branch.start);
+        check_branch_cut_short(aneurysm_phantom(branch_phantom(sac_radius)), 1.25, "as made",
+                               sac_radius);
+    }
+}
 
-        HalfedgeWeights lengths(mesh.n_halfedges());
-        for (auto h : mesh.halfedges())
-            lengths[static_cast<std::size_t>(h.idx())] = mesh.calc_edge_length(h);
-        PathQuery query;
-        query.sources = result.loops[2].vertices;  // the branch's loop (the shortest)
-        query.is_target.assign(mesh.n_vertices(), 0);
-        for (auto h : first.halfedges)
-            if (!mesh.is_boundary(mesh.to_vertex_handle(h)))
-                query.is_target[static_cast<std::size_t>(mesh.to_vertex_handle(h).idx())] = 1;
-        double shortest = 0.0;
-        for (auto h : shortest_path(mesh, lengths, query).halfedges)
-            shortest += lengths[static_cast<std::size_t>(h.idx())];
-        double length = 0.0;
-        for (auto h : branch.halfedges)
-            length += lengths[static_cast<std::size_t>(h.idx())];
-
-        const Eigen::VectorXd G = heat_geodesic_distance(mesh, result.loops[0].vertices);
-        const WindingMeter meter(mesh, harmonic_longitudinal(mesh, result.loops, G));
-        const PathWinding w = meter.measure(branch);
-        MESSAGE("aneurysm phantom with a branch, sac radius "
-                << sac_radius << ": the branch's cut " << length << " mm, the shortest edge path "
-                << shortest << " (" << length / shortest << "x), winding " << w.winding_deg
-                << " degrees, span " << w.span_deg);
-        CHECK(length <= 1.25 * shortest);
-        CHECK(std::abs(w.winding_deg) <= 45.0);
-        CHECK(w.span_deg <= 45.0);
-        CHECK(result.quality.flipped_triangles == 0);
+TEST_CASE(
+    "cut_winding: a branch off a sac is cut by a short passage also where the parent tapers a "
+    "little")
+{
+    // Issue 32 asks for a plan that holds where the anatomy changes a little. With the parent
+    // narrowing by 2% of its radius from inlet to outlet (a new mesh: the sampling grid moves),
+    // the branch's route bounded in winding came near the first cut on the parent's far side,
+    // and its cut back there bridged round the parent past the bound, so the whole route was
+    // kept, running on beside the first cut (at sac radius 5 38.0 mm, 18.9 of it beside the
+    // first cut; 2.2-2.4x the shortest passage). A held route is now cut back at the first
+    // place whose bridge keeps it within the bound (CutJoiner::finish_held()), and the cut is
+    // a short passage: the bound on its winding leaves it a little longer than on the phantom
+    // as made (1.26x at sac radius 5, where the held route still runs 2.4 mm beside the first
+    // cut before its bridge), so the check is at 1.3x.
+    for (double sac_radius : {3.0, 4.0, 5.0})
+    {
+        CAPTURE(sac_radius);
+        AneurysmPhantomOptions phantom = branch_phantom(sac_radius);
+        phantom.taper = 0.02;
+        check_branch_cut_short(aneurysm_phantom(phantom), 1.3, "parent tapered 2%", sac_radius);
     }
 }
 
@@ -884,16 +933,8 @@ TEST_CASE(
     {
         CAPTURE(sac_radius);
         const AneurysmPhantomOptions phantom = branch_phantom(sac_radius);
-        Mesh mesh = aneurysm_phantom(phantom);
+        const Mesh mesh = widened_inlet(phantom);
         const double inlet_z = -0.5 * phantom.parent_length;
-        for (auto v : mesh.vertices())
-        {
-            auto p = mesh.point(v);
-            const double widen = 1.0 + 0.02 * std::max(0.0, (inlet_z + 1.0) - p[2]);
-            p[0] *= widen;
-            p[1] *= widen;
-            mesh.set_point(v, p);
-        }
         const auto loops = boundary_loops(mesh);
         REQUIRE(loops.size() == 3);
         REQUIRE(std::abs(loops[0].centroid.z() - inlet_z) < 1e-6);

@@ -4,6 +4,7 @@
 #include "detail/coarse_correction.h"
 #include "detail/face_jacobian.h"
 #include "detail/polish_hessian.h"
+#include "support/first_cut_back_join.h"
 #include "support/meshes.h"
 #include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
@@ -17,6 +18,7 @@
 #include <cctype>
 #include <cstdio>
 #include <limits>
+#include <memory>
 #include <set>
 #include <string>
 #include <tuple>
@@ -911,7 +913,8 @@ TEST_CASE(
     // boundary's near contacts, stop lowering the energy at about 1.014 times the isometric
     // minimum. The carry is finished all the same, and ends nearer its minimum, one-to-one.
     // Its first three Newton steps remove most of the excess and leave it above 1.001 times
-    // the minimum, so the finish goes on, and ends within that.
+    // the minimum, so the finish goes on, and removes nine tenths of the excess (three steps
+    // removed three quarters).
     const Mesh mesh = test::test_tree_phantom(20, 1, 0.75);
     const FlattenResult r = flatten(mesh, FlattenOptions{});
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
@@ -919,7 +922,7 @@ TEST_CASE(
     REQUIRE(carried.size() == 1);
     CHECK(carried[0].second > 1.01);
     REQUIRE(further.size() == 1);
-    CHECK(further[0].second <= 1.001);
+    CHECK(further[0].second - 1.0 <= 0.1 * (carried[0].second - 1.0));
     CHECK_FALSE(noted(r, "coarse-to-fine: finished with 3 Newton steps"));
     check_carry_kept(r);
     CHECK(r.quality.overlapping_triangles == 0);
@@ -935,10 +938,14 @@ TEST_CASE("multilevel: a carry whose relaxation stalls far above its minimum goe
     // relaxes from 519 to 501 times its minimum in 16 sweeps (squeezed faces held by the
     // boundary's near contacts). The polish then took its 100 Newton steps (about 16 s) and
     // ended at 1.13, above the bound, before the whole boundary kept on every level solved it.
+    // The plan is the one the join policy made before a held route's cut back was bounded
+    // (test::FirstCutBackJoin); with today's the second try's carry stalls at about 5 times
+    // its minimum and is polished.
     const TreeSurface surface = load_tree_surface(std::string(VESSEL_SHARED_DATA) +
                                                   "/svfsi-tests/pulmonary-glenn-wall.ply");
     FlattenOptions options;
     options.cuts.stream_field = StreamField::Direction;
+    options.cuts.joiner = std::make_shared<test::FirstCutBackJoin>();
     const FlattenResult r = flatten(surface.mesh, options);
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
     REQUIRE(carried.size() == 2);

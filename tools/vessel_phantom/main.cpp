@@ -71,6 +71,10 @@ int main(int argc, char** argv)
                    "aneurysm: radius of a small branch off the sac (mm; 0 = none), a third "
                    "loop whose cut crosses the sac")
         ->capture_default_str();
+    app.add_option("--taper", aneurysm.taper,
+                   "aneurysm: how much the parent narrows from inlet to outlet, as a fraction of "
+                   "its radius (0 to 0.5; 0 = straight, its two end loops tie)")
+        ->capture_default_str();
 
     vessel::CarotidPhantomOptions carotid;
     app.add_option("--stenosis", carotid.stenosis,

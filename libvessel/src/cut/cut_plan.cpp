@@ -181,9 +181,9 @@ public:
         return first() ? path : joiner_.finish(*this, std::move(path));
     }
 
-    GraphPath join_held(GraphPath path) override
+    GraphPath join_held(GraphPath path, const std::function<bool(const GraphPath&)>& keeps) override
     {
-        return first() ? path : joiner_.finish_held(*this, std::move(path));
+        return first() ? path : joiner_.finish_held(*this, std::move(path), keeps);
     }
 
 private:

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 
 namespace vessel {
@@ -19,7 +20,9 @@ using detail::zones_along;
 // CutJoin::Approach: \p path cut back at its first vertex v within \p reach of the cut tree
 // whose remaining length along the path exceeds its distance to the tree by more than
 // \p excess (the path would run on beside the tree), and joined to the tree from v over the
-// shortest bridge (tree.via); unchanged if there is no such vertex.
+// shortest bridge (tree.via); unchanged if there is no such vertex. With \p keeps, the first
+// such vertex whose joined path \p keeps accepts (a held route's bound: the bridge may turn
+// round the vessel where the route does not), unchanged if none is.
 //
 // The tree distance is read only as far as a vertex could pass: at vertex i, up to
 // min(reach, left - excess), and not at all where the straight distance to the nearest tree
@@ -28,7 +31,8 @@ using detail::zones_along;
 // reading vertices within their zone's read (TreeDistance::near_zones()); when there is none
 // the path is kept as is.
 GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& tree,
-                   const std::vector<int>& loop_of, double reach, double excess)
+                   const std::vector<int>& loop_of, double reach, double excess,
+                   const std::function<bool(const GraphPath&)>* keeps = nullptr)
 {
     const Mesh& mesh = graph.mesh();
     const std::size_t n = path.halfedges.size();
@@ -125,7 +129,9 @@ GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& t
             else
                 halfedges.push_back(mesh.find_halfedge(VertexHandle(u), VertexHandle(w)));
         }
-        return graph.path_of(std::move(halfedges));
+        GraphPath joined = graph.path_of(std::move(halfedges));
+        if (!keeps || (*keeps)(joined))
+            return joined;
     }
     return path;
 }
@@ -143,9 +149,10 @@ public:
         return cut_back_from(step, path, step.context().options->join_excess);
     }
 
-    GraphPath finish_held(const CutStep& step, GraphPath path) override
+    GraphPath finish_held(const CutStep& step, GraphPath path,
+                          const std::function<bool(const GraphPath&)>& keeps) override
     {
-        return cut_back_from(step, path, step.context().options->join_held_excess);
+        return cut_back_from(step, path, step.context().options->join_held_excess, &keeps);
     }
 
     void added(const CutStep& step, const CutPath& cut) override
@@ -162,12 +169,13 @@ public:
 
 private:
     // cut_back() of \p path within CutPlanOptions::join_reach and \p excess outlet radii.
-    GraphPath cut_back_from(const CutStep& step, const GraphPath& path, double excess)
+    GraphPath cut_back_from(const CutStep& step, const GraphPath& path, double excess,
+                            const std::function<bool(const GraphPath&)>* keeps = nullptr)
     {
         const CutPlanContext& context = step.context();
         const double radius = (*context.loops)[step.outlet()].radius();
         return cut_back(*context.graph, path, tree_, *context.loop_of,
-                        context.options->join_reach * radius, excess * radius);
+                        context.options->join_reach * radius, excess * radius, keeps);
     }
 
     TreeDistance tree_;

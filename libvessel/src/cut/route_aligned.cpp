@@ -172,8 +172,7 @@ constexpr double kSearchBridge = 1.0;
 // third of the way round it, and the bound finds a route that does not).
 // \p finish / \p finish_held: the join policy's finish of a path found to the tree
 // (CutStep::join(), e.g. the cut back of CutJoin::Approach) and of a bounded route, which keeps
-// to its side of the vessel (CutStep::join_held()); a bounded route keeps its cut back only if
-// it stays within the bound.
+// to its side of the vessel (CutStep::join_held(), given the bound its finish must keep).
 // \p current_winding: the meter's reading of \p current where the caller has it (null: measured
 // here). Empty = keep \p current.
 template <class Finish, class FinishHeld>
@@ -294,11 +293,11 @@ std::optional<GraphPath> steer_path(CutGraph& graph, const PathQuery& step_query
         if (bounded)
         {
             // A later cut that would run beside the tree is cut back and bridged to it
-            // (CutJoin::Approach); the bridge may turn, so a bounded route keeps its cut back
-            // only if it stays within the bound (else it may run beside the tree).
-            GraphPath p = finish_held(*bounded);
-            if (std::abs(meter.measure(as_cut(mesh, p)).winding_deg) > bound.limit_deg)
-                p = std::move(*bounded);
+            // (CutJoin::Approach); the bridge may turn, so the cut back is one that keeps the
+            // route within the bound (else the route runs on beside the tree).
+            GraphPath p = finish_held(*bounded, [&](const GraphPath& q) {
+                return std::abs(meter.measure(as_cut(mesh, q)).winding_deg) <= bound.limit_deg;
+            });
             offer(p);
         }
         if (best_natural && !was_natural)
@@ -399,7 +398,9 @@ public:
                     now ? &*now : nullptr, cut.traced, stream_field, options,
                     tree_cost(*context.graph),
                     [&step](GraphPath p) { return step.join(std::move(p)); },
-                    [&step](GraphPath p) { return step.join_held(std::move(p)); });
+                    [&step](GraphPath p, const std::function<bool(const GraphPath&)>& keeps) {
+                        return step.join_held(std::move(p), keeps);
+                    });
                 if (held)
                 {
                     cut.path = std::move(*held);

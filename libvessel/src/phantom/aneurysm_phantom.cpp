@@ -29,6 +29,9 @@ void AneurysmPhantomOptions::validate() const
              std::to_string(2.0 * edge_length) + " to " + std::to_string(0.6 * parent_radius) +
              "), got " + std::to_string(branch_radius));
     // The sac and its fillet must end well before the end planes.
+    if (!(taper >= 0.0 && taper <= 0.5))
+        fail("taper must be in [0, 0.5] (a fraction of parent_radius), got " +
+             std::to_string(taper));
     const double min_length = 2.0 * (sac_radius + 2.0 * parent_radius) + 4.0 * edge_length;
     if (!(parent_length >= min_length) || !std::isfinite(parent_length))
         fail("parent_length must be >= 2 (sac_radius + 2 parent_radius) + 4 edge_length (" +
@@ -48,15 +51,19 @@ Mesh aneurysm_phantom(const AneurysmPhantomOptions& options)
     detail::VesselField field(blend, 3.0 * h + blend);
     const Eigen::Vector3d z(0, 0, 1), x(1, 0, 0);
     const double half = 0.5 * options.parent_length, overshoot = r + 3.0 * h;
-    field.add_tube(-(half + overshoot) * z, (half + overshoot) * z, [r](double) { return r; });
+    // The parent's radius at height z: r (1 - taper z / length), r at the sac's level.
+    const double taper = options.taper, length = options.parent_length;
+    const auto parent = [r, taper, length](double z) { return r * (1.0 - taper * z / length); };
+    field.add_tube(-(half + overshoot) * z, (half + overshoot) * z,
+                   [parent, half, overshoot](double s) { return parent(s - half - overshoot); });
     // The sac: a tube far shorter than the edge length is a sphere to the field's precision
     // (the distance to its axis segment, less its radius).
     const Eigen::Vector3d centre = aneurysm_sac_centre(options);
     const double tiny = 1e-6 * R;
     field.add_tube(centre - tiny * x, centre + tiny * x, [R](double) { return R; });
     std::vector<detail::EndPlane> ends;
-    ends.push_back({-half * z, -z, r, overshoot + r});
-    ends.push_back({half * z, z, r, overshoot + r});
+    ends.push_back({-half * z, -z, parent(-half), overshoot + parent(-half)});
+    ends.push_back({half * z, z, parent(half), overshoot + parent(half)});
     if (options.branch_radius > 0.0)
     {
         const double b = options.branch_radius, b_overshoot = b + 3.0 * h;

@@ -5,6 +5,7 @@
 
 #include "vessel/cut/cut_step.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,10 +35,15 @@ public:
     }
     //! \brief finish() of a path held to one side of its vessel (a winding-bounded route,
     //! CutPlanOptions::natural_cuts): it cannot turn toward the tree where it comes near it on
-    //! another side, so it runs on beside it instead. The default is finish().
-    virtual GraphPath finish_held(const CutStep& step, GraphPath path)
+    //! another side, so it runs on beside it instead. The finish must be one that \p keeps
+    //! accepts (the route's caller passes its winding bound: a bridge to the tree may turn
+    //! round the vessel); where none is, \p path as found. The default: finish() if \p keeps
+    //! accepts it.
+    virtual GraphPath finish_held(const CutStep& step, GraphPath path,
+                                  const std::function<bool(const GraphPath&)>& keeps)
     {
-        return finish(step, std::move(path));
+        GraphPath finished = finish(step, path);
+        return keeps(finished) ? finished : path;
     }
     //! \p cut (first or later) is now part of the cut tree.
     virtual void added(const CutStep& step, const CutPath& cut)

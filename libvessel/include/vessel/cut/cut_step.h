@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace vessel {
@@ -64,8 +65,10 @@ public:
     //! \brief The join policy's finish of a path a route found itself (a later cut; the
     //! first cut's \p path is returned as is).
     virtual GraphPath join(GraphPath path) = 0;
-    //! As join(), for a path held to one side of its vessel (CutJoiner::finish_held()).
-    virtual GraphPath join_held(GraphPath path) = 0;
+    //! As join(), for a path held to one side of its vessel: a finish that \p keeps accepts,
+    //! or \p path as found (CutJoiner::finish_held()).
+    virtual GraphPath join_held(GraphPath path,
+                                const std::function<bool(const GraphPath&)>& keeps) = 0;
     //! CutJoinPolicy::narrows_ends() of the plan's join policy.
     virtual bool join_narrows_ends() const = 0;
 };

@@ -132,6 +132,11 @@ struct AneurysmPhantomOptions
     //! It leaves from the sac's centre at 45 degrees between +x and +z and ends 2 parent_radius
     //! beyond the sphere.
     double branch_radius = 0.0;
+    //! How much the parent narrows from its inlet end to its outlet end, as a fraction of
+    //! parent_radius, linearly along it (parent_radius at the sac's level), in [0, 0.5]. 0 = a
+    //! straight cylinder, whose end loops tie; any taper makes the inlet's loop the longer one
+    //! (arteries narrow along their length: about 2% per 10 mm in the carotid).
+    double taper = 0.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
 };
@@ -144,11 +149,11 @@ struct AneurysmPhantomOptions
 //! +parent_length / 2 (the two boundary loops, each in its end plane); the sac's centre lies
 //! on +x at z = 0, at aneurysm_sac_centre(). With branch_radius > 0 a third loop ends the
 //! branch off the sac. Built as carotid_phantom() is (a smooth union sampled by surface nets),
-//! with a fillet at the neck. Deterministic. The two end loops of the straight parent are
-//! equally long but for rounding, so a tool that takes the longest loop for the inlet takes
-//! either end, and which one can change with the file's precision: boundary_loops() and
-//! seamwinding.py can take different ones, and their longitudinal coordinates then run
-//! opposite ways (docs/results.md, "Sacs: the lateral-aneurysm phantom").
+//! with a fillet at the neck. Deterministic. Without a taper the two end loops of the straight
+//! parent are equally long but for rounding, so a tool that takes the longest loop for the
+//! inlet takes either end, and which one can change with the file's precision:
+//! boundary_loops() and seamwinding.py can take different ones, and their longitudinal
+//! coordinates then run opposite ways (docs/results.md, "Sacs: the lateral-aneurysm phantom").
 //! \throw InvalidInputError if `options.validate()` fails.
 //! \throw TopologyError if no valid surface could be built (not expected within the limits).
 Mesh aneurysm_phantom(const AneurysmPhantomOptions& options = {});
