@@ -366,7 +366,24 @@ TEST_CASE("phantom: lateral aneurysm is a valid open tube with a round sac on it
         for (auto v : loops[2].vertices)
             CHECK(std::abs((to_eigen(mesh.point(v)) - end).dot(along)) < 1e-6);
     }
+    {
+        // A tapered parent: the inlet's loop is the longer by about the taper, and the inlet.
+        AneurysmPhantomOptions options;
+        options.taper = 0.02;
+        const Mesh mesh = aneurysm_phantom(options);
+        check_vessel_surface(mesh, 2, options.edge_length);
+        const auto loops = boundary_loops(mesh);
+        REQUIRE(loops.size() == 2);
+        CHECK(loops[0].centroid.z() == doctest::Approx(-0.5 * options.parent_length));
+        CHECK(loops[0].arc_length / loops[1].arc_length ==
+              doctest::Approx(1.0 + options.taper).epsilon(0.005));
+    }
     AneurysmPhantomOptions options;
+    options.taper = -0.01;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options.taper = 0.6;
+    CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
+    options = {};
     options.sac_radius = 10.0;
     CHECK_THROWS_AS(aneurysm_phantom(options), InvalidInputError);
     options = {};

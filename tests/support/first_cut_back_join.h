@@ -8,7 +8,6 @@
 
 #include "vessel/cut/cut_join.h"
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -33,8 +32,7 @@ private:
         {
             return approach_->finish(step, std::move(path));
         }
-        GraphPath finish_held(const CutStep& step, GraphPath path,
-                              const std::function<bool(const GraphPath&)>& keeps) override
+        GraphPath finish_held(const CutStep& step, GraphPath path, const PathTest& keeps) override
         {
             GraphPath first =
                 approach_->finish_held(step, path, [](const GraphPath&) { return true; });

@@ -181,7 +181,7 @@ public:
         return first() ? path : joiner_.finish(*this, std::move(path));
     }
 
-    GraphPath join_held(GraphPath path, const std::function<bool(const GraphPath&)>& keeps) override
+    GraphPath join_held(GraphPath path, const PathTest& keeps) override
     {
         return first() ? path : joiner_.finish_held(*this, std::move(path), keeps);
     }

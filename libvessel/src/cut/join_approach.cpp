@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <unordered_map>
 
 namespace vessel {
@@ -32,7 +31,7 @@ using detail::zones_along;
 // the path is kept as is.
 GraphPath cut_back(const CutGraph& graph, const GraphPath& path, TreeDistance& tree,
                    const std::vector<int>& loop_of, double reach, double excess,
-                   const std::function<bool(const GraphPath&)>* keeps = nullptr)
+                   const PathTest* keeps = nullptr)
 {
     const Mesh& mesh = graph.mesh();
     const std::size_t n = path.halfedges.size();
@@ -149,8 +148,7 @@ public:
         return cut_back_from(step, path, step.context().options->join_excess);
     }
 
-    GraphPath finish_held(const CutStep& step, GraphPath path,
-                          const std::function<bool(const GraphPath&)>& keeps) override
+    GraphPath finish_held(const CutStep& step, GraphPath path, const PathTest& keeps) override
     {
         return cut_back_from(step, path, step.context().options->join_held_excess, &keeps);
     }
@@ -170,7 +168,7 @@ public:
 private:
     // cut_back() of \p path within CutPlanOptions::join_reach and \p excess outlet radii.
     GraphPath cut_back_from(const CutStep& step, const GraphPath& path, double excess,
-                            const std::function<bool(const GraphPath&)>* keeps = nullptr)
+                            const PathTest* keeps = nullptr)
     {
         const CutPlanContext& context = step.context();
         const double radius = (*context.loops)[step.outlet()].radius();

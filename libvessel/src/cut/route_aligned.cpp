@@ -398,7 +398,7 @@ public:
                     now ? &*now : nullptr, cut.traced, stream_field, options,
                     tree_cost(*context.graph),
                     [&step](GraphPath p) { return step.join(std::move(p)); },
-                    [&step](GraphPath p, const std::function<bool(const GraphPath&)>& keeps) {
+                    [&step](GraphPath p, const PathTest& keeps) {
                         return step.join_held(std::move(p), keeps);
                     });
                 if (held)

@@ -5,7 +5,6 @@
 
 #include "vessel/cut/cut_step.h"
 
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -39,8 +38,7 @@ public:
     //! accepts (the route's caller passes its winding bound: a bridge to the tree may turn
     //! round the vessel); where none is, \p path as found. The default: finish() if \p keeps
     //! accepts it.
-    virtual GraphPath finish_held(const CutStep& step, GraphPath path,
-                                  const std::function<bool(const GraphPath&)>& keeps)
+    virtual GraphPath finish_held(const CutStep& step, GraphPath path, const PathTest& keeps)
     {
         GraphPath finished = finish(step, path);
         return keeps(finished) ? finished : path;

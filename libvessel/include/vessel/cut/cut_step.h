@@ -37,6 +37,10 @@ struct CutPlanContext
     const Mesh& mesh() const { return graph->mesh(); }
 };
 
+//! A test that a path finished by the join policy must pass (CutJoiner::finish_held(): the
+//! winding bound of the route that found it).
+using PathTest = std::function<bool(const GraphPath&)>;
+
 //! \brief The search for one cut, as plan_cuts() poses it to the policies: the cut from loop
 //! outlet() to the inlet (the first cut, outlet() == 1) or to a vertex of an earlier cut (every
 //! later one). Valid during one CutRouter::route() or CutJoiner call.
@@ -67,8 +71,7 @@ public:
     virtual GraphPath join(GraphPath path) = 0;
     //! As join(), for a path held to one side of its vessel: a finish that \p keeps accepts,
     //! or \p path as found (CutJoiner::finish_held()).
-    virtual GraphPath join_held(GraphPath path,
-                                const std::function<bool(const GraphPath&)>& keeps) = 0;
+    virtual GraphPath join_held(GraphPath path, const PathTest& keeps) = 0;
     //! CutJoinPolicy::narrows_ends() of the plan's join policy.
     virtual bool join_narrows_ends() const = 0;
 };
