@@ -28,10 +28,10 @@ void AneurysmPhantomOptions::validate() const
         fail("branch_radius must be 0 (no branch) or in [2 edge_length, 0.6 parent_radius] (" +
              std::to_string(2.0 * edge_length) + " to " + std::to_string(0.6 * parent_radius) +
              "), got " + std::to_string(branch_radius));
-    // The sac and its fillet must end well before the end planes.
     if (!(taper >= 0.0 && taper <= 0.5))
         fail("taper must be in [0, 0.5] (a fraction of parent_radius), got " +
              std::to_string(taper));
+    // The sac and its fillet must end well before the end planes.
     const double min_length = 2.0 * (sac_radius + 2.0 * parent_radius) + 4.0 * edge_length;
     if (!(parent_length >= min_length) || !std::isfinite(parent_length))
         fail("parent_length must be >= 2 (sac_radius + 2 parent_radius) + 4 edge_length (" +

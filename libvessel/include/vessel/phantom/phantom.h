@@ -134,8 +134,8 @@ struct AneurysmPhantomOptions
     double branch_radius = 0.0;
     //! How much the parent narrows from its inlet end to its outlet end, as a fraction of
     //! parent_radius, linearly along it (parent_radius at the sac's level), in [0, 0.5]. 0 = a
-    //! straight cylinder, whose end loops tie; any taper makes the inlet's loop the longer one
-    //! (arteries narrow along their length: about 2% per 10 mm in the carotid).
+    //! straight cylinder, whose end loops tie; any taper makes the inlet's loop the longer one,
+    //! as arteries narrow along their length.
     double taper = 0.0;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;
