@@ -605,7 +605,7 @@ TEST_CASE("cut_winding: --viewpoint face-on cuts each vessel on the same half at
     // (face_on_viewpoint(), which the split leaves where it was): per cut the mean angle apart
     // around its vessel between the tree and the same surface split 1 -> 4. Measured 0.3-62
     // degrees per cut (mean 11 over the 16 cuts of six trees); by default, where the cheapest
-    // point of each loop sets the side, 4-157 (mean 66; docs/results.md "Cuts at two
+    // point of each loop sets the side, 4-157 (mean 68; docs/results.md "Cuts at two
     // resolutions"). Held here: every measured cut on the same half of its vessel, and the
     // mean within 20 degrees.
     double sum = 0.0;
