@@ -632,16 +632,20 @@ TEST_CASE("cut_winding: --viewpoint face-on cuts each vessel on the same half at
     CHECK(sum / cuts <= 20.0);
 }
 
-TEST_CASE("cut_winding: --viewpoint face-on cuts the carotid phantom on the same side from 5k to "
-          "45k triangles")
+TEST_CASE(
+    "cut_winding: --viewpoint face-on cuts the carotid phantom on the same side from 5k to "
+    "300k triangles")
 {
     // Issue 32's resolution target on a surface meshed anew at each resolution (dual
-    // contouring: no vertex shared, unlike a split): the carotid phantom at edge lengths 0.8,
-    // 0.4 and 0.26 mm, each coarser one's cuts against the finest's. By default the cheapest
-    // point of each loop sets the side, and on this symmetric shape the edges' directions
-    // break the ties: docs/results.md "Cuts at two resolutions".
-    constexpr int kMeshes = 3;
-    const double edges[kMeshes] = {0.8, 0.4, 0.26};  // the last the finest
+    // contouring: no vertex shared, unlike a split), over the range the issue names: the
+    // carotid phantom at edge lengths 0.8, 0.4, 0.26 and 0.1013 mm (about 5k, 13k, 45k and
+    // 300k triangles), each coarser one's cuts against the 45k and the 300k ones'. By default
+    // the cheapest point of each loop sets the side, and on this symmetric shape the edges'
+    // directions break the ties: 79-144 degrees apart from the 300k plan (docs/results.md
+    // "Cuts at two resolutions"). Face-on, measured 3.7-18.7 from it (mean 10.4 over the six
+    // cuts) and 3.8-13.3 from the 45k plan.
+    constexpr int kMeshes = 4;
+    const double edges[kMeshes] = {0.8, 0.4, 0.26, 0.1013};  // finer and finer
     std::vector<Mesh> meshes;
     std::vector<CutPlan> plans;
     std::vector<Eigen::VectorXd> longitudinals(kMeshes);
@@ -652,21 +656,32 @@ TEST_CASE("cut_winding: --viewpoint face-on cuts the carotid phantom on the same
         meshes.push_back(carotid_phantom(phantom));
         plans.push_back(plan_of(meshes[k], FlattenOptions().cuts, true, longitudinals[k]));
     }
-    const int finest = kMeshes - 1;
-    for (int coarse = 0; coarse < finest; ++coarse)
-        for (const SideApart& cut : sides_apart(meshes[coarse], plans[coarse], meshes[finest],
-                                                plans[finest], longitudinals[finest]))
-        {
-            CAPTURE(edges[coarse]);
-            CAPTURE(cut.outlet);
-            MESSAGE("edge " << edges[coarse] << " against " << edges[finest] << ", outlet "
-                            << cut.outlet << ": " << cut.mean_deg << " degrees apart, "
-                            << cut.measured_fraction << " of it measured");
-            // The ICA's sinus bulb and stenosis and the bifurcation are no round rings: 40% of
-            // its cut is measured.
-            CHECK(cut.measured_fraction >= 0.3);
-            CHECK(cut.mean_deg <= 20.0);
-        }
+    REQUIRE(meshes.back().n_faces() > 250000);
+    for (int fine : {2, 3})
+    {
+        double sum = 0.0;
+        int cuts = 0;
+        for (int coarse = 0; coarse < fine; ++coarse)
+            for (const SideApart& cut : sides_apart(meshes[coarse], plans[coarse], meshes[fine],
+                                                    plans[fine], longitudinals[fine]))
+            {
+                CAPTURE(edges[coarse]);
+                CAPTURE(edges[fine]);
+                CAPTURE(cut.outlet);
+                MESSAGE("edge " << edges[coarse] << " against " << edges[fine] << ", outlet "
+                                << cut.outlet << ": " << cut.mean_deg << " degrees apart, "
+                                << cut.measured_fraction << " of it measured");
+                // The ICA's sinus bulb and stenosis and the bifurcation are no round rings: at
+                // 45k 40% of its cut is measured, at 300k nine tenths.
+                CHECK(cut.measured_fraction >= 0.3);
+                // Every cut on the same side of its vessel: within the quarter of its
+                // circumference that the far-side ends and the facing price keep it to.
+                CHECK(cut.mean_deg <= (fine == 2 ? 20.0 : 25.0));
+                sum += cut.mean_deg;
+                ++cuts;
+            }
+        CHECK(sum / cuts <= 15.0);
+    }
 }
 
 TEST_CASE("cut_winding: where a vessel turns round the face-on view, the inlet's end is freed "
