@@ -100,6 +100,28 @@ def expected_huge_pages():
         return False
 
 
+def cpu_has_avx2_fma():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("flags"):
+                    flags = line.split(":", 1)[1].split()
+                    return "avx2" in flags and "fma" in flags
+    except OSError:
+        pass
+    return False
+
+
+def check_blas_kernels(where, kernels):
+    """The kernels OpenBLAS ran in the bench's process: the Haswell kernels' rounding (Haswell's
+    own or the Zen target's) where the CPU has AVX2 and FMA and the environment names none
+    (tools/common/blas_kernels.h); "" where the BLAS is not OpenBLAS."""
+    if kernels and cpu_has_avx2_fma() and "OPENBLAS_CORETYPE" not in os.environ:
+        expect(kernels in ("Haswell", "Zen"),
+               f"{where}: OpenBLAS ran its {kernels} kernels, not the Haswell kernels the "
+               f"bench's start-up (restart_for_run) should have asked for")
+
+
 def check_table(exe, mesh, workdir):
     os.makedirs(workdir, exist_ok=True)
     # The paper's whole method (its F and its cut rule) is the like-for-like run beside the peer.
@@ -114,7 +136,8 @@ def check_table(exe, mesh, workdir):
         expect(doc["runs"] == 2, f"{method}: runs {doc['runs']}")
         expect(doc["huge_pages"] == expected_huge_pages(),
                f"{method}: huge_pages {doc['huge_pages']}, not what the bench's start-up "
-               f"(restart_with_huge_pages) should have set")
+               f"(restart_for_run) should have set")
+        check_blas_kernels(method, doc["blas_kernels"])
         expect(len(doc["results"]) == 1, f"{method}: {len(doc['results'])} results for one mesh")
         r = doc["results"][0]
         where = f"{method} --cuts {cuts} {r['name']}"

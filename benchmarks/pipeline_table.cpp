@@ -6,19 +6,19 @@
 // `--solvers` compares the refinement solvers instead. See docs/benchmarks.md.
 #include "cgal_peer.h"
 #include "common/quality_json.h"
-#include "common/huge_pages.h"
-#include "vessel/map/arap.h"
+#include "common/restart.h"
+#include "vessel/check/validation.h"
+#include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/cut/cut_metrics.h"
 #include "vessel/cut/cut_winding.h"
-#include "vessel/core/errors.h"
 #include "vessel/direction/geodesic.h"
 #include "vessel/io/io.h"
+#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
+#include "vessel/map/arap.h"
 #include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
-#include "vessel/core/properties.h"
-#include "vessel/check/validation.h"
-#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -1094,9 +1094,10 @@ std::string base_name(const std::string& path)
 
 int main(int argc, char** argv)
 {
-    // The meshes' children are forked from this process and keep its malloc: with huge pages,
-    // as vessel-flatten runs a large mesh (tools/common/huge_pages.h).
-    vessel::cli::restart_with_huge_pages(argv);
+    // The meshes' children are forked from this process and keep its malloc and BLAS: with
+    // huge pages, as vessel-flatten runs a large mesh, and its BLAS kernels
+    // (tools/common/restart.h).
+    vessel::cli::restart_for_run(argv, true);
     CLI::App app{"vessel-bench-table: run the whole flatten() pipeline per mesh several times and "
                  "print the median (min-max) seconds per stage in the columns of the paper's "
                  "Table 1, with reading time and peak RSS (each mesh runs in its own child "
@@ -1288,8 +1289,11 @@ int main(int argc, char** argv)
                  {"cpu", cpu_model()},
                  {"logical_cpus", sysconf(_SC_NPROCESSORS_ONLN)},
                  {"huge_pages", vessel::cli::asks_huge_pages(environ)},
+                 {"blas_kernels", vessel::cli::running_blas_kernels()},
                  {"runs", s.runs},
-                 {"mode", curves ? "solver-curves" : solvers ? "solvers" : "table"},
+                 {"mode", curves    ? "solver-curves"
+                          : solvers ? "solvers"
+                                    : "table"},
                  {"paper_table_1", paper_table_1()},
                  {"results", results}};
         std::ofstream(json_path) << doc.dump(2) << "\n";

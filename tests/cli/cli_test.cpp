@@ -1,6 +1,7 @@
 // vessel-flatten on bad input (docs/bad-input.md, one case per row) and in batch mode.
 #include <doctest/doctest.h>
 
+#include "common/blas_kernels.h"
 #include "common/error_text.h"
 #include "common/huge_pages.h"
 #include "vessel_flatten/case_process.h"
@@ -1233,7 +1234,7 @@ TEST_CASE("cli: the tools' processes ask glibc's malloc for huge pages unless to
           Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"});
     CHECK(env({"GLIBC_TUNABLES="}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
     CHECK(env({}) == Strings{"GLIBC_TUNABLES=glibc.malloc.hugetlb=1"});
-    // restart_with_huge_pages() starts the program again only where the tunable is not named.
+    // restart_for_run() adds the pages only where the tunable is not named.
     CHECK_FALSE(named({"HOME=/root", "GLIBC_TUNABLES=glibc.malloc.arena_max=2"}));
     CHECK(named({"GLIBC_TUNABLES=glibc.malloc.hugetlb=0"}));
     CHECK(named({"A=b", "GLIBC_TUNABLES=glibc.malloc.arena_max=2:glibc.malloc.hugetlb=1"}));
@@ -1241,7 +1242,7 @@ TEST_CASE("cli: the tools' processes ask glibc's malloc for huge pages unless to
 
 TEST_CASE("cli: an input of 128 kB or more runs with huge pages, unless the user opts out")
 {
-    // restart_with_huge_pages(): the program starts itself again with the tunable, which the
+    // restart_for_run(): the program starts itself again with the tunable, which the
     // report's timings say; a small input, or a user's own setting, runs as it is.
     const bool kernel_gives = vessel::cli::kernel_gives_huge_pages();
     const auto dir = temp_dir("cli_huge_pages");
@@ -1263,6 +1264,46 @@ TEST_CASE("cli: an input of 128 kB or more runs with huge pages, unless the user
     CHECK(huge_pages("GLIBC_TUNABLES=glibc.malloc.hugetlb=1", small));
     // Other tunables are kept and the pages added.
     CHECK(huge_pages("GLIBC_TUNABLES=glibc.malloc.arena_max=4", demo) == kernel_gives);
+}
+
+TEST_CASE(
+    "cli: the tools ask OpenBLAS for the Haswell kernels where the CPU has them, unless "
+    "told otherwise")
+{
+    using vessel::cli::wants_blas_kernels;
+    const auto wants = [](std::vector<const char*> entries, const std::string& running,
+                          bool avx2_fma) {
+        entries.push_back(nullptr);
+        return wants_blas_kernels(entries.data(), running, avx2_fma);
+    };
+    CHECK(wants({"HOME=/root"}, "Prescott", true));
+    CHECK(wants({}, "SkylakeX", true));
+    // Kernels that round as Haswell's, a CPU without AVX2 and FMA, another BLAS, or the user's
+    // own choice: nothing asked.
+    CHECK_FALSE(wants({}, "Haswell", true));
+    CHECK_FALSE(wants({}, "Zen", true));
+    CHECK_FALSE(wants({}, "Prescott", false));
+    CHECK_FALSE(wants({}, "", true));
+    CHECK_FALSE(wants({"OPENBLAS_CORETYPE=Prescott"}, "Prescott", true));
+
+    // End to end: vessel-flatten's report names the kernels its map was made with. artery-coarse
+    // is below the huge pages' size, so a restart there is the kernels' alone.
+    const auto dir = temp_dir("cli_blas_kernels");
+    const std::string small = std::string(VESSEL_SHARED_DATA) + "/vampy/artery-coarse.ply";
+    const auto kernels = [&](const std::string& environment) {
+        const std::string report = dir + "/r.json";
+        std::filesystem::remove(report);
+        REQUIRE(run("env -u OPENBLAS_CORETYPE " + environment + " " + kFlatten + " " + small +
+                    " -o " + dir + "/flat.obj --report " + report + " -q") == 0);
+        return nlohmann::json::parse(read_bytes(report))["blas_kernels"].get<std::string>();
+    };
+    const std::string by_default = kernels("");
+    MESSAGE("OpenBLAS kernels by default: '" << by_default << "'");
+    if (by_default.empty())
+        return;  // the BLAS is not OpenBLAS: nothing to ask for
+    if (vessel::cli::cpu_has_avx2_fma())
+        CHECK(vessel::cli::rounds_as_asked(by_default));
+    CHECK(kernels("OPENBLAS_CORETYPE=Prescott") == "Prescott");
 }
 
 TEST_CASE("cli: the memory watchdog stops the admitted mesh furthest above its estimate, not one "

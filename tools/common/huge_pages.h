@@ -2,7 +2,6 @@
 // Transparent huge pages for a tool's own process: glibc's malloc reads its tunables once, at
 // start-up, so a program that wants them set starts itself again with them.
 
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstdint>
@@ -81,36 +80,6 @@ inline bool kernel_gives_huge_pages()
     std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
     std::string modes;
     return std::getline(thp, modes) && modes.find("[never]") == std::string::npos;
-}
-
-//! \brief Starts this program again in place (execve(2) of /proc/self/exe: the same process,
-//! arguments and open descriptors) with huge_page_environment(), where the environment does not
-//! name the tunable yet, glibc is the C library and the kernel gives transparent huge pages on
-//! request (`enabled` not `[never]`). Returns where it does not, or where the exec fails: the
-//! run then goes on as it is. Call it before any output (the new start prints it again).
-inline void restart_with_huge_pages(char** argv)
-{
-#if defined(__linux__) && defined(__GLIBC__)
-    if (names_huge_pages(environ) || !kernel_gives_huge_pages())
-        return;
-    std::vector<std::string> env = huge_page_environment(environ);
-    std::vector<char*> envp;
-    for (std::string& e : env)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
-    ::execve("/proc/self/exe", argv, envp.data());
-#else
-    (void)argv;
-#endif
-}
-
-//! restart_with_huge_pages() where \p input is a file of at least kHugePageInputBytes.
-inline void restart_with_huge_pages(char** argv, const std::string& input)
-{
-    struct stat st;
-    if (!input.empty() && ::stat(input.c_str(), &st) == 0 &&
-        static_cast<std::uintmax_t>(st.st_size) >= kHugePageInputBytes)
-        restart_with_huge_pages(argv);
 }
 
 }  // namespace vessel::cli

@@ -1,6 +1,6 @@
 #include "case_process.h"
 
-#include "common/huge_pages.h"
+#include "common/restart.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -67,7 +67,7 @@ ChildProcess::ChildProcess(const std::string& exe, const std::vector<std::string
     for (const auto& a : args)
         argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    std::vector<std::string> environment = huge_page_environment(environ);
+    std::vector<std::string> environment = run_environment(environ, true);
     std::vector<char*> envp;
     for (auto& e : environment)
         envp.push_back(e.data());

@@ -1,8 +1,8 @@
 // vessel-flatten: cut a vessel tree surface open along natural vessel cuts and flatten it.
 #include "../vessel_view/command.h"
-#include "common/error_text.h"
-#include "common/huge_pages.h"
 #include "batch.h"
+#include "common/error_text.h"
+#include "common/restart.h"
 #include "field_input.h"
 #include "images.h"
 #include "json_config.h"
@@ -846,9 +846,10 @@ int run(Args& a, int argc, char** argv)
             batch.command.assign(argv, argv + argc);
             return vessel::cli::run_batch(batch, options);
         }
-        // A large mesh runs with huge pages: this process starts again with them if it must
-        // (before any output, so nothing is printed twice).
-        vessel::cli::restart_with_huge_pages(argv, input);
+        // A large mesh runs with huge pages, and every mesh with the BLAS kernels the maps are
+        // made with everywhere: this process starts again with them if it must (before any
+        // output, so nothing is printed twice).
+        vessel::cli::restart_for_run(argv, input);
         show_progress(options, quiet);
         return flatten_input(a, out_ext, argc, argv);
     }

@@ -1,5 +1,6 @@
 #include "report.h"
 
+#include "common/blas_kernels.h"
 #include "common/huge_pages.h"
 #include "common/quality_json.h"
 
@@ -71,6 +72,7 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
                     {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s},
                     {"huge_pages", asks_huge_pages(environ)}};
+    j["blas_kernels"] = running_blas_kernels();
     nlohmann::json loops = nlohmann::json::array();
     for (std::size_t l = 0; l < r.loops.size(); ++l)
         loops.push_back({{"role", l == 0 ? "inlet" : "outlet"},

@@ -1,0 +1,68 @@
+#pragma once
+// A tool's process started again in place with what a run wants of its environment: glibc's
+// malloc and OpenBLAS read theirs once, when the process starts (huge_pages.h,
+// blas_kernels.h).
+
+#include "common/blas_kernels.h"
+#include "common/huge_pages.h"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vessel::cli {
+
+//! \brief \p parent (an environment, null-terminated) with what a run wants added: the BLAS
+//! kernels (add_blas_kernels()) and, if \p huge_pages and the kernel gives them, transparent
+//! huge pages (huge_page_environment()).
+inline std::vector<std::string> run_environment(const char* const* parent, bool huge_pages)
+{
+    std::vector<std::string> env;
+    if (huge_pages && kernel_gives_huge_pages())
+        env = huge_page_environment(parent);
+    else
+        for (const char* const* e = parent; e && *e; ++e)
+            env.emplace_back(*e);
+    add_blas_kernels(parent, env);
+    return env;
+}
+
+//! \brief Starts this program again in place (execve(2) of /proc/self/exe: the same process,
+//! arguments and open descriptors) with run_environment(), where that adds to the environment
+//! and glibc is the C library. Returns where it adds nothing, or where the exec fails: the run
+//! then goes on as it is. Call it before any output (the new start prints it again).
+inline void restart_for_run(char** argv, bool huge_pages)
+{
+#if defined(__linux__) && defined(__GLIBC__)
+    std::vector<std::string> env = run_environment(environ, huge_pages);
+    std::size_t parent = 0;
+    while (environ && environ[parent])
+        ++parent;
+    if (env.size() == parent &&
+        std::equal(env.begin(), env.end(), environ,
+                   [](const std::string& a, const char* b) { return a == b; }))
+        return;
+    std::vector<char*> envp;
+    for (std::string& e : env)
+        envp.push_back(e.data());
+    envp.push_back(nullptr);
+    ::execve("/proc/self/exe", argv, envp.data());
+#else
+    (void)argv;
+    (void)huge_pages;
+#endif
+}
+
+//! restart_for_run() with huge pages where \p input is a file of at least kHugePageInputBytes.
+inline void restart_for_run(char** argv, const std::string& input)
+{
+    struct stat st;
+    restart_for_run(argv, !input.empty() && ::stat(input.c_str(), &st) == 0 &&
+                              static_cast<std::uintmax_t>(st.st_size) >= kHugePageInputBytes);
+}
+
+}  // namespace vessel::cli
