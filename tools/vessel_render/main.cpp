@@ -1,17 +1,18 @@
 // vessel-render: flatten a vessel surface and draw a field on the map (PNG, SVG or PDF): a
 // built-in one, a CSV column, an array of the input (.vtp/.vtk) or of --fields as vessel-flatten
 // reads them; or frames of a series (synthetic pulse or --fields) (+ GIF/MP4 with ffmpeg).
+#include "common/restart.h"
 #include "flat_obj.h"
-#include "vessel_flatten/field_input.h"
-#include "vessel_flatten/images.h"
-#include "vessel/fields/field_series.h"
+#include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
+#include "vessel/core/properties.h"
+#include "vessel/fields/field_series.h"
+#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
+#include "vessel/pipeline.h"
 #include "vessel/render/map_frames.h"
 #include "vessel/render/map_image.h"
-#include "vessel/pipeline.h"
-#include "vessel/core/properties.h"
-#include "vessel/check/validation.h"
-#include "vessel/io/vtk_io.h"  // inputs may be .vtp/.vtk
+#include "vessel_flatten/field_input.h"
+#include "vessel_flatten/images.h"
 
 #include <CLI/CLI.hpp>
 
@@ -222,6 +223,9 @@ int main(int argc, char** argv)
     {
         return app.exit(e) == 0 ? 0 : 1;
     }
+    // The map is made as vessel-flatten makes it: with huge pages for a large input and the
+    // same BLAS kernels (the process starts again with them if it must, before any output).
+    vessel::cli::restart_for_run(argv, input);
     try
     {
         const bool builtin = field == "geodesic" || field == "wss" || field == "x" ||

@@ -2,9 +2,10 @@
 #include "../vessel_flatten/field_input.h"
 #include "../vessel_flatten/viewer_fields.h"
 #include "command.h"
+#include "common/restart.h"
+#include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
 #include "vessel/pipeline.h"
-#include "vessel/check/validation.h"
 #include "vessel/render/viewer.h"
 
 #include <CLI/CLI.hpp>
@@ -57,6 +58,9 @@ int main(int argc, char** argv)
     {
         return app.exit(e) == 0 ? 0 : 1;
     }
+    // The map is made as vessel-flatten makes it: with huge pages for a large input and the
+    // same BLAS kernels (the process starts again with them if it must, before any output).
+    vessel::cli::restart_for_run(argv, input);
     try
     {
         if (std::filesystem::path(output).extension() != ".html")
