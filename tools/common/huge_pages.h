@@ -41,6 +41,15 @@ inline bool asks_huge_pages(const char* const* parent)
     return at && (at[sizeof setting - 1] == '1' || at[sizeof setting - 1] == '2');
 }
 
+//! \p parent (an environment, null-terminated) as strings, in its order.
+inline std::vector<std::string> environment_strings(const char* const* parent)
+{
+    std::vector<std::string> out;
+    for (const char* const* e = parent; e && *e; ++e)
+        out.emplace_back(*e);
+    return out;
+}
+
 //! \brief \p parent (an environment, null-terminated) with glibc's malloc asked to use
 //! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
 //! set to it, unless \p parent already names that tunable (a user's `glibc.malloc.hugetlb=0`
@@ -50,9 +59,7 @@ inline bool asks_huge_pages(const char* const* parent)
 //! ignore the tunable.
 inline std::vector<std::string> huge_page_environment(const char* const* parent)
 {
-    std::vector<std::string> out;
-    for (const char* const* e = parent; e && *e; ++e)
-        out.emplace_back(*e);
+    std::vector<std::string> out = environment_strings(parent);
     if (names_huge_pages(parent))
         return out;
     const char* tunables = glibc_tunables(parent);

@@ -9,7 +9,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -21,12 +20,9 @@ namespace vessel::cli {
 //! huge pages (huge_page_environment()).
 inline std::vector<std::string> run_environment(const char* const* parent, bool huge_pages)
 {
-    std::vector<std::string> env;
-    if (huge_pages && kernel_gives_huge_pages())
-        env = huge_page_environment(parent);
-    else
-        for (const char* const* e = parent; e && *e; ++e)
-            env.emplace_back(*e);
+    std::vector<std::string> env = huge_pages && kernel_gives_huge_pages()
+                                       ? huge_page_environment(parent)
+                                       : environment_strings(parent);
     add_blas_kernels(parent, env);
     return env;
 }
@@ -39,12 +35,7 @@ inline void restart_for_run(char** argv, bool huge_pages)
 {
 #if defined(__linux__) && defined(__GLIBC__)
     std::vector<std::string> env = run_environment(environ, huge_pages);
-    std::size_t parent = 0;
-    while (environ && environ[parent])
-        ++parent;
-    if (env.size() == parent &&
-        std::equal(env.begin(), env.end(), environ,
-                   [](const std::string& a, const char* b) { return a == b; }))
+    if (env == environment_strings(environ))
         return;
     std::vector<char*> envp;
     for (std::string& e : env)
