@@ -185,23 +185,6 @@ TEST_CASE("centre pull: the Gauss-Newton rows are the active pulls' residuals an
         CHECK(row.r == doctest::Approx(0.0).scale(1.0));
 }
 
-TEST_CASE("centre pull: the low-rank update solves the matrix with the pulls' terms added")
-{
-    // (A + U diag(c) U^T) y = b from y = A^-1 b and Z = A^-1 U (the Woodbury identity).
-    Eigen::MatrixXd A(5, 5);
-    A << 4, 1, 0, 0, 1, 1, 5, 1, 0, 0, 0, 1, 6, 2, 0, 0, 0, 2, 5, 1, 1, 0, 0, 1, 3;
-    Eigen::MatrixXd U(5, 2);
-    U << 1, 0, 0.5, 1, 0, -1, 2, 0, 0, 3;
-    Eigen::VectorXd c(2), b(5);
-    c << 7.0, 0.25;
-    b << 1, -2, 3, 0.5, -1;
-    const Eigen::LDLT<Eigen::MatrixXd> factor(A);
-    Eigen::VectorXd y = factor.solve(b);
-    detail::add_low_rank_inverse(y, U, factor.solve(U), c);
-    const Eigen::MatrixXd updated = A + U * c.asDiagonal() * U.transpose();
-    CHECK((updated * y - b).norm() < 1e-12 * b.norm());
-}
-
 TEST_CASE("centre pull: relax_area with a pull moves the pulled centre toward its line and "
           "flips nothing")
 {

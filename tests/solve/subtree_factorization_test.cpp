@@ -162,6 +162,37 @@ TEST_CASE("subtree factorization: PairedCholmod factors with it and solves, on o
     CHECK(solver.info() == Eigen::NumericalIssue);
 }
 
+TEST_CASE(
+    "subtree factorization: PairedCholmod solves the factorized matrix with a low-rank "
+    "term added, through the factor's halves")
+{
+    // (A + U diag(c) U^T) x = b, as the look pulls' Gauss-Newton terms add to SLIM's and the
+    // polish's systems: a few sparse columns over a real mesh's paired system.
+    const Eigen::SparseMatrix<double> A =
+        paired_system("x-ray-angio-data/coronary-phantom-tri3-coarse.ply");
+    const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Upper>();
+    const Eigen::Index n = A.rows();
+    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, 4);
+    for (Eigen::Index j = 0; j < U.cols(); ++j)
+        for (Eigen::Index i = 0; i < 30; ++i)
+            U((j * 997 + 13 * i) % n, j) = std::cos(0.3 * static_cast<double>(i + j));
+    Eigen::VectorXd c(4), b(n);
+    c << 300.0, 1.0, 0.05, 1e4;
+    for (Eigen::Index i = 0; i < n; ++i)
+        b[i] = std::sin(0.07 * static_cast<double>(i)) + 0.5;
+    vessel::detail::PairedCholmod solver;
+    solver.analyze_pairs(A);
+    solver.factorize(A);
+    REQUIRE(solver.info() == Eigen::Success);
+    const Eigen::VectorXd x = solver.solve_with_low_rank(b, U, c);
+    REQUIRE(solver.info() == Eigen::Success);
+    const Eigen::VectorXd residual = full * x + U * (c.asDiagonal() * (U.transpose() * x)) - b;
+    CHECK(residual.norm() <= 1e-9 * b.norm());
+    // The term moves the solution: the pulls are not lost in the update.
+    const Eigen::VectorXd plain = solver.solve(b);
+    CHECK((plain - x).norm() > 1e-3 * plain.norm());
+}
+
 TEST_CASE("subtree factorization: a PairedCholmod re-analyses one pattern after another, in a "
           "given order or CHOLMOD's, and solves each system as a new solver does")
 {

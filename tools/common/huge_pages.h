@@ -50,6 +50,18 @@ inline std::vector<std::string> environment_strings(const char* const* parent)
     return out;
 }
 
+//! \p strings as execve(2) and posix_spawn(3) take an environment: a pointer to each one's
+//! characters, then a null (valid while \p strings lives unchanged).
+inline std::vector<char*> environment_pointers(std::vector<std::string>& strings)
+{
+    std::vector<char*> out;
+    out.reserve(strings.size() + 1);
+    for (std::string& e : strings)
+        out.push_back(e.data());
+    out.push_back(nullptr);
+    return out;
+}
+
 //! \brief \p parent (an environment, null-terminated) with glibc's malloc asked to use
 //! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
 //! set to it, unless \p parent already names that tunable (a user's `glibc.malloc.hugetlb=0`

@@ -37,11 +37,7 @@ inline void restart_for_run(char** argv, bool huge_pages)
     std::vector<std::string> env = run_environment(environ, huge_pages);
     if (env == environment_strings(environ))
         return;
-    std::vector<char*> envp;
-    for (std::string& e : env)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
-    ::execve("/proc/self/exe", argv, envp.data());
+    ::execve("/proc/self/exe", argv, environment_pointers(env).data());
 #else
     (void)argv;
     (void)huge_pages;

@@ -68,10 +68,7 @@ ChildProcess::ChildProcess(const std::string& exe, const std::vector<std::string
         argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     std::vector<std::string> environment = run_environment(environ, true);
-    std::vector<char*> envp;
-    for (auto& e : environment)
-        envp.push_back(e.data());
-    envp.push_back(nullptr);
+    const std::vector<char*> envp = environment_pointers(environment);
     const int error = ::posix_spawn(&pid_, exe.c_str(), &actions, &attr, argv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attr);

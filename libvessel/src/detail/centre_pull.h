@@ -68,11 +68,6 @@ struct PullColumns
 PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, double scale,
                          const std::vector<int>* slot = nullptr);
 
-//! \brief Turns y = A^-1 b into (A + U diag(c) U^T)^-1 b (the Woodbury identity), given
-//! Z = A^-1 U: y -= Z (diag(1 / c) + U^T Z)^-1 U^T y. Every c > 0.
-void add_low_rank_inverse(Eigen::VectorXd& y, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Z,
-                          const Eigen::VectorXd& c);
-
 //! Add the pulls' gradient at \p x to \p gradient, whose entries 2 slot[v] + k are vertex v's
 //! (slot[v] < 0: a fixed vertex, skipped).
 void add_centre_pull_gradient(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,

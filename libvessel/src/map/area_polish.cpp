@@ -141,21 +141,23 @@ struct NewtonSystem
     bool analyzed = false;
 };
 
-// The Newton step H^-1 (-gradient) corrected for the pulls' Gauss-Newton terms 2 W u u^T
+// The Newton step H^-1 (-gradient), with the pulls' Gauss-Newton terms 2 W u u^T added to H
 // (PullSteps::GaussNewton), u over the free vertices' unknowns (slot), by the Woodbury identity
 // with the factor of H (which holds the faces' part only).
-void add_pull_terms(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
-                    const std::vector<int>& slot, detail::PairedCholmod& solver,
-                    Eigen::VectorXd& step)
+Eigen::VectorXd pulled_step(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
+                            const std::vector<int>& slot, detail::PairedCholmod& solver,
+                            const Eigen::VectorXd& descent)
 {
     // Hinges within a margin of turning on count too (AreaPolishOptions::pull_steps).
     const std::vector<detail::PullRow> rows = detail::active_pull_rows(pulls, x, 1.0);
-    if (rows.empty())
-        return;
-    const detail::PullColumns columns = detail::pull_columns(rows, step.size(), 2.0, &slot);
-    const Eigen::MatrixXd Z = solver.solve(columns.U);
-    if (solver.info() == Eigen::Success && Z.allFinite())
-        detail::add_low_rank_inverse(step, columns.U, Z, columns.c);
+    if (!rows.empty())
+    {
+        const detail::PullColumns columns = detail::pull_columns(rows, descent.size(), 2.0, &slot);
+        Eigen::VectorXd step = solver.solve_with_low_rank(descent, columns.U, columns.c);
+        if (solver.info() == Eigen::Success && step.allFinite())
+            return step;
+    }
+    return solver.solve(descent);
 }
 
 // Up to `iterations` projected Newton steps on `energy` (its faces, free vertices and x) with
@@ -196,9 +198,10 @@ int newton_steps(PolishEnergy& energy, NewtonSystem& system, double lambda, Pull
         }
         if (solver.info() != Eigen::Success)
             break;
-        Eigen::VectorXd step = solver.solve(-gradient);
-        if (exact_pulls && !energy.pulls().empty())
-            add_pull_terms(energy.pulls(), energy.x(), slot, solver, step);
+        const Eigen::VectorXd step =
+            exact_pulls && !energy.pulls().empty()
+                ? pulled_step(energy.pulls(), energy.x(), slot, solver, -gradient)
+                : Eigen::VectorXd(solver.solve(-gradient));
         const double slope = gradient.dot(step);
         if (!step.allFinite() || !(slope < 0.0))
             break;

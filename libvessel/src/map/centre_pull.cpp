@@ -306,14 +306,6 @@ PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, do
     return columns;
 }
 
-void add_low_rank_inverse(Eigen::VectorXd& y, const Eigen::MatrixXd& U, const Eigen::MatrixXd& Z,
-                          const Eigen::VectorXd& c)
-{
-    Eigen::MatrixXd S = U.transpose() * Z;
-    S.diagonal() += c.cwiseInverse();
-    y -= Z * S.ldlt().solve(U.transpose() * y);
-}
-
 void add_centre_pulls(const std::vector<CentrePull>& pulls, const Eigen::VectorXd& x,
                       const std::vector<int>& diagonal, double* values, Eigen::VectorXd& rhs)
 {

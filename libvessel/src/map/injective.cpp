@@ -731,8 +731,8 @@ Eigen::VectorXd Slim::global_target()
             rhs[i] += pin_weight_ * x_[i];
         }
     // The pulls: the proxy in the matrix, or the Gauss-Newton terms W (r + u . (y - x))^2,
-    // whose part of the right-hand side is W (u . x - r) u and whose W u u^T the Woodbury
-    // identity adds after the solve.
+    // whose part of the right-hand side is W (u . x - r) u and whose W u u^T the solve adds
+    // by the Woodbury identity.
     std::vector<detail::PullRow> pull_rows;
     if (options_.pull_steps == PullSteps::GaussNewton)
         pull_rows = detail::active_pull_rows(options_.centre_pulls, x_);
@@ -765,17 +765,16 @@ Eigen::VectorXd Slim::global_target()
     }
     if (solver_.info() != Eigen::Success)
         throw SolverError("injective_refine: CHOLMOD could not factor the global step");
-    Eigen::VectorXd target = solver_.solve(rhs);
-    if (solver_.info() != Eigen::Success || !target.allFinite())
-        throw SolverError("injective_refine: CHOLMOD solve failed");
-    if (!pull_rows.empty())
+    Eigen::VectorXd target;
+    if (pull_rows.empty())
+        target = solver_.solve(rhs);
+    else
     {
         const detail::PullColumns columns = detail::pull_columns(pull_rows, 2 * n_all_, 1.0);
-        const Eigen::MatrixXd Z = solver_.solve(columns.U);
-        if (solver_.info() != Eigen::Success || !Z.allFinite())
-            throw SolverError("injective_refine: CHOLMOD solve failed");
-        detail::add_low_rank_inverse(target, columns.U, Z, columns.c);
+        target = solver_.solve_with_low_rank(rhs, columns.U, columns.c);
     }
+    if (solver_.info() != Eigen::Success || !target.allFinite())
+        throw SolverError("injective_refine: CHOLMOD solve failed");
     return target;
 }
 

@@ -2,12 +2,14 @@
 // runs the single level on a decimated copy of the cut mesh.
 #include "detail/solve_map.h"
 
-#include "detail/look_retry.h"
 #include "detail/boundary_guard.h"
 #include "detail/face_jacobian.h"
-#include "detail/segments.h"
+#include "detail/look_retry.h"
+#include "detail/map_distortion.h"
 #include "detail/refine_map.h"
+#include "detail/segments.h"
 #include "detail/vertex_order.h"
+#include "vessel/core/errors.h"
 #include "vessel/map/area_polish.h"
 #include "vessel/map/centre_pull.h"
 #include "vessel/map/embedding.h"
@@ -18,7 +20,6 @@
 #include "vessel/map/untangle.h"
 #include "vessel/quality/metrics.h"
 #include "vessel/solve/ordering.h"
-#include "vessel/core/errors.h"
 
 #include <algorithm>
 #include <atomic>
@@ -399,6 +400,10 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // kStalledFinishRatio: the sweeps' local steps are then held, by the boundary's near contacts,
 // short of what Newton steps of the whole map reach, where the surface's own distortion ends
 // its sweeps below it (AneuRisk's sac at 1.006).
+// A pulled carry is finished as well where its mean |log area| is still above that of the coarse
+// map it came from: its energy does not see the area's error, so how much its last sweep lowered
+// that energy does not say whether it has arrived, and a finer mesh's map that reads worse than
+// its coarse solve has not.
 // The finish goes on, kFinishNewtonSteps at a time up to kFinishMaxNewtonSteps, while its last
 // steps removed at least kFinishGoOnShare of the energy's excess over the minimum and left it
 // above kFinishRatio times that minimum: such a carry (held by near contacts where the cuts
@@ -451,6 +456,11 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     // level's own wavelength relaxed away, which the finer levels' local steps would remove
     // only slowly.
     const double lambda = relax_weight(options);
+    // A pulled map's area on the coarse mesh, which its carry should come down to (the finish
+    // below, kFinishRatio).
+    const double coarse_area =
+        pulls_at ? detail::map_distortion(levels.back().mesh, uv).mean_abs_log_area_normalized
+                 : 0.0;
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
     Eigen::MatrixX2d below_uv;  // the map of levels[l + 1].mesh, which levels[l]'s came from
     for (std::size_t l = levels.size(); l-- > 0;)
@@ -510,9 +520,14 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                               energy / minimum);
                 return line;
             }
+            // A pulled carry whose area is still above its coarse map's has not arrived,
+            // whatever its last sweep did.
+            const bool pulled_short =
+                pulled &&
+                detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
             if (!relaxed.area_within_tolerance && (pulled || energy > kFinishRatio * minimum) &&
                 (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
-                 energy > kStalledFinishRatio * minimum) &&
+                 energy > kStalledFinishRatio * minimum || pulled_short) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
                 AreaPolishOptions polish = carried_polish(

@@ -4,6 +4,7 @@
 #include "solve/serial_openmp.h"
 #include "solve/subtree_factorization.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
@@ -75,7 +76,53 @@ public:
         prepare(A);
     }
 
+    //! \brief (A + U diag(c) U^T)^-1 b for the factorized A and a low-rank term (every c > 0)
+    //! by the Woodbury identity (Hager 1989, "Updating the inverse of a matrix") on the
+    //! factor's triangular halves, P A P^T = L L^T: with y = L^-1 P b and Y = L^-1 P U,
+    //! x = P^T L^-T (y - Y (diag(1 / c) + Y^T Y)^-1 Y^T y). Each column of U takes a forward
+    //! solve and no backward one, where A^-1 U would take both.
+    //! Check info().
+    Eigen::VectorXd solve_with_low_rank(const Eigen::VectorXd& b, const Eigen::MatrixXd& U,
+                                        const Eigen::VectorXd& c)
+    {
+        const Eigen::Index k = U.cols();
+        Eigen::MatrixXd forward(b.size(), k + 1);
+        forward.col(0) = b;
+        forward.rightCols(k) = U;
+        if (!apply(CHOLMOD_P, forward) || !apply(CHOLMOD_L, forward))
+            return {};
+        const auto Y = forward.rightCols(k);
+        Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k);
+        S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose());
+        S.diagonal() += c.cwiseInverse();
+        Eigen::MatrixXd x = forward.col(0);
+        x -= Y * S.selfadjointView<Eigen::Lower>().ldlt().solve(Y.transpose() * x);
+        if (!apply(CHOLMOD_Lt, x) || !apply(CHOLMOD_Pt, x))
+            return {};
+        return x;
+    }
+
 private:
+    // B <- CHOLMOD's solve of system \p sys (CHOLMOD_L, CHOLMOD_Lt, CHOLMOD_P or CHOLMOD_Pt)
+    // with the factor, column by column; sets info().
+    bool apply(int sys, Eigen::MatrixXd& B)
+    {
+        cholmod_dense view{};
+        view.nrow = view.d = static_cast<size_t>(B.rows());
+        view.ncol = static_cast<size_t>(B.cols());
+        view.nzmax = view.nrow * view.ncol;
+        view.x = B.data();
+        view.xtype = CHOLMOD_REAL;
+        view.dtype = CHOLMOD_DOUBLE;
+        cholmod_dense* X = cholmod_solve(sys, this->m_cholmodFactor, &view, &this->cholmod());
+        const bool solved = X != nullptr;
+        this->m_info = solved ? Eigen::Success : Eigen::NumericalIssue;
+        if (solved)
+            B = Eigen::Map<const Eigen::MatrixXd>(static_cast<double*>(X->x), B.rows(), B.cols());
+        cholmod_free_dense(&X, &this->cholmod());
+        return solved;
+    }
+
     // The numeric factorization's plan for the analysed pattern of A (none for a simplicial
     // factor or a matrix not compressed: factorize() then calls CHOLMOD's).
     void prepare(const Eigen::SparseMatrix<double>& A)
