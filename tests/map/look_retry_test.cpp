@@ -118,7 +118,7 @@ TEST_SUITE("slow")
     // "overlaps" in the name: the slow overlap tests run together (ctest -L slow -R overlap).
     TEST_CASE(
         "overlaps: look retry whose pulled map is over the area bound keeps the default "
-        "map, bit for bit")
+        "map bit for bit")
     {
         // The 10-outlet tree of seed 1 (edge 0.75) has an outlet below the inlet by default, so
         // the retry runs on the coarse mesh; its pulled map (0 below) costs more area than both
