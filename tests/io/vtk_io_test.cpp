@@ -236,6 +236,10 @@ TEST_CASE("vtk_io: fuzzer findings are refused with a clear IoError")
         // Points of one component: VTK refused them but leaked the array it had made.
         {"vtp_points_one_component.vtp",
          "the <Points> array 'Points' has NumberOfComponents=\"1\", not 3"},
+        // A byte between <AppendedData> and its '_': VTK counted the offsets from that byte, the
+        // check from the '_' after it, so VTK read a compression header of 2^30 blocks.
+        {"vtp_byte_before_appended_underscore.vtp",
+         "the data of <AppendedData> does not start with '_' after its tag"},
     };
     for (const auto& [file, message] : cases)
     {

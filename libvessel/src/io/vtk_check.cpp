@@ -857,9 +857,15 @@ void check_vtp(const std::string& path)
         if (!next_tag(path, bytes, from, tag))
             corrupt(path, "the <AppendedData> tag does not close");
         raw = tag.get("encoding") == "raw";
-        const std::size_t underscore = bytes.find('_', tag.close);
-        if (underscore == std::string::npos)
-            corrupt(path, "<AppendedData> has no '_' before its data");
+        // vtkXMLDataParser::FindAppendedDataPosition() takes the data to start one byte after
+        // the first non-space byte past the tag's first '>', which is meant to be '_'; the
+        // arrays' offsets count from there, so anything else before the '_' moves every
+        // array VTK reads away from the one checked here.
+        std::size_t underscore = bytes.find('>', appended);
+        if (underscore != std::string::npos)
+            underscore = bytes.find_first_not_of(" \t\n\v\f\r", underscore + 1);
+        if (underscore == std::string::npos || bytes[underscore] != '_')
+            corrupt(path, "the data of <AppendedData> does not start with '_' after its tag");
         data = underscore + 1;
         if (!raw)
         {
