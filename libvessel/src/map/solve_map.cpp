@@ -521,13 +521,15 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 return line;
             }
             // A pulled carry whose area is still above its coarse map's has not arrived,
-            // whatever its last sweep did.
-            const bool pulled_short =
-                pulled &&
-                detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
+            // whatever its last sweep did; its area is measured only where the rest of the rule
+            // leaves the finish open.
+            const auto pulled_short = [&] {
+                return pulled &&
+                       detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
+            };
             if (!relaxed.area_within_tolerance && (pulled || energy > kFinishRatio * minimum) &&
                 (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
-                 energy > kStalledFinishRatio * minimum || pulled_short) &&
+                 energy > kStalledFinishRatio * minimum || pulled_short()) &&
                 energy <= multilevel.max_energy_ratio * minimum)
             {
                 AreaPolishOptions polish = carried_polish(
