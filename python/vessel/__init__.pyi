@@ -102,6 +102,7 @@ def flatten(
     relief_cuts: int = ...,
     relief_target: float = ...,
     largest_component: bool = ...,
+    remove_caps: bool = ...,
     refuse_polygons: bool = ...,
 ) -> FlatMap: ...
 def flatten_options() -> List[str]: ...

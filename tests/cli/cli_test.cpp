@@ -131,6 +131,18 @@ void check_bad(const std::string& dir, const std::string& input, const std::stri
     CHECK_FALSE(fs::exists(dir + "/r.json"));
 }
 
+// The blind tube (radius 1.5, closed by a dome) with its open end closed too, by a flat fan of
+// 32 triangles round a vertex on the loop's plane.
+RawMesh capped_blind_tube()
+{
+    RawMesh tube = vessel::test::blind_tube(1.5, 4.0, 32, 10, 8);
+    const int centre = static_cast<int>(tube.points.size());
+    tube.points.emplace_back(0.0, 0.0, 0.0);
+    for (int i = 0; i < 32; ++i)
+        tube.faces.push_back({(i + 1) % 32, i, centre});
+    return tube;
+}
+
 }  // namespace
 
 TEST_CASE("cli: out of memory and file-system errors are said with the input and a remedy")
@@ -891,13 +903,58 @@ TEST_CASE("cli: a blind-ended vessel with its open end capped too is refused as 
 {
     // The blind tube with its open end capped too: 0 loops.
     const auto dir = temp_dir("cli_one_end_capped");
-    RawMesh tube = vessel::test::blind_tube(1.5, 4.0, 32, 10, 8);
-    const int centre = static_cast<int>(tube.points.size());
-    tube.points.emplace_back(0.0, 0.0, 0.0);
-    for (int i = 0; i < 32; ++i)
-        tube.faces.push_back({(i + 1) % 32, i, centre});
-    write_obj(dir + "/in.obj", soup(tube));
+    write_obj(dir + "/in.obj", soup(capped_blind_tube()));
     check_bad(dir, dir + "/in.obj", "the surface is closed (no open ends); remove the caps");
+}
+
+TEST_CASE("cli: --remove-caps opens a blind-ended vessel's flat cap")
+{
+    // The capped blind tube above: its open end's flat cap removed, the dome kept.
+    const auto dir = temp_dir("cli_remove_caps_blind");
+    write_obj(dir + "/in.obj", soup(capped_blind_tube()));
+    const Outcome o = flatten_cli(dir, dir + "/in.obj -o " + dir + "/flat.obj --remove-caps " +
+                                           "--report " + dir + "/r.json");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    CHECK_MESSAGE(vessel::test::contains(o.err, "note: removed 1 flat cap (32 faces; area "),
+                  o.err);
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
+    CHECK(report["flat_caps_removed"] == 1);
+    CHECK(report["counts"]["boundary_loops"].size() == 1);
+    const auto c = check_flat_obj(read_flat_obj(dir + "/flat.obj"));
+    CHECK(c.euler == 1);
+    CHECK(c.flipped == 0);
+}
+
+TEST_CASE(
+    "cli: --remove-caps maps SPHinXsys' capped carotid bifurcation, and refuses vmtk's "
+    "domed caps")
+{
+    const std::string input =
+        std::string(VESSEL_SHARED_DATA) + "/sphinxsys-medical/carotid-bif-capped.stl";
+    REQUIRE(fs::exists(input));
+    const auto dir = temp_dir("cli_remove_caps_carotid");
+    const Outcome o = flatten_cli(
+        dir, input + " -o " + dir + "/flat.obj --remove-caps --report " + dir + "/r.json");
+    REQUIRE_MESSAGE(o.status == 0, o.err);
+    // MANIFEST.md: 3 flat caps of 30.9, 14.8 and 7.2 mm^2.
+    CHECK_MESSAGE(
+        vessel::test::contains(o.err,
+                               "note: removed 3 flat caps (746 faces; areas 30.9, 14.8 and "
+                               "7.21, largest first)"),
+        o.err);
+    const auto report = nlohmann::json::parse(read_bytes(dir + "/r.json"));
+    CHECK(report["flat_caps_removed"] == 3);
+    CHECK(report["counts"]["boundary_loops"].size() == 3);
+    CHECK(report["quality"]["flipped_triangles"] == 0);
+    const auto check = vessel::test::flatcheck(input, dir + "/flat.obj");
+    CHECK(check["flips"] == 0);
+    CHECK(check["overlap_fraction"].get<double>() == 0.0);
+    CHECK(check["uv"]["boundary_loops"] == 1);
+    CHECK(check["area"]["mean_abs_log_ratio"].get<double>() < 0.01);
+
+    check_bad(temp_dir("cli_remove_caps_aorta"),
+              std::string(VESSEL_SHARED_DATA) + "/vmtk-test-data/aorta-surface.ply --remove-caps",
+              "the surface is closed (no open ends) and has no flat cap to remove");
 }
 
 TEST_CASE("cli: an output that is not .obj, .vtp or .ply is refused")

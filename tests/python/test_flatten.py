@@ -159,3 +159,23 @@ def test_threads_give_the_same_maps(carotid, real_data):
         together = list(pool.map(lambda s: vessel.flatten(s).uv, surfaces))
     for a, b in zip(alone, together):
         np.testing.assert_array_equal(a, b)
+
+
+def test_remove_caps_same_map_as_cli(real_data, flatten_exe, tmp_path):
+    # SimVascular's capped demo model: its 3 flat caps removed, it maps as the open model does
+    # (MANIFEST.md: demo-model-open.ply is this file without the caps' 145 triangles).
+    mesh = real_data / "simvascular-tests/demo-model-capped.ply"
+    surface = vessel.read(mesh)
+    with pytest.raises(vessel.InvalidInputError, match="--remove-caps"):
+        vessel.flatten(surface)
+    flat = vessel.flatten(surface, remove_caps=True)
+    obj = tmp_path / "flat.obj"
+    done = run_cli(flatten_exe, mesh, obj, "--remove-caps")
+    assert done.returncode == 0, done.stderr
+    assert flat.report["flat_caps_removed"] == 3
+    assert_same_map_as_cli(flat, obj, surface.points)
+    assert len(flat.face_origin) == len(surface.faces) - 145
+    assert flat.quality["flipped_triangles"] == 0
+    opened = vessel.flatten(vessel.read(real_data / "simvascular-tests/demo-model-open.ply"))
+    assert flat.quality["mean_abs_log_area_ratio"] == pytest.approx(
+        opened.quality["mean_abs_log_area_ratio"], rel=1e-6)

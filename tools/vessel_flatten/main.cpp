@@ -214,6 +214,11 @@ CLI::Option* add_io_options(CLI::App& app, Args& a, const Groups& g)
                  "Keep only the largest connected component of the input (noted) instead of "
                  "refusing a surface in several pieces")
         ->group(input_tuning);
+    app.add_flag("--remove-caps", surface_options.remove_flat_caps,
+                 "Remove the flat caps that close the vessel ends (a capped SimVascular model, "
+                 "a segmentation closed by planes): planar patches meeting the wall at a sharp "
+                 "rim; each is reported. Point and cell data still match")
+        ->group(input_tuning);
     app.add_flag("--repair", batch.repair,
                  "Apply the safe repairs (CGAL): remove degenerate and duplicate faces, orient "
                  "the faces consistently, stitch coincident borders; each is reported")

@@ -68,6 +68,8 @@ nlohmann::json report_json(const std::string& input, const PreparedInput& in,
                         {"hole_vertices_added", s.hole_vertices},
                         {"holes_left_unfilled", s.unfilled_holes}};
     }
+    if (surface.removed_caps > 0)
+        j["flat_caps_removed"] = surface.removed_caps;
     const auto& t = r.timings;
     j["timings"] = {{"read", read_s}, {"Z", t.Z},   {"GC", t.GC}, {"VC", t.VC},      {"AC", t.AC},
                     {"L", t.L},       {"F", t.F},   {"total", t.total()}, {"write", write_s},

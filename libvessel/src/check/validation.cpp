@@ -1,6 +1,7 @@
 #include "vessel/check/validation.h"
 
 #include "detail/edge_groups.h"
+#include "detail/flat_caps.h"
 #include "detail/orient.h"
 #include "detail/union_find.h"
 #include "vessel/core/errors.h"
@@ -508,6 +509,48 @@ void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOption
            number(fill) + ", CGAL hole filling of the loops shorter than that) or in the source");
 }
 
+// The flat caps' faces dropped from \p tri (TreeSurfaceOptions::remove_flat_caps), noted.
+// A cap's face normals lie within 5 degrees of one another's: a capping tool's caps are planar
+// to the rounding of their coordinates, which turns the normals of its smallest faces by up
+// to 4 degrees (SPHinXsys' carotid bifurcation, an STL of floats). Its rim turns by at least
+// 30 degrees everywhere and by 60 on average (detail::find_flat_caps() says why), and has more
+// edges than a vertex's star, as a vessel end must (TreeSurfaceOptions::hole_max_edges).
+void remove_flat_caps(const RawMesh& raw, Triangulated& tri, TreeSurface& out)
+{
+    constexpr double kCoplanarDeg = 5.0, kMinRimDeg = 30.0, kMeanRimDeg = 60.0;
+    constexpr int kMinRimEdges = 7;
+    std::vector<detail::FlatCap> caps = detail::find_flat_caps(
+        raw.points, tri.triangles, kCoplanarDeg, kMinRimDeg, kMeanRimDeg, kMinRimEdges);
+    if (caps.empty())
+        return;
+    std::vector<char> drop(tri.triangles.size(), 0);
+    std::size_t faces = 0;
+    for (const auto& cap : caps)
+        for (const int t : cap.triangles)
+        {
+            drop[t] = 1;
+            ++faces;
+        }
+    Triangulated kept;
+    kept.polygons = tri.polygons;
+    for (std::size_t t = 0; t < tri.triangles.size(); ++t)
+        if (!drop[t])
+        {
+            kept.triangles.push_back(tri.triangles[t]);
+            kept.source_face.push_back(tri.source_face[t]);
+        }
+    tri = std::move(kept);
+    std::sort(caps.begin(), caps.end(),
+              [](const auto& a, const auto& b) { return a.area > b.area; });
+    std::string areas;
+    for (std::size_t i = 0; i < caps.size(); ++i)
+        areas += (i == 0 ? "" : i + 1 == caps.size() ? " and " : ", ") + number(caps[i].area);
+    out.removed_caps = static_cast<int>(caps.size());
+    out.notes.push_back("removed " + plural(caps.size(), "flat cap") + " (" +
+                        plural(faces, "face") + "; area" + (caps.size() > 1 ? "s " : " ") + areas +
+                        (caps.size() > 1 ? ", largest first" : "") + ")");
+}
+
 // Winds all faces alike (issue 6: inconsistent orientation is fixed with a warning); refuses a
 // surface that cannot be (a Moebius strip).
 void orient(Triangulated& tri, const detail::EdgeGroups& edges, TreeSurface& out)
@@ -542,13 +585,20 @@ TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& opti
     if (options.orient_consistently)
         orient(tri, edges, out);
     select_component(tri, check_manifold(raw, tri, edges), options, out.notes);
+    if (options.remove_flat_caps)
+        remove_flat_caps(raw, tri, out);
 
     out.input_vertices = static_cast<int>(raw.points.size());
     out.mesh = build(raw, tri, false);
     const auto loops = boundary_loops(out.mesh);
     if (loops.empty())
-        refuse("the surface is closed (no open ends); remove the caps at the inlet and outlets "
-               "so each vessel end is an open boundary loop");
+        refuse(options.remove_flat_caps
+                   ? "the surface is closed (no open ends) and has no flat cap to remove (a "
+                     "planar patch meeting the wall at a sharp rim); open each vessel end in "
+                     "the source, e.g. by clipping it with vmtksurfaceclipper"
+                   : "the surface is closed (no open ends); remove the caps at the inlet and "
+                     "outlets so each vessel end is an open boundary loop (flat caps: "
+                     "vessel-flatten --remove-caps)");
     const long chi = static_cast<long>(out.mesh.n_vertices()) -
                      static_cast<long>(out.mesh.n_edges()) +
                      static_cast<long>(out.mesh.n_faces());

@@ -21,6 +21,13 @@ struct TreeSurfaceOptions
     //! Keep only the largest connected component (by faces) and drop the others (noted);
     //! otherwise refuse a surface in several pieces.
     bool keep_largest_component = false;
+    //! Remove the flat caps that close the vessel ends (noted, TreeSurface::removed_caps), so
+    //! that a capped model (SimVascular's, a segmentation closed by planes) opens at its inlet
+    //! and outlets: each planar patch that is a disk and meets the wall at a sharp rim (a
+    //! crease of at least 30 degrees everywhere and 60 on average) is dropped; its interior
+    //! vertices are then unused, and the others keep their input indices, so point and cell
+    //! data still match. Curved caps are not found: the surface is then refused as closed.
+    bool remove_flat_caps = false;
     //! Faces whose area is below `degenerate_area_factor * (mean edge length)^2` are degenerate.
     double degenerate_area_factor = 1e-10;
     //! A vertex farther than `far_vertex_factor` times the median distance of the vertices from
@@ -51,6 +58,7 @@ struct TreeSurface
     //! Faces whose winding was reversed to agree with their neighbours (orient_consistently);
     //! not counting a reversal of all faces by orient_outward.
     int reoriented_faces = 0;
+    int removed_caps = 0;            //!< flat caps removed (TreeSurfaceOptions::remove_flat_caps)
     std::vector<std::string> notes;  //!< repairs applied, one human-readable line each
 };
 
@@ -60,8 +68,8 @@ struct TreeSurface
 //! makes a disk, which flatten() maps without cuts. Checks run in this order: coordinates, face
 //! corners, far vertices, zero area, duplicates, orientation (fixed, see orient_consistently; a
 //! non-orientable surface is refused), non-manifold edge, orientation (only without
-//! orient_consistently), non-manifold vertex, coincident boundary loops, components, closed,
-//! genus.
+//! orient_consistently), non-manifold vertex, coincident boundary loops, components, then
+//! (with remove_flat_caps) the flat caps are removed, then closed, genus.
 //! \throw InvalidInputError with a one-line message naming the problem (with element ids or
 //! counts) and what to do about it.
 TreeSurface make_tree_surface(const RawMesh& raw, const TreeSurfaceOptions& options = {});
