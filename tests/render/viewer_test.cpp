@@ -261,6 +261,24 @@ TEST_CASE("viewer: vessel-view and vessel-flatten --html write pages with the re
     CHECK(test::run(std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir + "/x.obj -q") != 0);
 }
 
+TEST_CASE("viewer: vessel-view --remove-caps opens SimVascular's capped demo model")
+{
+    const std::string dir = test::temp_dir("viewer-caps");
+    const std::string mesh =
+        std::string(VESSEL_SHARED_DATA) + "/simvascular-tests/demo-model-capped.vtp";
+    const std::string view = std::string(VESSEL_VIEW_EXE) + " " + mesh + " -o " + dir;
+    CHECK(test::run(view + "/closed.html -q 2> " + dir + "/err") != 0);
+    CHECK(read_file(dir + "/err").find("(flat caps: vessel-flatten --remove-caps)") !=
+          std::string::npos);
+    if (!viewer_available())
+        return;
+    REQUIRE(test::run(view + "/open.html --remove-caps -q") == 0);
+    const nlohmann::json meta =
+        nlohmann::json::parse(script_text(read_file(dir + "/open.html"), "vessel-meta"));
+    const std::string flatten = meta["flatten_command"];
+    CHECK(flatten.find(" --remove-caps") != std::string::npos);
+}
+
 TEST_CASE("viewer: vessel-view shows the input's arrays and a --fields series, as vessel-flatten")
 {
     const std::string dir = test::temp_dir("viewer-fields");

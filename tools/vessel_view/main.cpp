@@ -23,6 +23,7 @@ int main(int argc, char** argv)
     vessel::cli::FieldArgs field_args;
     std::vector<std::string> viewpoint;
     bool demo_field = false, quiet = false;
+    vessel::TreeSurfaceOptions surface_options;
     vessel::FlattenOptions options;
     vessel::PulseOptions pulse;
     app.add_option("input", input,
@@ -48,6 +49,9 @@ int main(int argc, char** argv)
     app.add_flag("--demo-field", demo_field,
                  "Add a synthetic travelling pulse (90 steps over "
                  "1.8 s) to try the time controls");
+    app.add_flag("--remove-caps", surface_options.remove_flat_caps,
+                 "Remove the flat caps that close the vessel ends, as vessel-flatten "
+                 "--remove-caps does");
     app.add_option("--title", title, "Page title (default: the input file name)");
     app.add_flag("-q,--quiet", quiet, "No progress lines on stderr");
     try
@@ -76,7 +80,8 @@ int main(int argc, char** argv)
                 "when libvessel was built); install nodejs and npm and rebuild");
         const vessel::cli::FieldInput in =
             vessel::cli::read_field_input(input, field_args);
-        const vessel::TreeSurface surface = vessel::make_tree_surface(in.data.mesh);
+        const vessel::TreeSurface surface =
+            vessel::make_tree_surface(in.data.mesh, surface_options);
         if (!quiet)
             std::fprintf(stderr, "read %zu vertices, %zu faces; flattening...\n",
                          surface.mesh.n_vertices(), surface.mesh.n_faces());
@@ -108,6 +113,8 @@ int main(int argc, char** argv)
         if (app.count("--match-tolerance"))
             flatten.insert(flatten.end(), {"--match-tolerance",
                                            std::to_string(field_args.series.position_tolerance)});
+        if (surface_options.remove_flat_caps)
+            flatten.push_back("--remove-caps");
         if (cost != "curvature")
             flatten.insert(flatten.end(), {"--cost", cost});
         if (app.count("--alpha"))
