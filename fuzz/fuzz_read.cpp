@@ -1,5 +1,5 @@
 // libFuzzer target: bytes -> a file with extension VESSEL_FUZZ_EXT -> read_raw_mesh() ->
-// make_tree_surface(). The documented errors (IoError, InvalidInputError, TopologyError) are
+// make_tree_surface(), as it is and with its flat caps removed. The documented errors (IoError, InvalidInputError, TopologyError) are
 // the expected answers to bad bytes; anything else (another exception, a crash, a sanitizer
 // report, a hang) is a bug.
 #include "vessel/core/errors.h"
@@ -42,7 +42,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
     try
     {
-        vessel::load_tree_surface(input_path());
+        const vessel::RawMesh raw = vessel::read_raw_mesh(input_path());
+        vessel::TreeSurfaceOptions caps;
+        caps.remove_flat_caps = true;
+        for (const auto& options : {vessel::TreeSurfaceOptions{}, caps})
+            try
+            {
+                vessel::make_tree_surface(raw, options);
+            }
+            catch (const vessel::InvalidInputError&)
+            {}
     }
     catch (const vessel::IoError&)
     {

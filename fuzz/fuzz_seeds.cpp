@@ -1,7 +1,8 @@
 // Writes the seed corpus of the reader fuzzers: small phantoms (a tube, a coarse carotid
-// bifurcation, a closed sphere) in every format and encoding OpenMesh writes, and as VTK
+// bifurcation, a closed sphere, a tube closed by flat caps) in every format and encoding OpenMesh writes, and as VTK
 // PolyData (.vtp in each encoding and compressor, legacy .vtk ascii and binary, with a point and
 // a cell field), plus a few short hand-made files, into DIR/<ext>/.
+#include "vessel/cut/boundary.h"
 #include "vessel/io/io.h"
 #include "vessel/io/vtk_io.h"
 #include "vessel/phantom/phantom.h"
@@ -18,6 +19,24 @@
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// An open tube with each end closed by a fan round a vertex in the loop's plane: the flat caps
+// make_tree_surface() removes with TreeSurfaceOptions::remove_flat_caps.
+vessel::Mesh capped_tube()
+{
+    vessel::Mesh mesh = vessel::open_cylinder(1.0, 2.0, 8, 2);
+    for (const vessel::BoundaryLoop& loop : vessel::boundary_loops(mesh))
+    {
+        const auto centre = mesh.add_vertex(vessel::to_openmesh(loop.centroid));
+        for (const auto h : loop.halfedges)
+            mesh.add_face(mesh.from_vertex_handle(h), mesh.to_vertex_handle(h), centre);
+    }
+    return mesh;
+}
+
+}  // namespace
+
 int main(int argc, char** argv)
 {
     if (argc != 2)
@@ -31,7 +50,8 @@ int main(int argc, char** argv)
     const std::vector<std::pair<std::string, vessel::Mesh>> meshes = {
         {"tube", vessel::open_cylinder(1.0, 2.0, 6, 2)},
         {"carotid", vessel::carotid_phantom(carotid)},
-        {"sphere", vessel::icosphere(1.0, 0)}};
+        {"sphere", vessel::icosphere(1.0, 0)},
+        {"capped", capped_tube()}};
     omerr().disable();
     for (const std::string ext : {"obj", "off", "ply", "stl"})
     {

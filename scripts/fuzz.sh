@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of the readers (fuzz/: clang, ASan + UBSan) into build-fuzz/ and
 # runs each for SECONDS (default 10) from the seeds fuzz_seeds writes and the fuzzers' findings
-# kept in tests/data/fuzz. The libFuzzer seed is fixed (VESSEL_FUZZ_SEED, default 1), so that
-# a short run explores the same inputs each time; set VESSEL_FUZZ_SEED=0 for a random one.
+# kept in tests/data/fuzz. The libFuzzer seed is fixed (VESSEL_FUZZ_SEED, default 1); a run
+# bounded by time still need not meet the same inputs each time (docs/bad-input.md, "Fuzzing").
+# Set VESSEL_FUZZ_SEED=0 for a random seed.
 # Any crash, sanitizer report, leak or input over 10 s fails the run; its input is written to
 # build-fuzz/fuzz/artifacts/.
 set -euo pipefail
