@@ -511,8 +511,8 @@ void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOption
 
 // The flat caps' faces dropped from \p tri (TreeSurfaceOptions::remove_flat_caps), noted.
 // A cap's face normals lie within 5 degrees of one another's: a capping tool's caps are planar
-// to the rounding of their coordinates, which turns the normals of its smallest faces by up
-// to 4 degrees (SPHinXsys' carotid bifurcation, an STL of floats). Its rim turns by at least
+// to the rounding of their coordinates, which in a file of floats (STL) turns the normals of a
+// cap's smallest faces by a few degrees. Its rim turns by at least
 // 30 degrees everywhere and by 60 on average (detail::find_flat_caps() says why), and has more
 // edges than a vertex's star, as a vessel end must (TreeSurfaceOptions::hole_max_edges).
 void remove_flat_caps(const RawMesh& raw, Triangulated& tri, TreeSurface& out)

@@ -22,15 +22,15 @@ struct FlatCap
 //!
 //! A cap is a maximal patch of faces joined across edges whose normals lie within
 //! \p coplanar_deg of the first face's (the patch is planar, to the rounding of small faces'
-//! normals), that is a topological disk (one
-//! rim loop; V - E + F = 1), lies wholly inside the surface (no edge of it on the surface's
-//! boundary, which is an open vessel end already), and meets the wall along its rim at a crease:
+//! normals), that is a topological disk (one rim loop; V - E + F = 1), lies wholly inside the
+//! surface (no edge of it on the surface's boundary, which is an open vessel end already), and
+//! meets the wall along its rim at a crease:
 //! the dihedral angle across every rim edge at least \p min_rim_deg and on average at least
 //! \p mean_rim_deg. Capping tools (SimVascular's, vmtksurfacecapper with its flat caps, a
 //! segmentation closed by planes) leave the cap about perpendicular to the wall, 90 degrees
 //! all round an end cut square and 45-135 degrees round one cut obliquely; the wall itself turns
-//! by at most 360 / n degrees between faces on a vessel n faces round (45 on the coarsest real
-//! tubes of 8), and a flat stretch of the wall joins the wall around it smoothly, so it is no cap.
+//! by about 360 / n degrees between faces on a vessel n faces round (45 on a coarse tube of 8),
+//! and a flat stretch of the wall joins the wall around it smoothly, so it is no cap.
 //! The rim also has at least \p min_rim_edges edges: a sliver in a crease between two walls
 //! can be a planar disk with a sharp rim of three.
 //! \param triangles corner indices into \p points, wound alike (normals on one side).
