@@ -189,201 +189,158 @@ using F = vessel::FlattenOptions;
 const std::map<std::string, Setter>& setters()
 {
     using vessel::CostKind;
-    static const std::
-        map<std::string, Setter>
-            table =
-                {
-                    {"cost", choice<CostKind>(
-                                 {{"curvature", CostKind::Curvature},
-                                  {"geodesic", CostKind::Geodesic},
-                                  {"blend", CostKind::Blend}},
-                                 [](CallOptions& o) -> CostKind& { return o.flatten.cost.kind; })},
-                    {"blend", number<double>(
-                                  [](CallOptions& o) -> double& { return o.flatten.cost.blend; })},
-                    {"viewpoint",
-                     [](CallOptions& o, const std::string& name, py::handle value) {
-                         if (py::isinstance<py::str>(value))
-                         {
-                             const std::string word = value.cast<std::string>();
-                             if (word != "face-on")
-                                 throw vessel::InvalidInputError(
-                                     "option viewpoint must be 3 numbers (x, y, "
-                                     "z) or \"face-on\", got \"" +
-                                     word + "\"");
-                             o.flatten.cost.face_on = true;
-                             return;
-                         }
-                         const auto p = option_value<std::vector<double>>(
-                             name, value, "3 numbers or \"face-on\"");
-                         if (p.size() != 3)
-                             throw vessel::InvalidInputError(
-                                 "option viewpoint must be 3 numbers (x, y, z), "
-                                 "got " +
-                                 std::to_string(p.size()));
-                         o.flatten.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
-                             Eigen::Vector3d(p[0], p[1], p[2]));
-                         o.flatten.cost.viewpoint = Eigen::Vector3d(p[0], p[1], p[2]);
-                     }},
-                    {"alpha",
-                     number<double>([](CallOptions& o) -> double& { return o.flatten.alpha_deg; })},
-                    {"layout",
-                     [](CallOptions& o, const std::string& name, py::handle value) {
-                         o.layout = option_value<std::string>(name, value, "a string");
-                     }},
-                    {"curvature_scale", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.curvature.scale;
+    static const std::map<std::string, Setter> table = {
+        {"cost", choice<CostKind>({{"curvature", CostKind::Curvature},
+                                   {"geodesic", CostKind::Geodesic},
+                                   {"blend", CostKind::Blend}},
+                                  [](CallOptions& o) -> CostKind& { return o.flatten.cost.kind; })},
+        {"blend", number<double>([](CallOptions& o) -> double& { return o.flatten.cost.blend; })},
+        {"viewpoint",
+         [](CallOptions& o, const std::string& name, py::handle value) {
+             if (py::isinstance<py::str>(value))
+             {
+                 const std::string word = value.cast<std::string>();
+                 if (word != "face-on")
+                     throw vessel::InvalidInputError("option viewpoint must be 3 numbers (x, y, "
+                                                     "z) or \"face-on\", got \"" + word + "\"");
+                 o.flatten.cost.face_on = true;
+                 return;
+             }
+             const auto p = option_value<std::vector<double>>(name, value, "3 numbers or \"face-on\"");
+             if (p.size() != 3)
+                 throw vessel::InvalidInputError("option viewpoint must be 3 numbers (x, y, z), "
+                                                 "got " + std::to_string(p.size()));
+             o.flatten.cuts.endpoints = std::make_shared<vessel::FarSideEndpoints>(
+                 Eigen::Vector3d(p[0], p[1], p[2]));
+             o.flatten.cost.viewpoint = Eigen::Vector3d(p[0], p[1], p[2]);
+         }},
+        {"alpha", number<double>([](CallOptions& o) -> double& { return o.flatten.alpha_deg; })},
+        {"layout", [](CallOptions& o, const std::string& name, py::handle value) {
+             o.layout = option_value<std::string>(name, value, "a string");
+         }},
+        {"curvature_scale",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.curvature.scale; })},
+        {"arap_iterations",
+         number<int>([](CallOptions& o) -> int& { return o.flatten.arap.max_iterations; })},
+        {"slim_iterations",
+         number<int>([](CallOptions& o) -> int& { return o.flatten.injective.max_iterations; })},
+        {"slim_momentum",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.injective.momentum; })},
+        {"scaffold_tolerance", number<double>([](CallOptions& o) -> double& {
+             return o.flatten.injective.scaffold_tolerance;
+         })},
+        {"crossing_patience", number<int>([](CallOptions& o) -> int& {
+             return o.flatten.injective.crossing_patience;
+         })},
+        {"refine", choice<vessel::Refinement>(
+                       {{"injective", vessel::Refinement::Injective},
+                        {"arap", vessel::Refinement::Arap},
+                        {"none", vessel::Refinement::None}},
+                       [](CallOptions& o) -> vessel::Refinement& { return o.flatten.refinement; })},
+        {"overlaps", choice<vessel::OverlapPolicy>(
+                         {{"prevent", vessel::OverlapPolicy::Prevent},
+                          {"restart", vessel::OverlapPolicy::Restart},
+                          {"keep", vessel::OverlapPolicy::Keep}},
+                         [](CallOptions& o) -> vessel::OverlapPolicy& {
+                             return o.flatten.overlaps;
+                         })},
+        {"restart_circle",
+         choice<bool>({{"layout", true}, {"tutte", false}},
+                      [](CallOptions& o) -> bool& { return o.flatten.restart_on_layout_circle; })},
+        {"look_pull", number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.weight; })},
+        {"look_pull_form",
+         choice<vessel::LookPullForm>(
+             {{"hinges", vessel::LookPullForm::Hinges}, {"rays", vessel::LookPullForm::Rays}},
+             [](CallOptions& o) -> vessel::LookPullForm& { return o.flatten.look_pull.form; })},
+        {"look_hold", number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.hold; })},
+        {"look_margin",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.look_pull.margin_deg; })},
+        {"look_retry", choice<vessel::LookRetry>(
+                           {{"auto", vessel::LookRetry::Auto},
+                            {"off", vessel::LookRetry::Off},
+                            {"force", vessel::LookRetry::Force}},
+                           [](CallOptions& o) -> vessel::LookRetry& {
+                               return o.flatten.look_retry.mode;
+                           })},
+        {"look_retry_pull",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.look_retry.pull; })},
+        {"look_retry_inversions", number<double>([](CallOptions& o) -> double& {
+             return o.flatten.look_retry.max_walk_inversion_fraction;
+         })},
+        {"look_retry_area", number<double>([](CallOptions& o) -> double& {
+             return o.flatten.look_retry.max_area_over_keep;
+         })},
+        // area_polish=LAMBDA turns the polish on with that weight; area_polish=False turns it off.
+        {"area_polish",
+         [](CallOptions& o, const std::string& name, py::handle value) {
+             if (py::isinstance<py::bool_>(value))
+             {
+                 o.flatten.polish_area = value.cast<bool>();
+                 return;
+             }
+             o.flatten.polish_area = true;
+             o.flatten.area_polish.area_weight = option_value<double>(name, value, "a number or False");
+         }},
+        {"arap_solver", choice<vessel::ArapSolver>(
+                            {{"local-global", vessel::ArapSolver::LocalGlobal},
+                             {"ceres", vessel::ArapSolver::Ceres}},
+                            [](CallOptions& o) -> vessel::ArapSolver& {
+                                return o.flatten.arap.solver;
+                            })},
+        {"init", choice<vessel::Initialization>(
+                     {{"layout-lscm", vessel::Initialization::LayoutLscm},
+                      {"spectral", vessel::Initialization::SpectralConformal},
+                      {"tutte", vessel::Initialization::Tutte}},
+                     [](CallOptions& o) -> vessel::Initialization& {
+                         return o.flatten.initialization;
                      })},
-                    {"arap_iterations", number<int>([](CallOptions& o) -> int& {
-                         return o.flatten.arap.max_iterations;
-                     })},
-                    {"slim_iterations", number<int>([](CallOptions& o) -> int& {
-                         return o.flatten.injective.max_iterations;
-                     })},
-                    {"slim_momentum", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.injective.momentum;
-                     })},
-                    {"scaffold_tolerance", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.injective.scaffold_tolerance;
-                     })},
-                    {"crossing_patience", number<int>([](CallOptions& o) -> int& {
-                         return o.flatten.injective.crossing_patience;
-                     })},
-                    {"refine",
-                     choice<vessel::Refinement>({{"injective", vessel::Refinement::Injective},
-                                                 {"arap", vessel::Refinement::Arap},
-                                                 {"none", vessel::Refinement::None}},
-                                                [](CallOptions& o) -> vessel::Refinement& {
-                                                    return o.flatten.refinement;
-                                                })},
-                    {"overlaps", choice<
-                                     vessel::OverlapPolicy>({{"prevent",
-                                                              vessel::OverlapPolicy::Prevent},
-                                                             {"restart",
-                                                              vessel::OverlapPolicy::Restart},
-                                                             {"keep", vessel::OverlapPolicy::Keep}},
-                                                            [](
-                                                                CallOptions& o) -> vessel::
-                                                                                    OverlapPolicy& {
-                                                                                        return o
-                                                                                            .flatten
-                                                                                            .overlaps;
-                                                                                    })},
-                    {"restart_circle", choice<bool>({{"layout", true}, {"tutte", false}},
-                                                    [](CallOptions& o) -> bool& {
-                                                        return o.flatten.restart_on_layout_circle;
-                                                    })},
-                    {"look_pull", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_pull.weight;
-                     })},
-                    {"look_pull_form",
-                     choice<vessel::LookPullForm>(
-                         {{"hinges", vessel::LookPullForm::Hinges},
-                          {"rays", vessel::LookPullForm::Rays}},
-                         [](CallOptions&
-                                o) -> vessel::LookPullForm& { return o.flatten.look_pull.form; })},
-                    {"look_hold", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_pull.hold;
-                     })},
-                    {"look_margin", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_pull.margin_deg;
-                     })},
-                    {"look_retry", choice<vessel::LookRetry>({{"auto", vessel::LookRetry::Auto},
-                                                              {"off", vessel::LookRetry::Off},
-                                                              {"force", vessel::LookRetry::Force}},
-                                                             [](CallOptions&
-                                                                    o) -> vessel::LookRetry& {
-                                                                 return o.flatten.look_retry.mode;
-                                                             })},
-                    {"look_retry_pull", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_retry.pull;
-                     })},
-                    {"look_retry_inversions", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_retry.max_walk_inversion_fraction;
-                     })},
-                    {"look_retry_area", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.look_retry.max_area_over_keep;
-                     })},
-                    // area_polish=LAMBDA turns the polish on with that weight; area_polish=False turns it off.
-                    {
-                        "area_polish",
-                        [](CallOptions& o, const std::string& name, py::handle value) {
-                            if (py::isinstance<py::bool_>(value))
-                            {
-                                o.flatten.polish_area = value.cast<bool>();
-                                return;
-                            }
-                            o.flatten.polish_area = true;
-                            o.flatten.area_polish.area_weight =
-                                option_value<double>(name, value, "a number or False");
-                        }},
-                    {"arap_solver",
-                     choice<vessel::ArapSolver>({{"local-global", vessel::ArapSolver::LocalGlobal},
-                                                 {"ceres", vessel::ArapSolver::Ceres}},
-                                                [](CallOptions& o) -> vessel::ArapSolver& {
-                                                    return o.flatten.arap.solver;
-                                                })},
-                    {"init", choice<vessel::Initialization>(
-                                 {{"layout-lscm", vessel::Initialization::LayoutLscm},
-                                  {"spectral", vessel::Initialization::SpectralConformal},
-                                  {"tutte", vessel::Initialization::Tutte}},
-                                 [](CallOptions& o) -> vessel::Initialization& {
-                                     return o.flatten.initialization;
-                                 })},
-                    {"direction_confidence", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.direction.confident_anisotropy;
-                     })},
-                    {"cut_route",
-                     choice<vessel::CutRoute>(
-                         {{"aligned", vessel::CutRoute::Aligned},
-                          {"streamline", vessel::CutRoute::Streamline},
-                          {"shortest", vessel::CutRoute::ShortestPath}},
-                         [](CallOptions& o) -> vessel::CutRoute& { return o.flatten.cuts.route; })},
-                    {"stream_field",
-                     choice<vessel::StreamField>({{"harmonic", vessel::StreamField::Harmonic},
-                                                  {"direction", vessel::StreamField::Direction}},
-                                                 [](CallOptions& o) -> vessel::StreamField& {
-                                                     return o.flatten.cuts.stream_field;
-                                                 })},
-                    {"band_rings",
-                     number<int>([](CallOptions& o) -> int& { return o.flatten.cuts.band_rings; })},
-                    {"join_rings",
-                     number<int>([](CallOptions& o) -> int& { return o.flatten.cuts.join_rings; })},
-                    {"join", choice<vessel::CutJoin>({{"approach", vessel::CutJoin::Approach},
-                                                      {"cheapest", vessel::CutJoin::Cheapest},
-                                                      {"closest", vessel::CutJoin::Closest}},
-                                                     [](CallOptions& o) -> vessel::CutJoin& {
-                                                         return o.flatten.cuts.join;
-                                                     })},
-                    {"join_slack", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.cuts.join_slack;
-                     })},
-                    {"join_reach", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.cuts.join_reach;
-                     })},
-                    {"join_excess", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.cuts.join_excess;
-                     })},
-                    {"tie_tolerance", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.cuts.tie_tolerance;
-                     })},
-                    {"natural_cuts",
-                     flag([](CallOptions& o) -> bool& { return o.flatten.cuts.natural_cuts; })},
-                    {"relief_cuts",
-                     number<int>([](CallOptions& o) -> int& { return o.flatten.relief.max_cuts; })},
-                    {"relief_target", number<double>([](CallOptions& o) -> double& {
-                         return o.flatten.relief.target_mean_abs_log_area;
-                     })},
-                    {"largest_component", flag([](CallOptions& o) -> bool& {
-                         return o.surface.keep_largest_component;
-                     })},
-                    {"remove_caps",
-                     flag([](CallOptions& o) -> bool& { return o.surface.remove_flat_caps; })},
-                    {"refuse_polygons",
-                     [](CallOptions& o, const std::string& name, py::handle value) {
-                         o.surface.triangulate_polygons =
-                             !option_value<bool>(name, value, "True or False");
-                     }},
-                };
+        {"direction_confidence", number<double>([](CallOptions& o) -> double& {
+             return o.flatten.direction.confident_anisotropy;
+         })},
+        {"cut_route", choice<vessel::CutRoute>(
+                          {{"aligned", vessel::CutRoute::Aligned},
+                           {"streamline", vessel::CutRoute::Streamline},
+                           {"shortest", vessel::CutRoute::ShortestPath}},
+                          [](CallOptions& o) -> vessel::CutRoute& { return o.flatten.cuts.route; })},
+        {"stream_field", choice<vessel::StreamField>(
+                             {{"harmonic", vessel::StreamField::Harmonic},
+                              {"direction", vessel::StreamField::Direction}},
+                             [](CallOptions& o) -> vessel::StreamField& {
+                                 return o.flatten.cuts.stream_field;
+                             })},
+        {"band_rings", number<int>([](CallOptions& o) -> int& { return o.flatten.cuts.band_rings; })},
+        {"join_rings", number<int>([](CallOptions& o) -> int& { return o.flatten.cuts.join_rings; })},
+        {"join", choice<vessel::CutJoin>({{"approach", vessel::CutJoin::Approach},
+                                          {"cheapest", vessel::CutJoin::Cheapest},
+                                          {"closest", vessel::CutJoin::Closest}},
+                                         [](CallOptions& o) -> vessel::CutJoin& {
+                                             return o.flatten.cuts.join;
+                                         })},
+        {"join_slack",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.join_slack; })},
+        {"join_reach",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.join_reach; })},
+        {"join_excess",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.join_excess; })},
+        {"tie_tolerance",
+         number<double>([](CallOptions& o) -> double& { return o.flatten.cuts.tie_tolerance; })},
+        {"natural_cuts",
+         flag([](CallOptions& o) -> bool& { return o.flatten.cuts.natural_cuts; })},
+        {"relief_cuts",
+         number<int>([](CallOptions& o) -> int& { return o.flatten.relief.max_cuts; })},
+        {"relief_target", number<double>([](CallOptions& o) -> double& {
+             return o.flatten.relief.target_mean_abs_log_area;
+         })},
+        {"largest_component", flag([](CallOptions& o) -> bool& {
+             return o.surface.keep_largest_component;
+         })},
+        {"remove_caps",
+         flag([](CallOptions& o) -> bool& { return o.surface.remove_flat_caps; })},
+        {"refuse_polygons",
+         [](CallOptions& o, const std::string& name, py::handle value) {
+             o.surface.triangulate_polygons = !option_value<bool>(name, value, "True or False");
+         }},
+    };
     return table;
 }
 
