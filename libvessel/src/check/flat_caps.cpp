@@ -1,10 +1,11 @@
 #include "detail/flat_caps.h"
 
+#include "detail/edge_groups.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
 #include <utility>
 
 namespace vessel::detail {
@@ -12,30 +13,18 @@ namespace vessel::detail {
 namespace {
 
 // Each triangle's neighbour across its edge k (corners k and k + 1), -1 on the boundary.
-std::vector<std::array<int, 3>> neighbours(const std::vector<std::array<int, 3>>& triangles)
+std::vector<std::array<int, 3>> neighbours(const std::vector<std::array<int, 3>>& triangles,
+                                           std::size_t n_vertices)
 {
-    // (lower corner, higher corner, triangle * 3 + edge), sorted: an interior edge's two
-    // half-edges end up side by side.
-    std::vector<std::tuple<int, int, int>> halves;
-    halves.reserve(3 * triangles.size());
-    for (std::size_t t = 0; t < triangles.size(); ++t)
-        for (int k = 0; k < 3; ++k)
-        {
-            const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-            halves.emplace_back(std::min(a, b), std::max(a, b), static_cast<int>(3 * t) + k);
-        }
-    std::sort(halves.begin(), halves.end());
+    const EdgeGroups edges = edge_groups(triangles, n_vertices);
     std::vector<std::array<int, 3>> across(triangles.size(), {-1, -1, -1});
-    for (std::size_t i = 0; i + 1 < halves.size(); ++i)
-    {
-        const auto& [a, b, h] = halves[i];
-        const auto& [c, d, g] = halves[i + 1];
-        if (a != c || b != d)
-            continue;
-        across[h / 3][h % 3] = g / 3;
-        across[g / 3][g % 3] = h / 3;
-        ++i;
-    }
+    for (std::size_t e = 0; e < edges.size(); ++e)
+        if (edges.count(e) == 2)
+        {
+            const int a = edges.begin(e)[0], b = edges.begin(e)[1];
+            across[a / 3][a % 3] = b / 3;
+            across[b / 3][b % 3] = a / 3;
+        }
     return across;
 }
 
@@ -61,7 +50,7 @@ std::vector<FlatCap> find_flat_caps(const std::vector<Eigen::Vector3d>& points,
         area[t] = 0.5 * cross.norm();
         normal[t] = area[t] > 0.0 ? Eigen::Vector3d(cross.normalized()) : Eigen::Vector3d::Zero();
     }
-    const std::vector<std::array<int, 3>> across = neighbours(triangles);
+    const std::vector<std::array<int, 3>> across = neighbours(triangles, points.size());
 
     std::vector<FlatCap> caps;
     std::vector<int> patch_of(n, -1);
