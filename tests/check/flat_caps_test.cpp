@@ -1,8 +1,9 @@
 #include <doctest/doctest.h>
 
 #include "detail/flat_caps.h"
+#include "support/checks.h"
+#include "support/meshes.h"
 #include "vessel/check/validation.h"
-#include "vessel/core/errors.h"
 #include "vessel/core/properties.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/io/io.h"
@@ -10,34 +11,25 @@
 
 #include <algorithm>
 #include <array>
-#include <filesystem>
 #include <string>
 #include <vector>
 
 using namespace vessel;
+using vessel::test::refusal;
 
 namespace {
 
 const std::string kData = VESSEL_SHARED_DATA;
 
 // open_cylinder(1, 4, 12, 6) (144 faces, two loops of 12) with each end closed by a fan of 12
-// triangles wound as the wall: round a new vertex on the loop's plane (a flat cap) or \p rise
-// out of it along the axis (a cone, no flat cap) for the loop at z = 4.
-RawMesh capped_tube(double rise = 0.0)
+// triangles round a new vertex on the loop's plane (cap_loops_except()): two flat caps. The fan's
+// vertex at the end z = 4 moved \p top out of its plane along the axis, and the one at z = 0
+// \p bottom: a cone, no flat cap.
+RawMesh capped_tube(double top = 0.0, double bottom = 0.0)
 {
-    const Mesh tube = open_cylinder(1.0, 4.0, 12, 6);
-    RawMesh raw = to_raw_mesh(tube);
-    for (const BoundaryLoop& loop : boundary_loops(tube))
-    {
-        Eigen::Vector3d apex = loop.centroid;
-        if (loop.centroid.z() > 2.0)
-            apex.z() += rise;
-        const int c = static_cast<int>(raw.points.size());
-        raw.points.push_back(apex);
-        for (const HalfedgeHandle h : loop.halfedges)
-            raw.faces.push_back(
-                {tube.from_vertex_handle(h).idx(), tube.to_vertex_handle(h).idx(), c});
-    }
+    RawMesh raw = test::cap_loops_except(open_cylinder(1.0, 4.0, 12, 6), -1);
+    for (std::size_t c = raw.points.size() - 2; c < raw.points.size(); ++c)
+        raw.points[c].z() += raw.points[c].z() > 2.0 ? top : -bottom;
     return raw;
 }
 
@@ -46,19 +38,6 @@ TreeSurfaceOptions removing_caps()
     TreeSurfaceOptions options;
     options.remove_flat_caps = true;
     return options;
-}
-
-std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options)
-{
-    try
-    {
-        make_tree_surface(raw, options);
-    }
-    catch (const InvalidInputError& e)
-    {
-        return e.what();
-    }
-    return "";
 }
 
 // The multiset of a surface's vertex positions.
@@ -108,11 +87,7 @@ TEST_CASE("flat caps: a cone is no flat cap and stays")
     CHECK(boundary_loops(s.mesh).size() == 1);  // one open end: a disk
 
     // Both ends cones: nothing to remove, and the refusal says so.
-    RawMesh cones = capped_tube(0.5);
-    for (auto& p : cones.points)
-        if (p.z() < 0.0 + 1e-12 && std::abs(p.x()) < 1e-12 && std::abs(p.y()) < 1e-12)
-            p.z() = -0.5;
-    const std::string message = refusal(cones, removing_caps());
+    const std::string message = refusal(capped_tube(0.5, 0.5), removing_caps());
     CHECK(message.find("has no flat cap to remove") != std::string::npos);
 }
 

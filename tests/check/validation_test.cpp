@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "detail/edge_groups.h"
+#include "support/checks.h"
 #include "support/meshes.h"
 #include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
@@ -17,23 +18,6 @@
 
 using namespace vessel;
 using namespace vessel::test;
-
-namespace {
-
-std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options = {})
-{
-    try
-    {
-        make_tree_surface(raw, options);
-    }
-    catch (const InvalidInputError& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-
-}  // namespace
 
 TEST_CASE("validation: edge groups hold each corner once, under its edge, in edge order")
 {

@@ -1,5 +1,7 @@
 #include "support/checks.h"
 
+#include "vessel/core/errors.h"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -230,6 +232,19 @@ std::string error_of(const std::function<void()>& f)
         return e.what();
     }
     return "(no error)";
+}
+
+std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options)
+{
+    try
+    {
+        make_tree_surface(raw, options);
+    }
+    catch (const InvalidInputError& e)
+    {
+        return e.what();
+    }
+    return "";
 }
 
 }  // namespace vessel::test

@@ -1,5 +1,6 @@
 #pragma once
 
+#include "vessel/check/validation.h"
 #include "vessel/core/mesh.h"
 
 #include <Eigen/Core>
@@ -60,6 +61,10 @@ nlohmann::json seamwinding(const std::string& input, const std::string& flat_obj
 
 //! The message of the exception \p f throws, or "(no error)".
 std::string error_of(const std::function<void()>& f);
+
+//! The message with which make_tree_surface() refuses \p raw (an InvalidInputError), or "" if
+//! it accepts it.
+std::string refusal(const RawMesh& raw, const TreeSurfaceOptions& options = {});
 
 //! True if \p text contains \p part.
 inline bool contains(const std::string& text, const std::string& part)
