@@ -1,7 +1,7 @@
 // libFuzzer target: bytes -> a file with extension VESSEL_FUZZ_EXT -> read_raw_mesh() ->
-// make_tree_surface(), as it is and with its flat caps removed. The documented errors (IoError, InvalidInputError, TopologyError) are
-// the expected answers to bad bytes; anything else (another exception, a crash, a sanitizer
-// report, a hang) is a bug.
+// make_tree_surface(), as it is and with its flat caps removed. The documented errors (IoError,
+// InvalidInputError, TopologyError) are the expected answers to bad bytes; anything else
+// (another exception, a crash, a sanitizer report, a hang) is a bug.
 #include "vessel/core/errors.h"
 #include "vessel/io/io.h"
 #include "vessel/check/validation.h"

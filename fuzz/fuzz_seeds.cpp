@@ -1,7 +1,7 @@
 // Writes the seed corpus of the reader fuzzers: small phantoms (a tube, a coarse carotid
-// bifurcation, a closed sphere, a tube closed by flat caps) in every format and encoding OpenMesh writes, and as VTK
-// PolyData (.vtp in each encoding and compressor, legacy .vtk ascii and binary, with a point and
-// a cell field), plus a few short hand-made files, into DIR/<ext>/.
+// bifurcation, a closed sphere, a tube closed by flat caps) in every format and encoding OpenMesh
+// writes, and as VTK PolyData (.vtp in each encoding and compressor, legacy .vtk ascii and
+// binary, with a point and a cell field), plus a few short hand-made files, into DIR/<ext>/.
 #include "vessel/cut/boundary.h"
 #include "vessel/io/io.h"
 #include "vessel/io/vtk_io.h"
