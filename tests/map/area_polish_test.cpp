@@ -174,33 +174,46 @@ TEST_CASE("area polish: SLIM hands over to it sooner, with the same area distort
     // The old rule (SLIM's own scaffold tolerance before the polish) against the default,
     // both with the scaffold phase run (by default this phantom skips it: its boundary crosses
     // within InjectiveOptions::kPolishedSkipGap of the last simple iterate's energy), on the
-    // cuts the rule was fitted on: the aligned route's (--no-natural-cuts), whose ICA cut
-    // winds 16.6 degrees. The natural cuts now take a steered ICA cut of 9.3 degrees, on which
-    // this forced scaffold phase ends at 1.14x the old rule's mean |log area| (0.00173 ->
-    // 0.00197); over the phantom's edges 0.35-0.8 mm on either cuts it ends at 0.96-1.05x.
-    FlattenOptions with_scaffold;
-    with_scaffold.injective.scaffold_skip_gap = -1.0;
-    with_scaffold.cuts.natural_cuts = false;
-    FlattenOptions old_rule = with_scaffold;
-    old_rule.injective.scaffold_tolerance = InjectiveOptions::kScaffoldTolerance;
-    const Mesh carotid = carotid_phantom();  // its SLIM needs the scaffold (boundary crosses)
-    const FlattenResult before = flatten(carotid, old_rule);
-    const FlattenResult r = flatten(carotid, with_scaffold);
-    CHECK(polished(r));
-    REQUIRE(before.injective.scaffold_from >= 0);  // the scaffold phase runs in both
-    CHECK(r.injective.scaffold_from == before.injective.scaffold_from);
-    CHECK(r.injective.iterations < before.injective.iterations);
-    for (const FlattenResult* run : {&before, &r})
+    // cuts the rule was fitted on: the aligned route's (--no-natural-cuts). Where the scaffold
+    // phase starts, and so where SLIM hands over, moves with the mesh: the ratio of the two
+    // maps' mean |log area| varies from one resolution to the next by more than the rule's
+    // own effect, so it is bounded on average over the phantom's edge lengths whose boundary
+    // crosses (at 0.6 mm it does not), and loosely on each.
+    double log_ratios = 0.0;
+    int runs = 0;
+    for (const double edge : {0.35, 0.4, 0.5, 0.7})
     {
-        CHECK(run->quality.flipped_triangles == 0);
-        CHECK(run->quality.overlapping_triangles == 0);
-        CHECK(boundary_self_intersection(run->mesh, run->uv).first == -1);
+        CAPTURE(edge);
+        FlattenOptions with_scaffold;
+        with_scaffold.injective.scaffold_skip_gap = -1.0;
+        with_scaffold.cuts.natural_cuts = false;
+        FlattenOptions old_rule = with_scaffold;
+        old_rule.injective.scaffold_tolerance = InjectiveOptions::kScaffoldTolerance;
+        CarotidPhantomOptions phantom;
+        phantom.edge_length = edge;
+        const Mesh carotid = carotid_phantom(phantom);
+        const FlattenResult before = flatten(carotid, old_rule);
+        const FlattenResult r = flatten(carotid, with_scaffold);
+        CHECK(polished(r));
+        REQUIRE(before.injective.scaffold_from >= 0);  // the scaffold phase runs in both
+        CHECK(r.injective.scaffold_from == before.injective.scaffold_from);
+        CHECK(r.injective.iterations < before.injective.iterations);
+        for (const FlattenResult* run : {&before, &r})
+        {
+            CHECK(run->quality.flipped_triangles == 0);
+            CHECK(run->quality.overlapping_triangles == 0);
+            CHECK(boundary_self_intersection(run->mesh, run->uv).first == -1);
+        }
+        const double ratio = r.quality.mean_abs_log_area / before.quality.mean_abs_log_area;
+        CHECK(ratio <= 1.2);
+        log_ratios += std::log(ratio);
+        ++runs;
+        MESSAGE("carotid phantom, edge "
+                << edge << " mm: SLIM iterations " << before.injective.iterations << " -> "
+                << r.injective.iterations << ", mean |log area| "
+                << before.quality.mean_abs_log_area << " -> " << r.quality.mean_abs_log_area);
     }
-    CHECK(r.quality.mean_abs_log_area <= 1.1 * before.quality.mean_abs_log_area);
-    MESSAGE("carotid phantom: SLIM iterations " << before.injective.iterations << " -> "
-                                              << r.injective.iterations << ", mean |log area| "
-                                              << before.quality.mean_abs_log_area << " -> "
-                                              << r.quality.mean_abs_log_area);
+    CHECK(std::exp(log_ratios / runs) <= 1.1);
 }
 
 namespace {

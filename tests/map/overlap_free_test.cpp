@@ -97,3 +97,23 @@ TEST_CASE("overlaps: a boundary that crosses once SLIM has all but converged ski
     CHECK(skipped.quality.mean_abs_log_area_normalized <
           1.1 * scaffolded.quality.mean_abs_log_area_normalized);
 }
+
+TEST_CASE(
+    "overlaps: SLIM's steps stop short of crossing the boundary and the scaffold starts where "
+    "its parts touch")
+{
+    // A tree from the layout circle: a whole step crosses the boundary within the first
+    // iterations, where a branch squeezed against the circle folds; halved, the steps go on
+    // unrolling the tree without a scaffold until its parts touch.
+    const FlattenResult r = flatten_tree(10, 1, FlattenOptions().overlaps);
+    REQUIRE(r.injective.scaffold_from >= 0);
+    CHECK(r.injective.shortened_steps >= 1);
+    // Each shortened step's iterate is simple, so the scaffold goes on from one at least as late.
+    CHECK(r.injective.scaffold_from >= r.injective.shortened_steps);
+    CHECK(r.injective.report.find("steps shortened to keep the boundary simple") !=
+          std::string::npos);
+    CHECK(r.quality.flipped_triangles == 0);
+    CHECK(r.quality.overlapping_triangles == 0);
+    CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    MESSAGE("10 outlets, seed 1: " << r.injective.report);
+}

@@ -534,6 +534,12 @@ private:
     // After a step \p t along \p d that a scaffold triangle stopped: a new triangulation, and the
     // rest of \p d line-searched again (scaffold_passes).
     void continue_past_scaffold(const Eigen::VectorXd& d, double t);
+    // With scaffold_on_contact, before the boundary has crossed: \p step along \p d (from x_,
+    // at energy \p e) halved until the boundary stays simple. Where kContactHalvings halvings
+    // still cross, or the shortened step no longer descends, the boundary's parts are in
+    // contact: the step stays whole and the phase goes on as without shortening (it crosses,
+    // and after crossing_patience iterations goes back to the last simple iterate, this one).
+    void shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e);
     // One iteration (the it-th of this phase, after \p done of earlier phases); false = the
     // phase ends.
     bool iterate(int it, int done);
@@ -554,6 +560,14 @@ private:
     // With scaffold_on_contact, the boundary of each step is checked; the scaffold can only
     // start from a map whose boundary is simple.
     bool watch_ = false;
+    // With watch_: steps are still shortened to keep the boundary simple (shorten_to_contact()).
+    // The scaffold phase starts from the last simple iterate; on trees from the layout circle
+    // the unshortened steps cross the boundary at the first or second iterate (where a branch
+    // squeezed against the circle folds), orders of magnitude above the minimum, and the
+    // scaffold phase then unrolls the whole tree at a new triangulation per blocked step.
+    // Shortened steps go on unrolling it without a scaffold until its parts touch.
+    bool shorten_to_contact_ = true;
+    static constexpr int kContactHalvings = 6;
     InjectiveSummary summary_;
     double pin_weight_ = 0.0, proximal_ = 0.0;
     std::vector<FaceOperator> ops_;
@@ -811,6 +825,31 @@ void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
     }
 }
 
+void Slim::shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e)
+{
+    double t = step.step;
+    for (int halvings = 0; crosses(x_ + t * d); ++halvings)
+    {
+        if (halvings == kContactHalvings)
+        {
+            shorten_to_contact_ = false;  // in contact: the whole step, and watch it cross
+            return;
+        }
+        t *= 0.5;
+    }
+    if (t == step.step)
+        return;
+    const double shortened = total_energy(ops_, x_ + t * d);
+    if (!(shortened < e))
+    {
+        shorten_to_contact_ = false;
+        return;
+    }
+    step.step = t;
+    step.energy = shortened;
+    ++summary_.shortened_steps;
+}
+
 bool Slim::iterate(int it, int done)
 {
     if (scaffold_)
@@ -871,6 +910,8 @@ bool Slim::iterate(int it, int done)
             }
         }
     }
+    if (watch_ && shorten_to_contact_ && step.energy < e)
+        shorten_to_contact(d, step, e);
     const Eigen::VectorXd x_before = x_.head(2 * n_);
     summary_.iterations = done + it + 1;
     if (options_.on_iteration)
@@ -988,6 +1029,9 @@ std::string Slim::report() const
            (s.gradient_steps > 0
                 ? ", " + std::to_string(s.gradient_steps) + " steps along the true gradient"
                 : std::string()) +
+           (s.shortened_steps > 0 ? ", " + std::to_string(s.shortened_steps) +
+                                        " steps shortened to keep the boundary simple"
+                                  : std::string()) +
            (s.stalls_passed > 0
                 ? ", " + std::to_string(s.stalls_passed) + " stalls passed"
                 : std::string());

@@ -400,10 +400,11 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // kStalledFinishRatio: the sweeps' local steps are then held, by the boundary's near contacts,
 // short of what Newton steps of the whole map reach, where the surface's own distortion ends
 // its sweeps below it (AneuRisk's sac at 1.006).
-// A pulled carry is finished as well where its mean |log area| is still above that of the coarse
-// map it came from: its energy does not see the area's error, so how much its last sweep lowered
-// that energy does not say whether it has arrived, and a finer mesh's map that reads worse than
-// its coarse solve has not.
+// A carry is finished as well where its mean |log area| is still above that of the coarse map it
+// came from, whatever its energy: the energy hardly sees the area's last error (a pulled map's
+// not at all), so neither its ratio to the minimum nor how much the last sweep lowered it says
+// whether the map has arrived, and a finer mesh's map that reads worse than its coarse solve has
+// not.
 // The finish goes on, kFinishNewtonSteps at a time up to kFinishMaxNewtonSteps, while its last
 // steps removed at least kFinishGoOnShare of the energy's excess over the minimum and left it
 // above kFinishRatio times that minimum: such a carry (held by near contacts where the cuts
@@ -456,11 +457,9 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
     // level's own wavelength relaxed away, which the finer levels' local steps would remove
     // only slowly.
     const double lambda = relax_weight(options);
-    // A pulled map's area on the coarse mesh, which its carry should come down to (the finish
-    // below, kFinishRatio).
+    // The map's area on the coarse mesh, which its carry should come down to (the finish below).
     const double coarse_area =
-        pulls_at ? detail::map_distortion(levels.back().mesh, uv).mean_abs_log_area_normalized
-                 : 0.0;
+        detail::map_distortion(levels.back().mesh, uv).mean_abs_log_area_normalized;
     const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
     Eigen::MatrixX2d below_uv;  // the map of levels[l + 1].mesh, which levels[l]'s came from
     for (std::size_t l = levels.size(); l-- > 0;)
@@ -520,17 +519,17 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                               energy / minimum);
                 return line;
             }
-            // A pulled carry whose area is still above its coarse map's has not arrived,
-            // whatever its last sweep did; its area is measured only where the rest of the rule
+            // A carry whose area is still above its coarse map's has not arrived, whatever its
+            // energy and its last sweep; its area is measured only where the rest of the rule
             // leaves the finish open.
-            const auto pulled_short = [&] {
-                return pulled &&
-                       detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
+            const auto area_short = [&] {
+                return detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
             };
-            if (!relaxed.area_within_tolerance && (pulled || energy > kFinishRatio * minimum) &&
-                (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
-                 energy > kStalledFinishRatio * minimum || pulled_short()) &&
-                energy <= multilevel.max_energy_ratio * minimum)
+            if (!relaxed.area_within_tolerance && energy <= multilevel.max_energy_ratio * minimum &&
+                (((pulled || energy > kFinishRatio * minimum) &&
+                  (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
+                   energy > kStalledFinishRatio * minimum)) ||
+                 area_short()))
             {
                 AreaPolishOptions polish = carried_polish(
                     options, lambda, pulled ? pulls_at(0, uv) : std::vector<CentrePull>{});

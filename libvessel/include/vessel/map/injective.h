@@ -40,8 +40,11 @@ struct InjectiveOptions
     //! Run without a scaffold, checking the map's boundary after every step; if the end map's
     //! boundary crosses itself, go back to the last iterate whose boundary was simple and go on
     //! from there with the scaffold (up to max_iterations more). The result is one-to-one, and
-    //! the scaffold's cost is paid only when needed. Needs a start whose boundary is simple;
-    //! otherwise it has no effect.
+    //! the scaffold's cost is paid only when needed. Until the boundary's parts first touch, a
+    //! step that would cross the boundary is halved (up to 6 times) until it does not, so the
+    //! scaffold starts from where they touch rather than from before the step that crossed
+    //! them, as the line search of \cite smith_2015_bijective stops at the boundary's first
+    //! collision. Needs a start whose boundary is simple; otherwise it has no effect.
     bool scaffold_on_contact = false;
     //! With scaffold_on_contact: once the boundary has stayed crossed for this many
     //! iterations in a row, stop the unconstrained run there and go on with the scaffold (a
@@ -128,6 +131,8 @@ struct InjectiveSummary
     //! a thousandth of the proxy's step (a nearly collapsed triangle in the way, far from the
     //! minimum); at most 3 per run.
     int stalls_passed = 0;
+    //! With scaffold_on_contact: steps halved so that the boundary stayed simple.
+    int shortened_steps = 0;
     std::string report;  //!< one line: iterations and energies
 };
 
