@@ -112,8 +112,9 @@ TEST_CASE("flat caps: the capped real models open to their published open surfac
     std::vector<std::array<int, 3>> triangles;
     for (const auto& f : carotid.faces)
         triangles.push_back({f[0], f[1], f[2]});
-    std::vector<detail::FlatCap> caps =
-        detail::find_flat_caps(carotid.points, triangles, 5.0, 30.0, 60.0, 7);
+    std::vector<detail::FlatCap> caps = detail::find_flat_caps(
+        carotid.points, triangles, detail::kFlatCapCoplanarDeg, detail::kFlatCapMinRimDeg,
+        detail::kFlatCapMeanRimDeg, detail::kFlatCapMinRimEdges);
     REQUIRE(caps.size() == 3);
     std::sort(caps.begin(), caps.end(),
               [](const auto& a, const auto& b) { return a.area > b.area; });

@@ -107,12 +107,7 @@ std::vector<FlatCap> find_flat_caps(const std::vector<Eigen::Vector3d>& points,
         cap.triangles = members;
         std::sort(cap.triangles.begin(), cap.triangles.end());
         for (const int t : members)
-        {
-            const auto& [a, b, c] = triangles[t];
             cap.area += area[t];
-            cap.centroid += area[t] * (points[a] + points[b] + points[c]) / 3.0;
-        }
-        cap.centroid /= cap.area;
         cap.mean_rim_angle_deg = rim_sum / rim_edges;
         caps.push_back(std::move(cap));
     }

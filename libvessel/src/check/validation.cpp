@@ -509,18 +509,13 @@ void check_holes(const std::vector<BoundaryLoop>& loops, const TreeSurfaceOption
            number(fill) + ", CGAL hole filling of the loops shorter than that) or in the source");
 }
 
-// The flat caps' faces dropped from \p tri (TreeSurfaceOptions::remove_flat_caps), noted.
-// A cap's face normals lie within 5 degrees of one another's: a capping tool's caps are planar
-// to the rounding of their coordinates, which in a file of floats (STL) turns the normals of a
-// cap's smallest faces by a few degrees. Its rim turns by at least
-// 30 degrees everywhere and by 60 on average (detail::find_flat_caps() says why), and has more
-// edges than a vertex's star, as a vessel end must (TreeSurfaceOptions::hole_max_edges).
+// The flat caps' faces dropped from \p tri (TreeSurfaceOptions::remove_flat_caps), noted; the
+// caps as detail/flat_caps.h's criteria find them.
 void remove_flat_caps(const RawMesh& raw, Triangulated& tri, TreeSurface& out)
 {
-    constexpr double kCoplanarDeg = 5.0, kMinRimDeg = 30.0, kMeanRimDeg = 60.0;
-    constexpr int kMinRimEdges = 7;
     std::vector<detail::FlatCap> caps = detail::find_flat_caps(
-        raw.points, tri.triangles, kCoplanarDeg, kMinRimDeg, kMeanRimDeg, kMinRimEdges);
+        raw.points, tri.triangles, detail::kFlatCapCoplanarDeg, detail::kFlatCapMinRimDeg,
+        detail::kFlatCapMeanRimDeg, detail::kFlatCapMinRimEdges);
     if (caps.empty())
         return;
     std::vector<char> drop(tri.triangles.size(), 0);

@@ -14,9 +14,19 @@ struct FlatCap
 {
     std::vector<int> triangles;  //!< indices into the triangles given, ascending
     double area = 0.0;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  //!< area-weighted
     double mean_rim_angle_deg = 0.0;  //!< mean dihedral angle between the cap and the wall
 };
+
+//! make_tree_surface()'s criteria (TreeSurfaceOptions::remove_flat_caps). A cap's face normals
+//! lie within kFlatCapCoplanarDeg of one another's: a capping tool's caps are planar to the
+//! rounding of their coordinates, which in a file of floats (STL) turns the normals of a cap's
+//! smallest faces by a few degrees. Its rim turns by at least kFlatCapMinRimDeg everywhere and
+//! kFlatCapMeanRimDeg on average (find_flat_caps() says why), and has more edges than a
+//! vertex's star, as a vessel end must (TreeSurfaceOptions::hole_max_edges).
+inline constexpr double kFlatCapCoplanarDeg = 5.0;
+inline constexpr double kFlatCapMinRimDeg = 30.0;
+inline constexpr double kFlatCapMeanRimDeg = 60.0;
+inline constexpr int kFlatCapMinRimEdges = 7;
 
 //! \brief The flat caps of a consistently oriented, edge-manifold triangle surface.
 //!
