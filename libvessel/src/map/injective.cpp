@@ -539,7 +539,8 @@ private:
     // still cross, or the shortened step no longer descends, the boundary's parts are in
     // contact: the step stays whole and the phase goes on as without shortening (it crosses,
     // and after crossing_patience iterations goes back to the last simple iterate, this one).
-    void shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e);
+    // Returns whether the boundary at the end of the step taken crosses (tested here already).
+    bool shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e);
     // One iteration (the it-th of this phase, after \p done of earlier phases); false = the
     // phase ends.
     bool iterate(int it, int done);
@@ -825,7 +826,7 @@ void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
     }
 }
 
-void Slim::shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e)
+bool Slim::shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e)
 {
     double t = step.step;
     for (int halvings = 0; crosses(x_ + t * d); ++halvings)
@@ -833,21 +834,22 @@ void Slim::shorten_to_contact(const Eigen::VectorXd& d, LineStep& step, double e
         if (halvings == kContactHalvings)
         {
             shorten_to_contact_ = false;  // in contact: the whole step, and watch it cross
-            return;
+            return true;
         }
         t *= 0.5;
     }
     if (t == step.step)
-        return;
+        return false;
     const double shortened = total_energy(ops_, x_ + t * d);
     if (!(shortened < e))
     {
         shorten_to_contact_ = false;
-        return;
+        return true;  // the whole step, which crossed
     }
     step.step = t;
     step.energy = shortened;
     ++summary_.shortened_steps;
+    return false;
 }
 
 bool Slim::iterate(int it, int done)
@@ -910,8 +912,10 @@ bool Slim::iterate(int it, int done)
             }
         }
     }
+    // Whether the step's end crosses the boundary, where shorten_to_contact() tested it.
+    std::optional<bool> end_crosses;
     if (watch_ && shorten_to_contact_ && step.energy < e)
-        shorten_to_contact(d, step, e);
+        end_crosses = shorten_to_contact(d, step, e);
     const Eigen::VectorXd x_before = x_.head(2 * n_);
     summary_.iterations = done + it + 1;
     if (options_.on_iteration)
@@ -929,7 +933,7 @@ bool Slim::iterate(int it, int done)
     if (scaffold_ && options_.scaffold_passes > 1)
         continue_past_scaffold(d, step.step);
     momentum_ = x_.head(2 * n_) - x_before;
-    if (watch_ && !crosses(x_))
+    if (watch_ && !(end_crosses ? *end_crosses : crosses(x_)))
     {
         last_simple_ = x_;
         last_simple_it_ = summary_.iterations;
