@@ -82,6 +82,10 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
     CHECK(LookRetryOptions().look_broken(r.look_retry.default_look));
     CHECK_FALSE(LookRetryOptions().look_broken(r.look));
     CHECK(r.look.walk_inversions < r.look_retry.default_look.walk_inversions);
+    // The pulled carry's finest level is relaxed by sweeps alone (solve_map.cpp, carry_up()).
+    CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+        return note.find("relaxation sweeps, 0 coarse-grid corrections") != std::string::npos;
+    }));
     CHECK(r.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
     CHECK(r.quality.mean_abs_log_area_normalized <=
           1.5 * kept.quality.mean_abs_log_area_normalized);

@@ -264,7 +264,12 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
     // correction, which moves them all. A boundary vertex's step is capped by the guard
     // (BoundaryGuard::max_step()), so its decrease in one sweep does not tell how far it has
     // still to go (docs/benchmarks.md "Coarse-to-fine").
+    // Without coarse-grid corrections every vertex steps in every sweep: the visited set then
+    // only narrows, and the sweeps stall on the map's area error, whose steps lower the energy
+    // too little to keep their vertices visited (docs/benchmarks.md, "A pulled carry's finest
+    // level").
     constexpr double kActiveShareOfMean = 0.1;
+    const bool narrow = static_cast<bool>(correction);
     std::vector<char> active(n, 1), next(n, 0);
     // The free interior vertices by colour, no two of a colour in one face: a vertex's step
     // reads and writes its star alone, so the vertices of a colour step in parallel and in any
@@ -356,23 +361,26 @@ RelaxSummary relax_area(const Mesh& mesh, Eigen::MatrixX2d& uv, const Pins& pins
             lowered_at[v] = active[v] ? step_vertex(v, true, scratch[0]) : 0.0;
             lowered += lowered_at[v];
         }
-        std::size_t stepped = 0;
-        for (const std::vector<int>& members : colours)
-            for (int v : members)
+        if (narrow)
+        {
+            std::size_t stepped = 0;
+            for (const std::vector<int>& members : colours)
+                for (int v : members)
+                    stepped += active[v];
+            for (int v : boundary_vertices)
                 stepped += active[v];
-        for (int v : boundary_vertices)
-            stepped += active[v];
-        const double active_above =
-            std::max(threshold, kActiveShareOfMean * lowered /
-                                    static_cast<double>(std::max<std::size_t>(stepped, 1)));
-        for (int v = 0; v < n; ++v)
-            if (lowered_at[v] >
-                (keep_boundary_simple && guard.on_boundary(v) ? threshold : active_above))
-                for (int c = first[v]; c < first[v + 1]; ++c)
-                    for (int w : ops[corners[c].face].corner)
-                        next[w] = 1;
-        active.swap(next);
-        std::fill(next.begin(), next.end(), 0);
+            const double active_above =
+                std::max(threshold, kActiveShareOfMean * lowered /
+                                        static_cast<double>(std::max<std::size_t>(stepped, 1)));
+            for (int v = 0; v < n; ++v)
+                if (lowered_at[v] >
+                    (keep_boundary_simple && guard.on_boundary(v) ? threshold : active_above))
+                    for (int c = first[v]; c < first[v + 1]; ++c)
+                        for (int w : ops[corners[c].face].corner)
+                            next[w] = 1;
+            active.swap(next);
+            std::fill(next.begin(), next.end(), 0);
+        }
         current -= lowered;
         summary.sweeps = sweep + 1;
         // A coarse-grid correction after every second sweep (the sweeps first smooth what the

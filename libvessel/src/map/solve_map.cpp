@@ -498,6 +498,12 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
         MultilevelOptions level_options = multilevel;
         if (l > 0)
             level_options.area_tolerance = 0.0;
+        // A pulled carry's finest level makes no coarse-grid corrections: their coarse step
+        // moves the pulled outlets' centres across the look pulls' hinges, which it does not
+        // see, so that their line search takes at most a sliver of it; its sweeps visit every
+        // vertex instead (relax_area(); docs/benchmarks.md, "A pulled carry's finest level").
+        else if (pulls_at)
+            level_options.coarse_corrections = 0;
         const std::vector<CentrePull> level_pulls =
             pulls_at ? pulls_at(l, uv) : std::vector<CentrePull>{};
         const RelaxSummary relaxed =

@@ -61,7 +61,10 @@ struct MultilevelOptions
     //! CLI `--area-tolerance T`.
     double area_tolerance = 0.0015;
     //! Coarse-grid corrections of relax_area() on each level, at most: one after every second
-    //! sweep. 0 = none (Gauss-Seidel alone: about 80 sweeps for the same area distortion).
+    //! sweep. 0 = none (Gauss-Seidel alone, every vertex in every sweep: about 80 sweeps for the
+    //! same area distortion). Stage F's carry makes none on the finest level of a map carried
+    //! with the look pulls, whose coarse step they do not see (docs/benchmarks.md, "A pulled
+    //! carry's finest level").
     int coarse_corrections = 8;
     //! Vertices of the coarser level above which the coarse-grid corrections' system is solved
     //! iteratively (conjugate gradients preconditioned by V-cycles over that level and the
@@ -200,7 +203,10 @@ struct RelaxSummary
 //! contacts held). One factorization of twice the coarse level's vertex count per level, again
 //! after each step that holds more coarse vertices; given the level below a coarse level of more
 //! than `options.direct_correction_vertices` vertices, that of the level below instead, the
-//! coarse level's system solved iteratively.
+//! coarse level's system solved iteratively. With corrections, a sweep steps only the vertices
+//! that lowered the energy much in the last one and their neighbours, and every vertex after a
+//! correction, which moves them all; without them (none asked, or no coarser level), every vertex
+//! steps in every sweep.
 //! \param uv |V| x 2, row `v.idx()`, without flipped faces; updated in place.
 //! \param coarser the level \p mesh was decimated to (its `coarse_of` indexes \p mesh), or null
 //! \param coarser_uv the map of `coarser->mesh` that \p uv was carried from
