@@ -176,6 +176,15 @@ TEST_SUITE("slow")
         CHECK(r.quality.overlapping_triangles == 0);
         CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
         CHECK(r.quality.mean_abs_log_area_normalized <= 0.015);
+        // Its carry's sweeps bring the map's area below that of the coarse pulled map, so the
+        // carry is not finished by Newton steps: with the pulls they traded the walk order of
+        // three outlets for area (docs/benchmarks.md, "The carry finished by Newton steps where
+        // it stops short").
+        CHECK(r.quality.mean_abs_log_area_normalized <= r.look_retry.pulled_area);
+        CHECK(std::none_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
+            return note.find("coarse-to-fine: finished with") != std::string::npos;
+        }));
+        CHECK(r.look.walk_inversions == 0);
         MESSAGE("Glenn split4: without the retry " << plain.look.outlets_below_inlet
                                                    << " below, mean |log area| "
                                                    << plain.quality.mean_abs_log_area_normalized

@@ -388,23 +388,26 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // Where the carry's relaxation of the finest level stopped at MultilevelOptions::relax_sweeps
 // short of its minimum, the map is finished with kFinishNewtonSteps projected Newton steps of
 // the whole map (area_polish(), one scaffold; a pulled map with its pulls): its energy above
-// kFinishRatio times the isometric minimum (a pulled map whatever its energy: its energy does
-// not see the area's error), and its last sweep still lowering it by more than kFinishProgress
-// of that excess. Carries whose sweeps have converged end below the ratio on the carotids and
-// most trees; above it, many-outlet trees whose coarse map moved far are still moving, where
-// the sweeps and coarse-grid corrections remove the rest only slowly (the energy's own slow
-// tail near its minimum); a surface of intrinsic distortion (an aneurysm's sac) is not. Three
-// steps cost about as much as the 32 sweeps and 16 corrections they replaced and leave less
-// area distortion (docs/benchmarks.md "The carry finished by Newton steps where it stops short").
+// kFinishRatio times the isometric minimum, and its last sweep still lowering it by more than
+// kFinishProgress of that excess. Carries whose sweeps have converged end below the ratio on the
+// carotids and most trees; above it, many-outlet trees whose coarse map moved far are still
+// moving, where the sweeps and coarse-grid corrections remove the rest only slowly (the
+// energy's own slow tail near its minimum); a surface of intrinsic distortion (an aneurysm's
+// sac) is not. Three steps cost about as much as the 32 sweeps and 16 corrections they replaced
+// and leave less area distortion (docs/benchmarks.md "The carry finished by Newton steps where
+// it stops short").
 // A carry whose sweeps have stalled is finished as well where it stopped above
 // kStalledFinishRatio: the sweeps' local steps are then held, by the boundary's near contacts,
 // short of what Newton steps of the whole map reach, where the surface's own distortion ends
 // its sweeps below it (AneuRisk's sac at 1.006).
 // A carry is finished as well where its mean |log area| is still above that of the coarse map it
-// came from, whatever its energy: the energy hardly sees the area's last error (a pulled map's
-// not at all), so neither its ratio to the minimum nor how much the last sweep lowered it says
-// whether the map has arrived, and a finer mesh's map that reads worse than its coarse solve has
-// not.
+// came from, whatever its energy: the energy hardly sees the area's last error, so neither its
+// ratio to the minimum nor how much the last sweep lowered it says whether the map has arrived,
+// and a finer mesh's map that reads worse than its coarse solve has not. A pulled carry (the
+// look pulls) is finished by this test alone: its energy does not see the area's error at all,
+// and Newton steps taken where its area has arrived only trade the look for area (Glenn split4's
+// finish broke the walk order of three outlets; docs/benchmarks.md, "The carry finished by
+// Newton steps where it stops short").
 // The finish goes on, kFinishNewtonSteps at a time up to kFinishMaxNewtonSteps, while its last
 // steps removed at least kFinishGoOnShare of the energy's excess over the minimum and left it
 // above kFinishRatio times that minimum: such a carry (held by near contacts where the cuts
@@ -532,7 +535,7 @@ std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                 return detail::map_distortion(above, uv).mean_abs_log_area_normalized > coarse_area;
             };
             if (!relaxed.area_within_tolerance && energy <= multilevel.max_energy_ratio * minimum &&
-                (((pulled || energy > kFinishRatio * minimum) &&
+                ((!pulled && energy > kFinishRatio * minimum &&
                   (relaxed.last_decrease > kFinishProgress * (energy - minimum) ||
                    energy > kStalledFinishRatio * minimum)) ||
                  area_short()))

@@ -42,7 +42,9 @@ struct MultilevelOptions
     //! finishes its finest level with three Newton steps of the whole map where they stopped
     //! short: the energy still above 1.001 times its isometric minimum, and the last sweep
     //! still lowering it by more than a hundredth of that excess, or the sweeps stalled above
-    //! 1.01 times it, held by the boundary's near contacts; three more at a time, up to nine,
+    //! 1.01 times it, held by the boundary's near contacts, or the map's mean |log area| still
+    //! above its coarse map's (a map carried with the look pulls, whose energy does not see the
+    //! area's error, by this test alone); three more at a time, up to nine,
     //! while the last three removed a third of what was left above 1.001 times the minimum
     //! (docs/benchmarks.md "The carry finished by Newton steps where it stops short").
     int relax_sweeps = 16;
