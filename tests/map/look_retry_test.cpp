@@ -1,15 +1,16 @@
 #include <doctest/doctest.h>
 
 #include "detail/look_retry.h"
+#include "support/checks.h"
 #include "support/meshes.h"
+#include "vessel/check/validation.h"
+#include "vessel/core/errors.h"
 #include "vessel/map/arap.h"
 #include "vessel/map/area_polish.h"
 #include "vessel/map/embedding.h"
 #include "vessel/map/injective.h"
-#include "vessel/core/errors.h"
 #include "vessel/phantom/phantom.h"
 #include "vessel/pipeline.h"
-#include "vessel/check/validation.h"
 
 #include <algorithm>
 #include <atomic>
@@ -83,9 +84,7 @@ TEST_CASE("look retry: by default the pulmonary Glenn tree keeps its outlets abo
     CHECK_FALSE(LookRetryOptions().look_broken(r.look));
     CHECK(r.look.walk_inversions < r.look_retry.default_look.walk_inversions);
     // The pulled carry's finest level is relaxed by sweeps alone (solve_map.cpp, carry_up()).
-    CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
-        return note.find("relaxation sweeps, 0 coarse-grid corrections") != std::string::npos;
-    }));
+    CHECK(test::noted(r, "relaxation sweeps, 0 coarse-grid corrections"));
     CHECK(r.quality.mean_abs_log_area <= 1.5 * kept.quality.mean_abs_log_area);
     CHECK(r.quality.mean_abs_log_area_normalized <=
           1.5 * kept.quality.mean_abs_log_area_normalized);
@@ -145,9 +144,7 @@ TEST_SUITE("slow")
         CHECK(r.look.outlets_below_inlet == plain.look.outlets_below_inlet);
         CHECK(r.quality.mean_abs_log_area == plain.quality.mean_abs_log_area);
         CHECK(r.quality.overlapping_triangles == 0);
-        CHECK(std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
-            return note.find("kept the default map") != std::string::npos;
-        }));
+        CHECK(test::noted(r, "kept the default map"));
         MESSAGE("10 outlets, seed 1: " << r.look_retry.report);
     }
 }
@@ -181,9 +178,7 @@ TEST_SUITE("slow")
         // three outlets for area (docs/benchmarks.md, "The carry finished by Newton steps where
         // it stops short").
         CHECK(r.quality.mean_abs_log_area_normalized <= r.look_retry.pulled_area);
-        CHECK(std::none_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
-            return note.find("coarse-to-fine: finished with") != std::string::npos;
-        }));
+        CHECK_FALSE(test::noted(r, "coarse-to-fine: finished with"));
         CHECK(r.look.walk_inversions == 0);
         MESSAGE("Glenn split4: without the retry " << plain.look.outlets_below_inlet
                                                    << " below, mean |log area| "

@@ -4,6 +4,7 @@
 #include "detail/coarse_correction.h"
 #include "detail/face_jacobian.h"
 #include "detail/polish_hessian.h"
+#include "support/checks.h"
 #include "support/first_cut_back_join.h"
 #include "support/meshes.h"
 #include "vessel/check/validation.h"
@@ -55,13 +56,7 @@ Eigen::MatrixX2d coarse_map(const Mesh& mesh)
     return uv;
 }
 
-// Whether one of the pipeline's notes contains \p text.
-bool noted(const FlattenResult& r, const std::string& text)
-{
-    return std::any_of(r.notes.begin(), r.notes.end(), [&](const std::string& note) {
-        return note.find(text) != std::string::npos;
-    });
-}
+using test::noted;
 
 // The energy / minimum before and after of every relaxation note of \p r that is \p prefix and
 // then its sweeps ("coarse-to-fine: N relaxation sweeps, ..., energy / minimum A -> B"), in

@@ -2,6 +2,7 @@
 
 #include "vessel/core/errors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -150,6 +151,13 @@ FlatObjCheck check_flat_obj(const FlatObj& obj)
                 break;
             }
     return c;
+}
+
+bool noted(const FlattenResult& result, const std::string& text)
+{
+    return std::any_of(result.notes.begin(), result.notes.end(), [&](const std::string& note) {
+        return note.find(text) != std::string::npos;
+    });
 }
 
 int run(const std::string& command)

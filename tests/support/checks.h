@@ -2,6 +2,7 @@
 
 #include "vessel/check/validation.h"
 #include "vessel/core/mesh.h"
+#include "vessel/pipeline.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -44,6 +45,9 @@ FlatObjCheck check_flat_obj(const FlatObj& obj);
 //! std::runtime_error if it is missing.
 std::vector<int> int_vertex_property(const Mesh& mesh, const char* name);
 std::vector<int> int_face_property(const Mesh& mesh, const char* name);
+
+//! Whether one of \p result's notes contains \p text.
+bool noted(const FlattenResult& result, const std::string& text);
 
 //! Run a shell command; returns its exit status (0 = success).
 int run(const std::string& command);

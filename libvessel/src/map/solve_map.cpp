@@ -405,9 +405,8 @@ double relaxed_energy(const Mesh& mesh, const Eigen::MatrixX2d& uv, const Pins& 
 // ratio to the minimum nor how much the last sweep lowered it says whether the map has arrived,
 // and a finer mesh's map that reads worse than its coarse solve has not. A pulled carry (the
 // look pulls) is finished by this test alone: its energy does not see the area's error at all,
-// and Newton steps taken where its area has arrived only trade the look for area (Glenn split4's
-// finish broke the walk order of three outlets; docs/benchmarks.md, "The carry finished by
-// Newton steps where it stops short").
+// and Newton steps taken where its area has arrived only trade the look for area
+// (docs/benchmarks.md, "The carry finished by Newton steps where it stops short").
 // The finish goes on, kFinishNewtonSteps at a time up to kFinishMaxNewtonSteps, while its last
 // steps removed at least kFinishGoOnShare of the energy's excess over the minimum and left it
 // above kFinishRatio times that minimum: such a carry (held by near contacts where the cuts
