@@ -1,5 +1,6 @@
 #include <doctest/doctest.h>
 
+#include "support/checks.h"
 #include "support/meshes.h"
 #include "detail/polish_hessian.h"
 #include "vessel/map/area_polish.h"
@@ -10,7 +11,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -30,9 +30,7 @@ FlattenResult flatten_tree3(bool polish, OverlapPolicy overlaps = FlattenOptions
 
 bool polished(const FlattenResult& r)
 {
-    return std::any_of(r.notes.begin(), r.notes.end(), [](const std::string& note) {
-        return note.find("area polish") != std::string::npos;
-    });
+    return test::noted(r, "area polish");
 }
 
 }  // namespace
@@ -122,9 +120,7 @@ TEST_CASE("area polish: under --overlaps keep the map is polished without a scaf
 {
     const FlattenResult keep = flatten_tree3(true, OverlapPolicy::Keep);
     CHECK(polished(keep));
-    CHECK(std::any_of(keep.notes.begin(), keep.notes.end(), [](const std::string& note) {
-        return note.find("area polish (lambda 0.99):") != std::string::npos;  // no ", scaffold"
-    }));
+    CHECK(test::noted(keep, "area polish (lambda 0.99):"));  // no ", scaffold"
     CHECK(keep.quality.flipped_triangles == 0);
     CHECK(keep.quality.mean_abs_log_area < flatten_tree3(false, OverlapPolicy::Keep).quality.mean_abs_log_area);
 }

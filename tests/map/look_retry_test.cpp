@@ -174,9 +174,9 @@ TEST_SUITE("slow")
         CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
         CHECK(r.quality.mean_abs_log_area_normalized <= 0.015);
         // Its carry's sweeps bring the map's area below that of the coarse pulled map, so the
-        // carry is not finished by Newton steps: with the pulls they traded the walk order of
-        // three outlets for area (docs/benchmarks.md, "The carry finished by Newton steps where
-        // it stops short").
+        // carry is not finished by Newton steps, which with the pulls would trade the walk order
+        // for area (docs/benchmarks.md, "The carry finished by Newton steps where it stops
+        // short").
         CHECK(r.quality.mean_abs_log_area_normalized <= r.look_retry.pulled_area);
         CHECK_FALSE(test::noted(r, "coarse-to-fine: finished with"));
         CHECK(r.look.walk_inversions == 0);

@@ -441,11 +441,10 @@ using LevelPulls = std::function<std::vector<CentrePull>(std::size_t, const Eige
 // relaxation stalls (kStalledRatio) fails without the polish.
 // \param pulls_at if set: a pulled map (FlattenOptions::look_pull from the start, or the look
 // retry's kept on the coarse mesh). Each level relaxes with the pulls made on its carried map;
-// the finest is finished by Newton steps with them wherever its last sweep still lowered the
-// energy, whatever the energy's ratio to its minimum (the pulled map's energy does not see the
-// area's error, which the steps still lower), and polished with them where its energy is above
-// the bound (without them the polish undoes the look; docs/overlaps.md, "The steps and
-// the carry").
+// the finest is finished by Newton steps with them where its mean |log area| is still above its
+// coarse map's (the pulled map's energy does not see the area's error; see kFinishRatio), and
+// polished with them where its energy is above the bound (without them the polish undoes the
+// look; docs/overlaps.md, "The steps and the carry").
 std::string carry_up(const Mesh& mesh, const std::vector<CoarseMesh>& levels,
                      const LayoutResult& placed, const FlattenOptions& options,
                      std::size_t boundary_levels, bool at_layout, Eigen::MatrixX2d uv,
