@@ -182,11 +182,13 @@ TEST_CASE("injective: SLIM goes on past steps cut short by a nearly collapsed tr
     // a held route's cut back was bounded (test::FirstCutBackJoin): from the layout circle its coarse
     // mesh's SLIM steps are cut to ~1e-12 of the proxy's step for three iterations at an energy
     // 3e4 times its final one; stopping there (as converged) left the coarse map without the
-    // tree's look and the look retry made the map.
+    // tree's look and the look retry made the map. The restart starts from the circle on the
+    // coarse mesh itself (MultilevelOptions::coarser_start off), where the steps are cut short.
     const Mesh tree = test::test_tree_phantom(15, 2, 0.75);
     const double area = face_areas(tree).sum();
     FlattenOptions options;
     options.cuts.joiner = std::make_shared<test::FirstCutBackJoin>();
+    options.multilevel.coarser_start = false;
     const FlattenResult r = flatten(tree, options);
     CHECK(r.injective.stalls_passed >= 1);
     CHECK(r.injective.converged);

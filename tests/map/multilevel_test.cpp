@@ -4,6 +4,7 @@
 #include "detail/coarse_correction.h"
 #include "detail/face_jacobian.h"
 #include "detail/polish_hessian.h"
+#include "detail/refine_map.h"
 #include "support/checks.h"
 #include "support/first_cut_back_join.h"
 #include "support/meshes.h"
@@ -934,14 +935,18 @@ TEST_CASE(
     "multilevel: a carry whose sweeps stall above 1.01 times its minimum is finished by "
     "Newton steps")
 {
-    // The 20-outlet tree phantom of seed 1 at edge 0.75: the finest level's sweeps, held by the
+    // The 20-outlet tree phantom of seed 1 at edge 0.75, its coarse map restarted from the
+    // layout circle on the coarse mesh itself (MultilevelOptions::coarser_start off; from the
+    // coarser start its carry ends near its minimum): the finest level's sweeps, held by the
     // boundary's near contacts, stop lowering the energy at about 1.014 times the isometric
     // minimum. The carry is finished all the same, and ends nearer its minimum, one-to-one.
     // Its first three Newton steps remove most of the excess and leave it above 1.001 times
     // the minimum, so the finish goes on, and removes nine tenths of the excess (three steps
     // removed three quarters).
     const Mesh mesh = test::test_tree_phantom(20, 1, 0.75);
-    const FlattenResult r = flatten(mesh, FlattenOptions{});
+    FlattenOptions options;
+    options.multilevel.coarser_start = false;
+    const FlattenResult r = flatten(mesh, options);
     const auto carried = relaxed_ratios(r, "coarse-to-fine: ");
     const auto further = relaxed_ratios(r, "coarse-to-fine: finished with ");
     REQUIRE(carried.size() == 1);
@@ -987,4 +992,82 @@ TEST_CASE("multilevel: a carry whose relaxation stalls far above its minimum goe
     CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
     CHECK(r.look.outlets_below_inlet == 0);
     CHECK(r.quality.mean_abs_log_area_normalized < 0.03);
+}
+
+TEST_CASE(
+    "multilevel: a restart starts from the map a RestartStart gives, or from its own where "
+    "it gives none")
+{
+    FlattenOptions cut_only;
+    cut_only.refinement = Refinement::None;
+    const Mesh mesh = flatten(test::test_tree_phantom(3), cut_only).mesh;
+    const FlattenOptions options;
+    FlattenResult own;
+    detail::refine_map(mesh, {}, options, "", std::string("asked"), own);
+    REQUIRE(own.injective.iterations > 1);
+    CHECK(noted(own, "asked; restarted from the Tutte embedding"));
+
+    // A start that cannot make a map: the restart's own start, the same map to the bit.
+    const detail::RestartStart none = [](const FlattenOptions&, std::vector<std::string>& notes) {
+        notes.push_back("gave none");
+        return Eigen::MatrixX2d();
+    };
+    FlattenResult fallen;
+    detail::refine_map(mesh, {}, options, "", std::string("asked"), fallen, nullptr, nullptr,
+                       &none);
+    CHECK(noted(fallen, "(the start solved on a coarser mesh was not used)"));
+    CHECK(noted(fallen, "coarser start: gave none"));
+    REQUIRE(fallen.uv.rows() == own.uv.rows());
+    CHECK((fallen.uv - own.uv).cwiseAbs().maxCoeff() == 0.0);
+
+    // A start at the restart's own end: SLIM goes on from it, and stops sooner.
+    const Eigen::MatrixX2d end = own.uv;
+    const detail::RestartStart near = [&end](const FlattenOptions&, std::vector<std::string>&) {
+        return end;
+    };
+    FlattenResult given;
+    detail::refine_map(mesh, {}, options, "", std::string("asked"), given, nullptr, nullptr, &near);
+    CHECK(noted(given, "solved on a coarser mesh first"));
+    // The area polish after SLIM moves its map a little off SLIM's own minimum.
+    CHECK(given.injective.initial_energy <= 1.01 * own.injective.final_energy);
+    CHECK(given.injective.iterations < own.injective.iterations);
+    CHECK(given.injective.final_energy <= own.injective.final_energy * (1.0 + 1e-3));
+    const FlatQuality q = flat_quality(mesh, given.uv);
+    CHECK(q.flipped_triangles == 0);
+    CHECK(q.overlapping_triangles == 0);
+}
+
+TEST_CASE(
+    "multilevel: on a tree of ten outlets the coarse map's restart is solved coarser first "
+    "and the map keeps its look and area")
+{
+    // The restart from the layout circle unrolls ten branches: its SLIM iterations are made
+    // first on a decimation of the coarse mesh to a quarter of its vertices (NestedStart in
+    // solve_map.cpp), so that the coarse mesh's SLIM starts near its end and makes fewer. The
+    // map carried from there is one-to-one, keeps the inlet below every outlet, and its area
+    // is within issue 27's 1.5x of the map restarted from the circle on the coarse mesh itself.
+    const Mesh mesh = tree_phantom({10, 3.0, 0.5, 3});
+    const FlattenResult r = flatten(mesh, FlattenOptions());
+    REQUIRE(noted(r, "coarse-to-fine: the map solved on 4000 of"));
+    CHECK(noted(r,
+                "coarse: the map at the layout overlaps itself (its boundary crosses); "
+                "restarted from the layout circle, solved on a coarser mesh first"));
+    CHECK(noted(r, "coarse: coarser start: solved on "));
+    check_carry_kept(r);
+    CHECK(boundary_self_intersection(r.mesh, r.uv).first == -1);
+    CHECK(r.look.outlets == 10);
+    CHECK(r.look.outlets_below_inlet == 0);
+    FlattenOptions circle;
+    circle.multilevel.coarser_start = false;
+    const FlattenResult from_circle = flatten(mesh, circle);
+    CHECK_FALSE(noted(from_circle, "coarser start"));
+    REQUIRE_FALSE(from_circle.look_retry.kept);  // both are the default map's
+    REQUIRE_FALSE(r.look_retry.kept);
+    CHECK(r.injective.iterations < from_circle.injective.iterations);
+    CHECK(r.quality.mean_abs_log_area_normalized <=
+          1.5 * from_circle.quality.mean_abs_log_area_normalized);
+    MESSAGE("10-outlet tree: coarse SLIM iterations "
+            << r.injective.iterations << " against " << from_circle.injective.iterations
+            << ", mean |log area| " << r.quality.mean_abs_log_area_normalized << " against "
+            << from_circle.quality.mean_abs_log_area_normalized);
 }

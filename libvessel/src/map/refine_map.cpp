@@ -11,7 +11,8 @@ namespace vessel::detail {
 
 bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
                 const std::string& crossing, std::optional<std::string> restart,
-                FlattenResult& result, const LayoutInput* layout, const LayoutResult* placed)
+                FlattenResult& result, const LayoutInput* layout, const LayoutResult* placed,
+                const RestartStart* start)
 {
     if (!restart && options.refinement != Refinement::None &&
         options.arap.max_iterations > 0)
@@ -43,15 +44,32 @@ bool refine_map(const Mesh& mesh, Pins pins, const FlattenOptions& options,
         // (from the start, or from the first contact of the boundary with itself) never lets
         // its boundary cross.
         const bool from_circle = layout && placed && options.restart_on_layout_circle;
-        result.notes.push_back(*restart + (from_circle ? "; restarted from the layout circle"
-                                                      : "; restarted from the Tutte embedding"));
+        std::string note = *restart + (from_circle ? "; restarted from the layout circle"
+                                                   : "; restarted from the Tutte embedding");
         result.uv = from_circle ? layout_circle_start(*layout, *placed, options.layout_circle)
                                 : tutte_embedding(mesh);
         pins.clear();  // neither start can hold the pins where they were
+        // The pulls' hinges are made on the circle, which has the layout's look: a start that
+        // comes from elsewhere may have lost some of its margin, which they then ask back.
         if (layout && options.look_pull.weight > 0.0)
             slim.centre_pulls = look_pulls(layout->segments, result.uv, options.look_pull.weight,
                                            options.look_pull.form, options.look_pull.margin_deg,
                                            options.look_pull.hold);
+        std::vector<std::string> start_notes;
+        if (start && *start)
+        {
+            Eigen::MatrixX2d given = (*start)(options, start_notes);
+            if (given.rows() == result.uv.rows())
+            {
+                result.uv = std::move(given);
+                note += ", solved on a coarser mesh first";
+            }
+            else
+                note += " (the start solved on a coarser mesh was not used)";
+        }
+        result.notes.push_back(note);
+        for (const std::string& line : start_notes)
+            result.notes.push_back("coarser start: " + line);
         slim.pull_steps = options.look_pull.solver_steps();
         slim.max_iterations = std::max(slim.max_iterations, 1);
     }

@@ -27,6 +27,7 @@
 #include <functional>
 #include <future>
 #include <limits>
+#include <optional>
 
 namespace vessel::detail {
 
@@ -98,8 +99,10 @@ constexpr int kPulledAheadOutlets = 16;
 constexpr int kChordFreeOutlets = 16;
 
 // The map at full resolution: initial map, refinement with the inlet pinned, look retry.
+// \p start as refine_map()'s, for the default map's restart (not the look retry's).
 bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const LayoutResult& placed,
-                        const FlattenOptions& options, FlattenResult& result)
+                        const FlattenOptions& options, FlattenResult& result,
+                        const RestartStart* start = nullptr)
 {
     const bool may_restart =
         options.refinement == Refinement::Injective && options.overlaps != OverlapPolicy::Keep;
@@ -162,7 +165,7 @@ bool solve_single_level(const Mesh& mesh, const LayoutInput& input, const Layout
     }
     if (refine_map(mesh, pins, refine_options, crossing,
                    crosses_at_once ? std::optional<std::string>(crossing) : std::nullopt, result,
-                   &input, &placed))
+                   &input, &placed, start))
     {
         at_layout = false;
         retry_look(mesh, pins, initial, options, result, input, placed, &pulled_ahead);
@@ -657,6 +660,127 @@ bool mend_look(const Mesh& mesh, const LayoutInput& input, const LayoutResult& p
     return true;
 }
 
+// The layout problem on a decimation of its mesh, \p level: every per-vertex input renumbered
+// or dropped (`index[v]`: v's index on \p level, or -1).
+void input_on(const LayoutInput& input, const LayoutResult& placed, const Mesh& level,
+              const std::vector<int>& index, LayoutInput& level_input, LayoutResult& level_placed)
+{
+    level_input = input;
+    level_input.mesh = &level;
+    level_input.origin.resize(level.n_vertices());
+    for (std::size_t v = 0; v < index.size(); ++v)
+        if (index[v] >= 0)
+            level_input.origin[index[v]] = input.origin[v];
+    for (BoundarySegment& segment : level_input.segments)
+    {
+        BoundarySegment kept{segment.loop, {}, {}};
+        for (std::size_t i = 0; i < segment.vertices.size(); ++i)
+            if (const int c = index[segment.vertices[i].idx()]; c >= 0)
+            {
+                kept.vertices.push_back(VertexHandle(c));
+                kept.arc_length.push_back(segment.arc_length[i]);
+            }
+        segment = std::move(kept);
+    }
+    level_placed = placed;
+    level_placed.inlet = renumbered(placed.inlet, index);
+    level_placed.outlets = renumbered(placed.outlets, index);
+}
+
+// The fewest outlets for which the coarse map's restart starts from a coarser solve
+// (NestedStart). From the layout circle, the more outlets, the more of SLIM's iterations go to
+// unrolling the branches; on the carotid phantoms and 4-outlet tree phantoms the restart is a
+// few iterations from its end, and the coarser solve only adds its own time
+// (docs/benchmarks.md, "The coarse map's start solved coarser"; MultilevelOptions::coarser_start).
+constexpr int kNestedStartOutlets = 10;
+
+// The coarser solve's stopping rule once its scaffold is in use
+// (InjectiveOptions::scaffold_tolerance): the coarse mesh's own SLIM and area polish follow it,
+// so its slow tail is left to them.
+constexpr double kNestedScaffoldTolerance = 1e-3;
+
+// A restart's start for the coarse mesh (detail::RestartStart): the same restart from the layout
+// circle solved first on a decimation of the coarse mesh to a quarter of its vertices, one level
+// further down the hierarchy, then carried up to it as the coarse map is carried up
+// (prolongate() and relax_area(), multilevel.h). SLIM's iterations from the circle, which unroll
+// the branches with a scaffold triangulated anew at almost every step, are made on a mesh a
+// quarter as large, and those on the coarse mesh start near their end (a cascadic start,
+// Bornemann and Deuflhard 1996). The look retry's pulled map is not started so: carried up from a
+// coarser solve, it kept less of the look (docs/benchmarks.md, "The coarse map's start solved
+// coarser"). An empty map where the carried start has a flip or a crossing.
+class NestedStart
+{
+public:
+    // \p keep: coarse vertices the decimation keeps (the boundary segments' ends and spacing).
+    NestedStart(const Mesh& coarse, const LayoutInput& input, const LayoutResult& placed,
+                const std::vector<VertexHandle>& keep, bool no_new_chords, double lambda)
+        : coarse_(coarse),
+          level_(coarsen(coarse, static_cast<int>(coarse.n_vertices() / 4), keep, no_new_chords)),
+          area_(face_areas(level_.mesh).sum()),
+          lambda_(lambda)
+    {
+        input_on(input, placed, level_.mesh, level_.coarse_of, level_input_, level_placed_);
+    }
+    NestedStart(const NestedStart&) = delete;  // level_input_ points at level_.mesh
+    NestedStart& operator=(const NestedStart&) = delete;
+
+    Eigen::MatrixX2d operator()(const FlattenOptions& options,
+                                std::vector<std::string>& notes) const
+    {
+        FlattenOptions coarser = options;
+        coarser.polish_area = false;
+        coarser.injective.scaffold_tolerance = kNestedScaffoldTolerance;
+        FlattenResult solved;
+        refine_map(level_.mesh, {}, coarser, "",
+                   "solved on " + std::to_string(level_.mesh.n_vertices()) + " vertices", solved,
+                   &level_input_, &level_placed_);
+        notes.insert(notes.end(), solved.notes.begin(), solved.notes.end());
+        // SLIM's energy is 4 x area at an isometry: a solve stalled far above it (a sliver held
+        // its steps) is no nearer the coarse map's end than the circle.
+        if (!(solved.injective.final_energy <= 2.0 * 4.0 * area_))
+        {
+            char line[160];
+            std::snprintf(line, sizeof line,
+                          "stalled at %.3g times its isometric minimum: not used",
+                          solved.injective.final_energy / (4.0 * area_));
+            notes.push_back(line);
+            return {};
+        }
+        const bool keep_simple = options.overlaps != OverlapPolicy::Keep;
+        Eigen::MatrixX2d uv = prolongate(coarse_, level_, solved.uv, lambda_, keep_simple);
+        // The carry leaves slivers where the vertices it puts back are squeezed: relaxed before
+        // SLIM, whose energy they would hold up.
+        MultilevelOptions relax = options.multilevel;
+        relax.area_tolerance = 0.0;
+        relax_area(coarse_, uv, {}, lambda_, relax, &level_, &solved.uv, keep_simple);
+        for (FaceHandle f : coarse_.faces())
+        {
+            auto corner = coarse_.cfv_begin(f);
+            const int a = corner->idx(), b = (++corner)->idx(), c = (++corner)->idx();
+            if (!(detail::orient(uv.row(a).transpose(), uv.row(b).transpose(),
+                                 uv.row(c).transpose()) > 0.0))
+            {
+                notes.push_back("carried up with a flipped face: not used");
+                return {};
+            }
+        }
+        if (keep_simple && boundary_self_intersection(coarse_, uv).first >= 0)
+        {
+            notes.push_back("carried up with its boundary crossing itself: not used");
+            return {};
+        }
+        return uv;
+    }
+
+private:
+    const Mesh& coarse_;
+    CoarseMesh level_;
+    LayoutInput level_input_;
+    LayoutResult level_placed_;
+    double area_;  // of level_.mesh's surface
+    double lambda_;
+};
+
 // The coarse-to-fine map (multilevel.h) into result.uv; on failure (a flip left after
 // untangling, a crossing boundary, an energy far above its minimum) the reason, and result.uv
 // untouched. \p second_try_follows: a failure is followed by a second try
@@ -684,31 +808,10 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     const Mesh& coarsest = levels.back().mesh;
     const std::size_t n = mesh.n_vertices();
 
-    // The problem on level `depth` of the hierarchy: every per-vertex input renumbered or
-    // dropped.
+    // The problem on level `depth` of the hierarchy.
     const auto at_level = [&](std::size_t depth, const Mesh& level, LayoutInput& level_input,
                               LayoutResult& level_placed) {
-        const std::vector<int> index = index_at(levels, depth, n);
-        level_input = input;
-        level_input.mesh = &level;
-        level_input.origin.resize(level.n_vertices());
-        for (std::size_t v = 0; v < n; ++v)
-            if (index[v] >= 0)
-                level_input.origin[index[v]] = input.origin[v];
-        for (BoundarySegment& segment : level_input.segments)
-        {
-            BoundarySegment kept{segment.loop, {}, {}};
-            for (std::size_t i = 0; i < segment.vertices.size(); ++i)
-                if (const int c = index[segment.vertices[i].idx()]; c >= 0)
-                {
-                    kept.vertices.push_back(VertexHandle(c));
-                    kept.arc_length.push_back(segment.arc_length[i]);
-                }
-            segment = std::move(kept);
-        }
-        level_placed = placed;
-        level_placed.inlet = renumbered(placed.inlet, index);
-        level_placed.outlets = renumbered(placed.outlets, index);
+        input_on(input, placed, level, index_at(levels, depth, n), level_input, level_placed);
     };
     LayoutInput coarse_input;
     LayoutResult coarse_placed;
@@ -717,8 +820,27 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     // The look retry runs on the coarse mesh, its area bound held there (retry_look()); a kept
     // pulled map is carried up with its pulls, as one pulled from the start, which keeps its
     // look (docs/overlaps.md, "The steps and the carry").
+    // On many-outlet trees the coarse map's restart starts from a coarser solve (NestedStart);
+    // not a map pulled from the start (FlattenOptions::look_pull), for the look retry's reason.
+    std::optional<NestedStart> nested;
+    RestartStart start;
+    if (multilevel.coarser_start && outlet_count(input) >= kNestedStartOutlets &&
+        options.look_pull.weight == 0.0 && coarsest.n_vertices() >= 400)
+    {
+        const std::vector<int> index = index_at(levels, levels.size(), n);
+        std::vector<VertexHandle> coarse_keep;
+        for (VertexHandle v : keep)
+            if (index[v.idx()] >= 0)
+                coarse_keep.push_back(VertexHandle(index[v.idx()]));
+        nested.emplace(coarsest, coarse_input, coarse_placed, coarse_keep,
+                       outlet_count(input) >= kChordFreeOutlets, relax_weight(options));
+        start = [&nested](const FlattenOptions& given, std::vector<std::string>& notes) {
+            return (*nested)(given, notes);
+        };
+    }
     FlattenResult solved;
-    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved);
+    at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
+                                   start ? &start : nullptr);
     char line[200];
     std::snprintf(line, sizeof line,
                   "coarse-to-fine: the map solved on %zu of %zu vertices (%zu levels)",
