@@ -707,7 +707,8 @@ constexpr double kNestedScaffoldTolerance = 1e-3;
 // quarter as large, and those on the coarse mesh start near their end (a cascadic start,
 // Bornemann and Deuflhard 1996). The look retry's pulled map is not started so: carried up from a
 // coarser solve, it kept less of the look (docs/benchmarks.md, "The coarse map's start solved
-// coarser"). An empty map where the carried start has a flip or a crossing.
+// coarser"). An empty map where the coarser solve stalls above twice its isometric minimum, or
+// the carried start has a flip or a crossing.
 class NestedStart
 {
 public:
