@@ -692,7 +692,7 @@ void input_on(const LayoutInput& input, const LayoutResult& placed, const Mesh& 
 // unrolling the branches; on the carotid phantoms and 4-outlet tree phantoms the restart is a
 // few iterations from its end, and the coarser solve only adds its own time
 // (docs/benchmarks.md, "The coarse map's start solved coarser"; MultilevelOptions::coarser_start).
-constexpr int kNestedStartOutlets = 10;
+constexpr int kNestedStartOutlets = 6;
 
 // The coarser solve's stopping rule once its scaffold is in use
 // (InjectiveOptions::scaffold_tolerance): the coarse mesh's own SLIM and area polish follow it,

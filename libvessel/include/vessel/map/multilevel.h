@@ -84,7 +84,7 @@ struct MultilevelOptions
     //! far from its minimum: SLIM's scaffold steps stalling on a decimated many-outlet tree).
     //! Relaxed maps mostly end near 1 (docs/benchmarks.md "Coarse-to-fine"). Must be > 1.
     double max_energy_ratio = 1.05;
-    //! On trees of at least ten outlets, the coarse map's restart from the layout circle is
+    //! On trees of at least six outlets, the coarse map's restart from the layout circle is
     //! solved first on a decimation of the coarse mesh to a quarter of its vertices and carried
     //! up to it, so that most of SLIM's iterations, which unroll the branches, are made on the
     //! smaller mesh (not the look retry's pulled map, nor a map pulled from the start: carried
