@@ -754,16 +754,10 @@ public:
         MultilevelOptions relax = options.multilevel;
         relax.area_tolerance = 0.0;
         relax_area(coarse_, uv, {}, lambda_, relax, &level_, &solved.uv, keep_simple);
-        for (FaceHandle f : coarse_.faces())
+        if (map_distortion(coarse_, uv).flipped_triangles > 0)
         {
-            auto corner = coarse_.cfv_begin(f);
-            const int a = corner->idx(), b = (++corner)->idx(), c = (++corner)->idx();
-            if (!(detail::orient(uv.row(a).transpose(), uv.row(b).transpose(),
-                                 uv.row(c).transpose()) > 0.0))
-            {
-                notes.push_back("carried up with a flipped face: not used");
-                return {};
-            }
+            notes.push_back("carried up with a flipped face: not used");
+            return {};
         }
         if (keep_simple && boundary_self_intersection(coarse_, uv).first >= 0)
         {
@@ -818,9 +812,6 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
     LayoutResult coarse_placed;
     at_level(levels.size(), coarsest, coarse_input, coarse_placed);
 
-    // The look retry runs on the coarse mesh, its area bound held there (retry_look()); a kept
-    // pulled map is carried up with its pulls, as one pulled from the start, which keeps its
-    // look (docs/overlaps.md, "The steps and the carry").
     // On many-outlet trees the coarse map's restart starts from a coarser solve (NestedStart);
     // not a map pulled from the start (FlattenOptions::look_pull), for the look retry's reason.
     std::optional<NestedStart> nested;
@@ -839,6 +830,9 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
             return (*nested)(given, notes);
         };
     }
+    // The look retry runs on the coarse mesh, its area bound held there (retry_look()); a kept
+    // pulled map is carried up with its pulls, as one pulled from the start, which keeps its
+    // look (docs/overlaps.md, "The steps and the carry").
     FlattenResult solved;
     at_layout = solve_single_level(coarsest, coarse_input, coarse_placed, options, solved,
                                    start ? &start : nullptr);
