@@ -694,6 +694,11 @@ void input_on(const LayoutInput& input, const LayoutResult& placed, const Mesh& 
 // (docs/benchmarks.md, "The coarse map's start solved coarser"; MultilevelOptions::coarser_start).
 constexpr int kNestedStartOutlets = 6;
 
+// The fewest coarse-mesh vertices for which NestedStart is made: a quarter of fewer would be
+// under 100 vertices. The default coarse mesh has 4000 (MultilevelOptions::coarse_vertices);
+// smaller ones, asked for with a small coarse_vertices, restart from the circle.
+constexpr std::size_t kNestedStartMinVertices = 400;
+
 // The coarser solve's stopping rule once its scaffold is in use
 // (InjectiveOptions::scaffold_tolerance): the coarse mesh's own SLIM and area polish follow it,
 // so its slow tail is left to them.
@@ -808,22 +813,22 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
                               LayoutResult& level_placed) {
         input_on(input, placed, level, index_at(levels, depth, n), level_input, level_placed);
     };
+    const std::vector<int> coarse_index = index_at(levels, levels.size(), n);
     LayoutInput coarse_input;
     LayoutResult coarse_placed;
-    at_level(levels.size(), coarsest, coarse_input, coarse_placed);
+    input_on(input, placed, coarsest, coarse_index, coarse_input, coarse_placed);
 
     // On many-outlet trees the coarse map's restart starts from a coarser solve (NestedStart);
     // not a map pulled from the start (FlattenOptions::look_pull), for the look retry's reason.
     std::optional<NestedStart> nested;
     RestartStart start;
     if (multilevel.coarser_start && outlet_count(input) >= kNestedStartOutlets &&
-        options.look_pull.weight == 0.0 && coarsest.n_vertices() >= 400)
+        options.look_pull.weight == 0.0 && coarsest.n_vertices() >= kNestedStartMinVertices)
     {
-        const std::vector<int> index = index_at(levels, levels.size(), n);
         std::vector<VertexHandle> coarse_keep;
         for (VertexHandle v : keep)
-            if (index[v.idx()] >= 0)
-                coarse_keep.push_back(VertexHandle(index[v.idx()]));
+            if (coarse_index[v.idx()] >= 0)
+                coarse_keep.push_back(VertexHandle(coarse_index[v.idx()]));
         nested.emplace(coarsest, coarse_input, coarse_placed, coarse_keep,
                        outlet_count(input) >= kChordFreeOutlets, relax_weight(options));
         start = [&nested](const FlattenOptions& given, std::vector<std::string>& notes) {
