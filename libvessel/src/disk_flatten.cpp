@@ -38,7 +38,7 @@ Eigen::MatrixX2d initial_map(const Mesh& mesh, Initialization initialization)
 FlattenResult flatten_disk(Mesh mesh, const FlattenOptions& options)
 {
     FlattenResult result;
-    StageClock clock(options);
+    StageClock clock(options, "Z");
     result.loops = boundary_loops(mesh);
     if (result.loops.size() != 1)
         throw InvalidInputError("flatten_disk: the mesh has " +
@@ -53,15 +53,15 @@ FlattenResult flatten_disk(Mesh mesh, const FlattenOptions& options)
     auto geodesic = OpenMesh::VProp<double>(mesh, prop::geodesic);
     for (const auto v : mesh.vertices())
         geodesic[v] = G[v.idx()];
-    result.timings.Z = clock.lap("Z");
-    result.timings.GC = clock.lap("GC");
-    result.timings.VC = clock.lap("VC");
+    result.timings.Z = clock.lap("Z", "GC");
+    result.timings.GC = clock.lap("GC", "VC");
+    result.timings.VC = clock.lap("VC", "AC");
 
     // AC: no seam; this only adds the identity `prop::origin` the writers expect.
     cut_along_edges(mesh, {});
-    result.timings.AC = clock.lap("AC");
+    result.timings.AC = clock.lap("AC", "L");
 
-    result.timings.L = clock.lap("L");  // no layout: nothing to place
+    result.timings.L = clock.lap("L", "F");  // no layout: nothing to place
 
     result.uv = initial_map(mesh, options.initialization);
     const VertexHandle held = result.loops[0].vertices.front();

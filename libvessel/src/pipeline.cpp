@@ -125,7 +125,7 @@ constexpr std::size_t kStreamThreadVertices = 4000;
 
 DirectionStage direction_stage(Mesh& mesh, const FlattenOptions& options)
 {
-    StageClock clock(options);
+    StageClock clock(options, "Z");
     DirectionStage stage;
     stage.loops = boundary_loops(mesh);
     if (stage.loops.size() < 2)
@@ -228,7 +228,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     // reallocate them all (O(V)) inside the cut stage; make room for the duplicates up front.
     mesh.reserve(mesh.n_vertices() + mesh.n_vertices() / 8 + 64,
                  mesh.n_edges() + mesh.n_edges() / 8 + 64, mesh.n_faces());
-    StageClock clock(options);
+    StageClock clock(options, "GC");
     result.loops = zstage.loops;
     const Eigen::VectorXd& G = zstage.G;
     const Eigen::MatrixX3d& z = zstage.z;
@@ -238,7 +238,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const HalfedgeWeights weights =
         forced_plan ? HalfedgeWeights() : travel_weights(mesh, zstage, options);
     auto graph = forced_plan ? nullptr : std::make_unique<CutGraph>(mesh, weights);
-    result.timings.GC = clock.lap("GC");
+    result.timings.GC = clock.lap("GC", "VC");
 
     // VC: cut paths (the streamline routes also trace a field toward the root, made in Z).
     const bool trace_z =
@@ -247,14 +247,14 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
                               : plan_cuts(*graph, result.loops, zstage.winding, options.cuts,
                                           trace_z ? z : zstage.stream, zstage.H, z);
     graph.reset();
-    result.timings.VC = clock.lap("VC");
+    result.timings.VC = clock.lap("VC", "AC");
 
     // AC: split the seam in place.
     const std::size_t n_before = mesh.n_vertices();
     const CutSummary cut = cut_along_edges(mesh, result.plan.seam_edges(mesh));
     result.seam_edges = cut.seam_edges;
     result.duplicated_vertices = cut.duplicated_vertices;
-    result.timings.AC = clock.lap("AC");
+    result.timings.AC = clock.lap("AC", "L");
 
     // L: pin the inlet and outlets.
     std::vector<int> loop_of(n_before, -1);
@@ -274,7 +274,7 @@ FlattenResult flatten_once(Mesh mesh, const FlattenOptions& options, const Direc
     const std::shared_ptr<const Layout> layout =
         options.layout ? options.layout : std::make_shared<BranchFanLayout>(options.alpha_deg);
     const LayoutResult placed = layout->place(input);
-    result.timings.L = clock.lap("L");
+    result.timings.L = clock.lap("L", "F");
 
     // F: the map (solve_map.h: coarse-to-fine on large meshes), the inlet at the bottom.
     if (!detail::solve_map(mesh, input, placed, options, result))

@@ -127,7 +127,9 @@ TEST_CASE("cli: --help fits one screen in groups, --help-all adds the tuning opt
     CHECK(version.find(VESSEL_VERSION) != std::string::npos);
 }
 
-TEST_CASE("cli: progress is drawn on a terminal, not in a pipe, and --quiet silences it")
+TEST_CASE(
+    "cli: progress is drawn on a terminal (each step named while it runs) but not in a pipe "
+    "and --quiet silences it")
 {
     const std::string dir = temp_dir("progress");
     const std::string mesh = std::string(VESSEL_SHARED_DATA) + "/vampy/artery.ply";
@@ -147,6 +149,18 @@ TEST_CASE("cli: progress is drawn on a terminal, not in a pipe, and --quiet sile
                                   tty.find(" slim ") != std::string::npos ||
                                   tty.find(" polish ") != std::string::npos;
     CHECK(iterations_shown);
+    // Each step is named on the status line as it starts, before the line that ends it: the
+    // reading, and every stage, also those that report no iterations (stage Z).
+    const auto named_before = [&](const std::string& status, const std::string& done) {
+        const std::size_t at = tty.find(redraw + status + " 0.0 s");
+        CHECK_MESSAGE(at != std::string::npos, status);
+        CHECK_MESSAGE(at < tty.find(done), status);
+    };
+    named_before("[  ] reading artery.ply", "[  ] read ");
+    for (const char* stage :
+         {"[Z ] curvature, geodesic distance, alignment", "[GC] cut graph costs", "[VC] cut paths",
+          "[AC] applying the cuts", "[L ] layout", "[F ] initial map + refinement"})
+        named_before(stage, std::string(stage) + "  ");
 
     const auto [pipe_status, pipe] = flatten_cli(dir, mesh + " -o " + dir + "/pipe.obj");
     REQUIRE(pipe_status == 0);

@@ -24,7 +24,8 @@ std::vector<Progress> run_with_progress(const Mesh& mesh, FlattenOptions options
 }  // namespace
 
 TEST_CASE(
-    "pipeline: on_progress reports every stage's end and stage F's iterations, and changes no map")
+    "pipeline: on_progress reports every stage's start and end and stage F's iterations "
+    "and changes no map")
 {
     const Mesh mesh = test::test_tree_phantom(3);
     FlattenOptions every;
@@ -35,19 +36,32 @@ TEST_CASE(
 
     std::vector<std::string> ends;
     std::set<std::string> phases;
+    std::string running;  // the stage begun and not yet ended
     for (const Progress& p : seen)
-        if (p.stage_done)
+        if (p.stage_begins)
         {
+            CHECK_MESSAGE(running.empty(), p.stage, " begins inside ", running);
+            CHECK(p.phase.empty());
+            CHECK(p.iteration == 0);
+            CHECK(!p.stage_done);
+            running = p.stage;
+        }
+        else if (p.stage_done)
+        {
+            CHECK_MESSAGE(running == p.stage, p.stage, " ends, but ", running, " was running");
+            running.clear();
             ends.push_back(p.stage);
             CHECK(p.seconds >= 0.0);
         }
         else
         {
             CHECK(p.stage == "F");
+            CHECK(running == "F");
             CHECK(p.iteration >= 1);
             CHECK(p.iteration <= p.max_iterations);
             phases.insert(p.phase);
         }
+    CHECK(running.empty());
     // Z once, then GC, VC, AC, L and F for every pass (a relief cut is one more pass).
     REQUIRE(ends.size() >= 6);
     CHECK((ends.size() - 1) % 5 == 0);
@@ -73,7 +87,7 @@ TEST_CASE(
     FlattenResult paper;
     int sweeps = 0;
     for (const Progress& p : run_with_progress(mesh, every, paper))
-        if (!p.stage_done)
+        if (!p.stage_done && !p.stage_begins)
         {
             CHECK(p.phase == "arap");
             CHECK(p.iteration == ++sweeps);
@@ -86,6 +100,6 @@ TEST_CASE(
     rare.progress_interval_s = 1e6;
     int reports = 0;
     for (const Progress& p : run_with_progress(mesh, rare, paper))
-        reports += p.stage_done ? 0 : 1;
+        reports += p.stage_done || p.stage_begins ? 0 : 1;
     CHECK(reports == 1);  // the first; the next is due in 1e6 s
 }

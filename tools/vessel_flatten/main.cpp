@@ -2,6 +2,7 @@
 #include "../vessel_view/command.h"
 #include "batch.h"
 #include "common/error_text.h"
+#include "common/live_line.h"
 #include "common/restart.h"
 #include "field_input.h"
 #include "images.h"
@@ -607,8 +608,9 @@ void add_map_options(CLI::App& app, Args& a, const Groups& g)
         ->group(map_tuning);
 }
 
-// Stage lines on stderr and, on a terminal, stage F's progress line (none with --quiet).
-void show_progress(vessel::FlattenOptions& options, bool quiet)
+// Stage lines on stderr and, on a terminal, the status line of the stage running, with stage
+// F's solver iterations (neither with --quiet).
+void show_progress(vessel::FlattenOptions& options, bool quiet, vessel::cli::LiveLine& live)
 {
     static const std::map<std::string, std::string> stage_names = {
         {"Z", "curvature, geodesic distance, alignment"},
@@ -617,36 +619,37 @@ void show_progress(vessel::FlattenOptions& options, bool quiet)
         {"AC", "applying the cuts"},
         {"L", "layout"},
         {"F", "initial map + refinement"}};
-    // On a terminal, stage F's solvers draw one line, redrawn in place (carriage return,
-    // erase to the end of the line) until the stage's own line replaces it; off a terminal
-    // (a log) only the stage lines.
-    const bool live = !quiet && isatty(fileno(stderr));
-    const char* erase = live ? "\r\033[K" : "";
-    if (!quiet)
-        options.on_stage = [erase](const std::string& stage, double s) {
-            std::fprintf(stderr, "%s[%-2s] %-42s %8.3f s\n", erase, stage.c_str(),
-                         stage_names.at(stage).c_str(), s);
-        };
-    if (live)
-    {
-        auto stage_start = std::make_shared<Clock::time_point>(Clock::now());
-        options.on_progress = [stage_start](const vessel::Progress& p) {
-            if (p.stage_done)
-            {
-                *stage_start = Clock::now();
-                return;
-            }
-            std::fprintf(stderr, "\r\033[K[%-2s] %s: %s %d/%d %.1f s", p.stage.c_str(),
-                         stage_names.at(p.stage).c_str(), p.phase.c_str(), p.iteration,
-                         p.max_iterations, seconds_since(*stage_start));
-            std::fflush(stderr);
-        };
-    }
+    if (quiet)
+        return;
+    options.on_stage = [&live](const std::string& stage, double s) {
+        char line[128];
+        std::snprintf(line, sizeof line, "[%-2s] %-42s %8.3f s", stage.c_str(),
+                      stage_names.at(stage).c_str(), s);
+        live.hide();  // the stage is over: its line replaces the status line
+        live.print(line);
+    };
+    if (!isatty(fileno(stderr)))
+        return;  // a pipe or a log: the stage lines alone
+    options.on_progress = [&live](const vessel::Progress& p) {
+        if (p.stage_begins)
+        {
+            char label[96];
+            std::snprintf(label, sizeof label, "[%-2s] %s", p.stage.c_str(),
+                          stage_names.at(p.stage).c_str());
+            live.show(label);
+        }
+        else if (p.stage_done)
+            live.hide();
+        else
+            live.detail(p.phase + " " + std::to_string(p.iteration) + "/" +
+                        std::to_string(p.max_iterations));
+    };
 }
 
 // One INPUT (not --batch): read and check it, flatten it (or each --split-at piece) and write
 // every output. \p out_ext: the output's extension.
-int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv)
+int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv,
+                  vessel::cli::LiveLine& live)
 {
     std::string& input = a.input;
     std::string& output = a.output;
@@ -665,6 +668,7 @@ int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv)
          !field_args.spec.empty() && out_ext == ".vtp",
          split_at.empty() ? 0 : static_cast<int>(split_at.size()) + 1, {input, field_args.spec}});
     auto start = Clock::now();
+    live.show("[  ] reading " + std::filesystem::path(input).filename().string());
     const vessel::cli::FieldInput field_input =
         vessel::cli::read_field_input(input, field_args);
     images.field = field_args.name;
@@ -690,6 +694,7 @@ int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv)
         throw vessel::InvalidInputError("--split-at renumbers the vertices of each piece; "
                                         "fields cannot be carried to the pieces");
     const double read_s = seconds_since(start);
+    live.hide();
     if (!quiet)
     {
         std::fprintf(stderr, "[  ] read %zu vertices, %zu faces %24.3f s\n",
@@ -855,8 +860,10 @@ int run(Args& a, int argc, char** argv)
         // made with everywhere: this process starts again with them if it must (before any
         // output, so nothing is printed twice).
         vessel::cli::restart_for_run(argv, input);
-        show_progress(options, quiet);
-        return flatten_input(a, out_ext, argc, argv);
+        // Destroyed before an error's message is printed: the status line is erased first.
+        vessel::cli::LiveLine live(!quiet && isatty(fileno(stderr)));
+        show_progress(options, quiet, live);
+        return flatten_input(a, out_ext, argc, argv, live);
     }
     catch (const std::exception& e)
     {

@@ -70,9 +70,12 @@ struct Progress
     //! "scaffold" (SLIM with its scaffold), "polish" (the area polish) or "relax" (a level's
     //! relaxation sweeps of the coarse-to-fine map, multilevel.h); empty for a stage's end.
     std::string phase;
-    int iteration = 0;        //!< the phase's iterations so far (0 for a stage's end)
-    int max_iterations = 0;   //!< the phase's iteration limit (0 for a stage's end)
-    bool stage_done = false;  //!< a stage's end (else an iteration report within stage F)
+    int iteration = 0;       //!< the phase's iterations so far (0 for a stage's start or end)
+    int max_iterations = 0;  //!< the phase's iteration limit (0 for a stage's start or end)
+    //! A stage's start (no phase): a display can name the stage running before its first
+    //! iteration report or its end, e.g. stage Z, which reports no iterations.
+    bool stage_begins = false;
+    bool stage_done = false;  //!< a stage's end (neither: an iteration report within stage F)
     double seconds = 0.0;     //!< at a stage's end, its seconds (Z: since flatten() began); else 0
 };
 
@@ -155,7 +158,7 @@ struct FlattenOptions
     MultilevelOptions multilevel;
     //! Called after every stage with its Table 1 name and seconds (e.g. for progress lines).
     std::function<void(const std::string& stage, double seconds)> on_stage;
-    //! Called at the end of every stage and, within stage F, after the solvers' outer
+    //! Called at the start and end of every stage and, within stage F, after the solvers' outer
     //! iterations (ARAP sweeps, SLIM iterations, area polish steps, relaxation sweeps), at most
     //! once per `progress_interval_s` for the iterations, so that a display shows a long run
     //! going on without slowing it. Called from one thread at a time: the thread that called
@@ -163,8 +166,8 @@ struct FlattenOptions
     //! reference after coarse-to-fine (multilevel.h) while the first waits or relaxes. Null (the
     //! default) = no calls. The vessel-flatten CLI draws it as one line on a terminal.
     std::function<void(const Progress&)> on_progress;
-    //! The least time, in seconds, between two of on_progress's iteration reports (stage ends
-    //! are always reported); 0 = every iteration.
+    //! The least time, in seconds, between two of on_progress's iteration reports (stages'
+    //! starts and ends are always reported); 0 = every iteration.
     double progress_interval_s = 0.1;
     //! \throw InvalidInputError naming the bad field.
     void validate() const;

@@ -7,13 +7,18 @@
 namespace vessel::detail {
 
 //! Times the pipeline's stages under their Table 1 names and reports each to
-//! FlattenOptions::on_stage and ::on_progress.
+//! FlattenOptions::on_stage and ::on_progress (its start to on_progress only).
 class StageClock
 {
 public:
-    explicit StageClock(const FlattenOptions& options) : options_(options) {}
-    //! Seconds since the previous call (or construction); reports the stage.
-    double lap(const char* stage)
+    //! Starts \p first, the stage the clock times first.
+    StageClock(const FlattenOptions& options, const char* first) : options_(options)
+    {
+        begin(first);
+    }
+    //! Seconds since the previous call (or construction); reports the end of \p stage and,
+    //! when given, the start of \p next (stages follow one another with no gap).
+    double lap(const char* stage, const char* next = nullptr)
     {
         const auto now = std::chrono::steady_clock::now();
         const double seconds = std::chrono::duration<double>(now - last_).count();
@@ -28,10 +33,22 @@ public:
             done.seconds = seconds;
             options_.on_progress(done);
         }
+        if (next)
+            begin(next);
         return seconds;
     }
 
 private:
+    void begin(const char* stage) const
+    {
+        if (!options_.on_progress)
+            return;
+        Progress start;
+        start.stage = stage;
+        start.stage_begins = true;
+        options_.on_progress(start);
+    }
+
     const FlattenOptions& options_;
     std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
