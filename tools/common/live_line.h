@@ -39,6 +39,9 @@ public:
     LiveLine(const LiveLine&) = delete;
     LiveLine& operator=(const LiveLine&) = delete;
 
+    //! Whether it draws (else show(), detail() and hide() do nothing).
+    bool live() const { return live_; }
+
     //! From now on the line reads \p label, then the seconds since this call.
     void show(const std::string& label)
     {

@@ -2,8 +2,8 @@
 #include "../vessel_view/command.h"
 #include "batch.h"
 #include "common/error_text.h"
-#include "common/live_line.h"
 #include "common/restart.h"
+#include "common/stage_status.h"
 #include "field_input.h"
 #include "images.h"
 #include "json_config.h"
@@ -608,44 +608,6 @@ void add_map_options(CLI::App& app, Args& a, const Groups& g)
         ->group(map_tuning);
 }
 
-// Stage lines on stderr and, on a terminal, the status line of the stage running, with stage
-// F's solver iterations (neither with --quiet).
-void show_progress(vessel::FlattenOptions& options, bool quiet, vessel::cli::LiveLine& live)
-{
-    static const std::map<std::string, std::string> stage_names = {
-        {"Z", "curvature, geodesic distance, alignment"},
-        {"GC", "cut graph costs"},
-        {"VC", "cut paths"},
-        {"AC", "applying the cuts"},
-        {"L", "layout"},
-        {"F", "initial map + refinement"}};
-    if (quiet)
-        return;
-    options.on_stage = [&live](const std::string& stage, double s) {
-        char line[128];
-        std::snprintf(line, sizeof line, "[%-2s] %-42s %8.3f s", stage.c_str(),
-                      stage_names.at(stage).c_str(), s);
-        live.hide();  // the stage is over: its line replaces the status line
-        live.print(line);
-    };
-    if (!isatty(fileno(stderr)))
-        return;  // a pipe or a log: the stage lines alone
-    options.on_progress = [&live](const vessel::Progress& p) {
-        if (p.stage_begins)
-        {
-            char label[96];
-            std::snprintf(label, sizeof label, "[%-2s] %s", p.stage.c_str(),
-                          stage_names.at(p.stage).c_str());
-            live.show(label);
-        }
-        else if (p.stage_done)
-            live.hide();
-        else
-            live.detail(p.phase + " " + std::to_string(p.iteration) + "/" +
-                        std::to_string(p.max_iterations));
-    };
-}
-
 // One INPUT (not --batch): read and check it, flatten it (or each --split-at piece) and write
 // every output. \p out_ext: the output's extension.
 int flatten_input(Args& a, const std::string& out_ext, int argc, char** argv,
@@ -862,7 +824,8 @@ int run(Args& a, int argc, char** argv)
         vessel::cli::restart_for_run(argv, input);
         // Destroyed before an error's message is printed: the status line is erased first.
         vessel::cli::LiveLine live(!quiet && isatty(fileno(stderr)));
-        show_progress(options, quiet, live);
+        if (!quiet)
+            vessel::cli::show_stages(options, live, true);
         return flatten_input(a, out_ext, argc, argv, live);
     }
     catch (const std::exception& e)

@@ -3,6 +3,7 @@
 #include "../vessel_flatten/viewer_fields.h"
 #include "command.h"
 #include "common/restart.h"
+#include "common/stage_status.h"
 #include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
 #include "vessel/pipeline.h"
@@ -12,6 +13,8 @@
 
 #include <cstdio>
 #include <filesystem>
+
+#include <unistd.h>
 
 int main(int argc, char** argv)
 {
@@ -78,13 +81,21 @@ int main(int argc, char** argv)
             throw vessel::IoError(
                 "this build has no viewer bundle (node and npm were not found "
                 "when libvessel was built); install nodejs and npm and rebuild");
+        // On a terminal the step running is named on a status line, as by vessel-flatten;
+        // destroyed before an error's message is printed, so that the line is erased first.
+        vessel::cli::LiveLine live(!quiet && isatty(fileno(stderr)));
+        live.show("reading " + std::filesystem::path(input).filename().string());
         const vessel::cli::FieldInput in =
             vessel::cli::read_field_input(input, field_args);
         const vessel::TreeSurface surface =
             vessel::make_tree_surface(in.data.mesh, surface_options);
+        live.hide();
         if (!quiet)
-            std::fprintf(stderr, "read %zu vertices, %zu faces; flattening...\n",
-                         surface.mesh.n_vertices(), surface.mesh.n_faces());
+        {
+            live.print("read " + std::to_string(surface.mesh.n_vertices()) + " vertices, " +
+                       std::to_string(surface.mesh.n_faces()) + " faces; flattening...");
+            vessel::cli::show_stages(options, live, false);
+        }
         const vessel::FlattenResult result = vessel::flatten(surface.mesh, options);
 
         std::vector<vessel::ViewerField> fields = {vessel::geodesic_field(result)};
