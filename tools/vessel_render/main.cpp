@@ -2,6 +2,7 @@
 // built-in one, a CSV column, an array of the input (.vtp/.vtk) or of --fields as vessel-flatten
 // reads them; or frames of a series (synthetic pulse or --fields) (+ GIF/MP4 with ffmpeg).
 #include "common/restart.h"
+#include "common/stage_status.h"
 #include "flat_obj.h"
 #include "vessel/check/validation.h"
 #include "vessel/core/errors.h"
@@ -25,6 +26,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace {
 
@@ -228,6 +231,16 @@ int main(int argc, char** argv)
     vessel::cli::restart_for_run(argv, input);
     try
     {
+        // A surface is flattened as vessel-flatten flattens it, the step running named on a
+        // status line on a terminal (erased before any other output, an error's included).
+        vessel::cli::LiveLine live(isatty(fileno(stderr)));
+        const auto flatten = [&live](const vessel::Mesh& mesh) {
+            vessel::FlattenOptions options;
+            vessel::cli::show_stages(options, live, false);
+            vessel::FlattenResult result = vessel::flatten(mesh, options);
+            live.hide();
+            return result;
+        };
         const bool builtin = field == "geodesic" || field == "wss" || field == "x" ||
                              field == "y" || field == "z";
         const bool arrays = !field_args.spec.empty() || (!builtin && csv.empty());
@@ -262,7 +275,7 @@ int main(int argc, char** argv)
             const vessel::cli::FieldInput in = vessel::cli::read_field_input(input, field_args);
             vessel::cli::check_images(request, in.fields, in.series);
             const vessel::FlattenResult flat =
-                vessel::flatten(vessel::make_tree_surface(in.data.mesh).mesh);  // read once
+                flatten(vessel::make_tree_surface(in.data.mesh).mesh);  // read once
             for (const auto& note : flat.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
             vessel::cli::render_images(request, flat, vessel::transfer_fields(in.fields, flat.mesh),
@@ -288,7 +301,7 @@ int main(int argc, char** argv)
         }
         else
         {
-            flat = vessel::flatten(vessel::load_tree_surface(input).mesh);
+            flat = flatten(vessel::load_tree_surface(input).mesh);
             for (const auto& note : flat.notes)
                 std::fprintf(stderr, "note: %s\n", note.c_str());
         }
