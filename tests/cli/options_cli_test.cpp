@@ -7,6 +7,7 @@
 #include "vessel/pipeline.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -172,4 +173,13 @@ TEST_CASE(
     REQUIRE(quiet_status == 0);
     CHECK(quiet.find("[F ") == std::string::npos);
     CHECK(quiet.find(redraw) == std::string::npos);
+
+    // A batch names the mesh running on the status line before the line that ends it.
+    std::filesystem::create_directories(dir + "/in");
+    std::filesystem::copy_file(mesh, dir + "/in/a.ply");
+    const auto [batch_status, batch] = on_terminal("--batch " + dir + "/in -o " + dir + "/out");
+    REQUIRE_MESSAGE(batch_status == 0, batch);
+    const std::size_t named = batch.find(redraw + "[0/1] running " + dir + "/in/a.ply");
+    CHECK(named != std::string::npos);
+    CHECK(named < batch.find("[1/1] " + dir + "/in/a.ply: ok"));
 }

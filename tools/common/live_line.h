@@ -42,15 +42,18 @@ public:
     //! Whether it draws (else show(), detail() and hide() do nothing).
     bool live() const { return live_; }
 
-    //! From now on the line reads \p label, then the seconds since this call.
-    void show(const std::string& label)
+    using Clock = std::chrono::steady_clock;
+
+    //! From now on the line reads \p label, then the seconds since \p since (by default this
+    //! call).
+    void show(const std::string& label, Clock::time_point since = Clock::now())
     {
         if (!live_)
             return;
         std::lock_guard<std::mutex> lock(mutex_);
         label_ = label;
         detail_.clear();
-        since_ = Clock::now();
+        since_ = since;
         shown_ = true;
         draw();
     }
@@ -89,7 +92,6 @@ public:
     }
 
 private:
-    using Clock = std::chrono::steady_clock;
     // Often enough that the seconds shown (one decimal) visibly run.
     static constexpr std::chrono::milliseconds kInterval{200};
 

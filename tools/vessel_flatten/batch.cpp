@@ -3,6 +3,7 @@
 #include "memory_budget.h"
 
 #include "common/error_text.h"
+#include "common/live_line.h"
 
 #include "vessel/core/errors.h"
 #include "vessel/io/flat_io.h"
@@ -420,6 +421,21 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     std::mutex print_mutex;
     std::atomic<std::size_t> next{0};
     std::size_t finished = files.size() - todo.size();
+    // On a terminal a status line says how many meshes are done, and names the one running
+    // longest with its seconds so far (and how many more run beside it): a large mesh's minutes
+    // are not silent.
+    LiveLine live(!batch.quiet && isatty(fileno(stderr)));
+    // The meshes running, in the order they started, under print_mutex (as `finished`).
+    std::vector<std::pair<std::string, Clock::time_point>> running;
+    const auto show_running = [&] {  // the caller holds print_mutex
+        const std::string done =
+            "[" + std::to_string(finished) + "/" + std::to_string(files.size()) + "] ";
+        if (running.empty())
+            return live.show(done + "done");
+        const std::string more =
+            running.size() > 1 ? " (+" + std::to_string(running.size() - 1) + " more)" : "";
+        live.show(done + "running " + running.front().first + more, running.front().second);
+    };
     g_signal = 0;
     install_signal_handlers();
     std::signal(SIGPIPE, SIG_IGN);  // a mesh's process that ended is seen by its exit status
@@ -542,20 +558,28 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             if (k >= todo.size())
                 return;
             Row& row = rows[todo[k]];
-            process(row);
-            if (!batch.quiet)
             {
                 std::lock_guard<std::mutex> lock(print_mutex);
-                ++finished;
-                if (row.status == "ok")
-                    std::fprintf(stderr, "[%zu/%zu] %s: ok, %d flipped, mean |log area| %.4f, "
-                                         "%.3f s\n",
-                                 finished, files.size(), row.file.c_str(), row.flipped,
-                                 row.mean_abs_log_area, row.total_s);
-                else
-                    std::fprintf(stderr, "[%zu/%zu] %s: %s: %s\n", finished, files.size(),
-                                 row.file.c_str(), row.status.c_str(), row.message.c_str());
+                running.emplace_back(row.file, Clock::now());
+                show_running();
             }
+            process(row);
+            std::lock_guard<std::mutex> lock(print_mutex);
+            running.erase(std::find_if(running.begin(), running.end(),
+                                       [&](const auto& r) { return r.first == row.file; }));
+            ++finished;
+            live.hide();  // drawn again below the mesh's line
+            if (!batch.quiet)
+            {
+                char figures[128];
+                std::snprintf(figures, sizeof figures,
+                              "ok, %d flipped, mean |log area| %.4f, %.3f s", row.flipped,
+                              row.mean_abs_log_area, row.total_s);
+                live.print("[" + std::to_string(finished) + "/" + std::to_string(files.size()) +
+                           "] " + row.file + ": " +
+                           (row.status == "ok" ? figures : row.status + ": " + row.message));
+            }
+            show_running();
         }
     };
     const int jobs =
@@ -565,6 +589,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
         threads.emplace_back(worker);
     for (auto& t : threads)
         t.join();
+    live.hide();
 
     const int signal = g_signal;
     try
