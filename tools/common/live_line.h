@@ -79,16 +79,15 @@ public:
         shown_ = false;
     }
 
-    //! A line that stays (\p line, with no newline), printed over the status line, which is
-    //! then drawn again below it while shown.
+    //! A line that stays (\p line, with no newline), printed where the status line was; the
+    //! status line is hidden until the next show() (a finished step's line replaces it).
     void print(const std::string& line)
     {
         std::lock_guard<std::mutex> lock(mutex_);
         erase();
         std::fprintf(stderr, "%s\n", line.c_str());
-        if (shown_)
-            draw();
         std::fflush(stderr);
+        shown_ = false;
     }
 
 private:

@@ -35,8 +35,7 @@ inline void show_stages(FlattenOptions& options, LiveLine& live, bool stage_line
             char line[128];
             std::snprintf(line, sizeof line, "[%-2s] %-42s %8.3f s", stage.c_str(),
                           stage_title(stage).c_str(), seconds);
-            live.hide();  // the stage is over: its line replaces the status line
-            live.print(line);
+            live.print(line);  // the stage is over: its line replaces the status line
         };
     if (!live.live())
         return;

@@ -568,7 +568,6 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
             running.erase(std::find_if(running.begin(), running.end(),
                                        [&](const auto& r) { return r.first == row.file; }));
             ++finished;
-            live.hide();  // drawn again below the mesh's line
             if (!batch.quiet)
             {
                 char figures[128];

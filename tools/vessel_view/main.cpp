@@ -89,7 +89,6 @@ int main(int argc, char** argv)
             vessel::cli::read_field_input(input, field_args);
         const vessel::TreeSurface surface =
             vessel::make_tree_surface(in.data.mesh, surface_options);
-        live.hide();
         if (!quiet)
         {
             live.print("read " + std::to_string(surface.mesh.n_vertices()) + " vertices, " +

@@ -68,7 +68,7 @@ struct Progress
     std::string stage;
     //! Within stage F, the solver iterating: "arap", "slim" (SLIM without a scaffold),
     //! "scaffold" (SLIM with its scaffold), "polish" (the area polish) or "relax" (a level's
-    //! relaxation sweeps of the coarse-to-fine map, multilevel.h); empty for a stage's end.
+    //! relaxation sweeps of the coarse-to-fine map, multilevel.h); empty for a stage's start or end.
     std::string phase;
     int iteration = 0;       //!< the phase's iterations so far (0 for a stage's start or end)
     int max_iterations = 0;  //!< the phase's iteration limit (0 for a stage's start or end)
