@@ -10,6 +10,8 @@
 #include <string>
 #include <thread>
 
+#include <unistd.h>
+
 namespace vessel::cli {
 
 class LiveLine
@@ -35,6 +37,10 @@ public:
         wake_.notify_one();
         ticker_.join();
     }
+
+    //! The status line of a tool's run: drawn when not \p quiet and stderr is a terminal (off a
+    //! terminal, e.g. in a log, the output stays line by line).
+    static LiveLine on_terminal(bool quiet) { return LiveLine(!quiet && isatty(fileno(stderr))); }
 
     LiveLine(const LiveLine&) = delete;
     LiveLine& operator=(const LiveLine&) = delete;

@@ -424,7 +424,7 @@ int run_batch(const BatchOptions& batch, const FlattenOptions& options)
     // On a terminal a status line says how many meshes are done, and names the one running
     // longest with its seconds so far (and how many more run beside it): a large mesh's minutes
     // are not silent.
-    LiveLine live(!batch.quiet && isatty(fileno(stderr)));
+    LiveLine live = LiveLine::on_terminal(batch.quiet);
     // The meshes running, in the order they started, under print_mutex (as `finished`).
     std::vector<std::pair<std::string, Clock::time_point>> running;
     const auto show_running = [&] {  // the caller holds print_mutex

@@ -32,8 +32,6 @@
 #include <iostream>
 #include <memory>
 
-#include <unistd.h>
-
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -823,7 +821,7 @@ int run(Args& a, int argc, char** argv)
         // output, so nothing is printed twice).
         vessel::cli::restart_for_run(argv, input);
         // Destroyed before an error's message is printed: the status line is erased first.
-        vessel::cli::LiveLine live(!quiet && isatty(fileno(stderr)));
+        vessel::cli::LiveLine live = vessel::cli::LiveLine::on_terminal(quiet);
         if (!quiet)
             vessel::cli::show_stages(options, live, true);
         return flatten_input(a, out_ext, argc, argv, live);

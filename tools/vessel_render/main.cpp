@@ -27,8 +27,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 namespace {
 
 using vessel::InvalidInputError;
@@ -233,7 +231,7 @@ int main(int argc, char** argv)
     {
         // A surface is flattened as vessel-flatten flattens it, the step running named on a
         // status line on a terminal (erased before any other output, an error's included).
-        vessel::cli::LiveLine live(isatty(fileno(stderr)));
+        vessel::cli::LiveLine live = vessel::cli::LiveLine::on_terminal(false);
         const auto flatten = [&live](const vessel::Mesh& mesh) {
             vessel::FlattenOptions options;
             vessel::cli::show_stages(options, live, false);

@@ -14,8 +14,6 @@
 #include <cstdio>
 #include <filesystem>
 
-#include <unistd.h>
-
 int main(int argc, char** argv)
 {
     CLI::App app{
@@ -83,7 +81,7 @@ int main(int argc, char** argv)
                 "when libvessel was built); install nodejs and npm and rebuild");
         // On a terminal the step running is named on a status line, as by vessel-flatten;
         // destroyed before an error's message is printed, so that the line is erased first.
-        vessel::cli::LiveLine live(!quiet && isatty(fileno(stderr)));
+        vessel::cli::LiveLine live = vessel::cli::LiveLine::on_terminal(quiet);
         live.show("reading " + std::filesystem::path(input).filename().string());
         const vessel::cli::FieldInput in =
             vessel::cli::read_field_input(input, field_args);
