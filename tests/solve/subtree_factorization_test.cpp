@@ -172,10 +172,11 @@ TEST_CASE(
         paired_system("x-ray-angio-data/coronary-phantom-tri3-coarse.ply");
     const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Upper>();
     const Eigen::Index n = A.rows();
-    Eigen::MatrixXd U = Eigen::MatrixXd::Zero(n, 4);
-    for (Eigen::Index j = 0; j < U.cols(); ++j)
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, 4);
+    for (Eigen::Index j = 0; j < dense.cols(); ++j)
         for (Eigen::Index i = 0; i < 30; ++i)
-            U((j * 997 + 13 * i) % n, j) = std::cos(0.3 * static_cast<double>(i + j));
+            dense((j * 997 + 13 * i) % n, j) = std::cos(0.3 * static_cast<double>(i + j));
+    const Eigen::SparseMatrix<double> U = dense.sparseView();
     Eigen::VectorXd c(4), b(n);
     c << 300.0, 1.0, 0.05, 1e4;
     for (Eigen::Index i = 0; i < n; ++i)

@@ -3,6 +3,7 @@
 #include "vessel/map/centre_pull.h"
 
 #include <Eigen/Core>
+#include <Eigen/Sparse>
 
 #include <string>
 #include <utility>
@@ -59,10 +60,11 @@ std::vector<PullRow> active_pull_rows(const std::vector<CentrePull>& pulls,
 
 //! The rows as the columns U of a low-rank term U diag(c) U^T over \p size unknowns, and c:
 //! entry 2 v + k of a row at unknown 2 slot[v] + k (an entry of a vertex with slot[v] < 0 left
-//! out), or at unknown 2 v + k with \p slot null; c = \p scale x each row's weight.
+//! out), or at unknown 2 v + k with \p slot null; c = \p scale x each row's weight. U is sparse:
+//! a pull reaches the vertices of its sets only.
 struct PullColumns
 {
-    Eigen::MatrixXd U;
+    Eigen::SparseMatrix<double> U;
     Eigen::VectorXd c;
 };
 PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, double scale,

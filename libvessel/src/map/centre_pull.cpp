@@ -290,19 +290,21 @@ PullColumns pull_columns(const std::vector<PullRow>& rows, Eigen::Index size, do
                          const std::vector<int>* slot)
 {
     const auto k = static_cast<Eigen::Index>(rows.size());
-    PullColumns columns{Eigen::MatrixXd::Zero(size, k), Eigen::VectorXd(k)};
+    PullColumns columns{Eigen::SparseMatrix<double>(size, k), Eigen::VectorXd(k)};
+    std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index j = 0; j < k; ++j)
     {
         const PullRow& row = rows[static_cast<std::size_t>(j)];
         for (const auto& [i, value] : row.entries)
         {
             if (!slot)
-                columns.U(i, j) += value;
+                entries.emplace_back(i, static_cast<int>(j), value);
             else if (const int s = (*slot)[static_cast<std::size_t>(i / 2)]; s >= 0)
-                columns.U(2 * s + i % 2, j) += value;
+                entries.emplace_back(2 * s + i % 2, static_cast<int>(j), value);
         }
         columns.c[j] = scale * row.weight;
     }
+    columns.U.setFromTriplets(entries.begin(), entries.end());  // repeated entries summed
     return columns;
 }
 

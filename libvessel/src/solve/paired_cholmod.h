@@ -1,6 +1,7 @@
 #pragma once
 
 #include "solve/cholmod_common.h"
+#include "solve/reach_solve.h"
 #include "solve/serial_openmp.h"
 #include "solve/subtree_factorization.h"
 
@@ -79,27 +80,39 @@ public:
     //! \brief (A + U diag(c) U^T)^-1 b for the factorized A and a low-rank term (every c > 0)
     //! by the Woodbury identity (Hager 1989, "Updating the inverse of a matrix") on the
     //! factor's triangular halves, P A P^T = L L^T: with y = L^-1 P b and Y = L^-1 P U,
-    //! x = P^T L^-T (y - Y (diag(1 / c) + Y^T Y)^-1 Y^T y). Each column of U takes a forward
-    //! solve and no backward one, where A^-1 U would take both.
-    //! Check info().
-    Eigen::VectorXd solve_with_low_rank(const Eigen::VectorXd& b, const Eigen::MatrixXd& U,
+    //! x = P^T L^-T (y - Y (diag(1 / c) + Y^T Y)^-1 Y^T y). The columns of U are sparse and
+    //! their forward solves run on the rows they reach (reach_forward_solve()); b takes one
+    //! forward and one backward solve. Check info().
+    Eigen::VectorXd solve_with_low_rank(const Eigen::VectorXd& b,
+                                        const Eigen::SparseMatrix<double>& U,
                                         const Eigen::VectorXd& c)
     {
-        const Eigen::Index k = U.cols();
-        Eigen::MatrixXd forward(b.size(), k + 1);
-        forward.col(0) = b;
-        forward.rightCols(k) = U;
-        if (!apply(CHOLMOD_P, forward) || !apply(CHOLMOD_L, forward))
+        const cholmod_factor* L = this->m_cholmodFactor;
+        if (!L || !L->is_super || !L->is_ll || L->itype != CHOLMOD_INT ||
+            L->xtype != CHOLMOD_REAL || L->dtype != CHOLMOD_DOUBLE)
+        {
+            this->m_info = Eigen::InvalidInput;
             return {};
-        const auto Y = forward.rightCols(k);
-        Eigen::MatrixXd S = Eigen::MatrixXd::Zero(k, k);
-        S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose());
+        }
+        Eigen::MatrixXd y = b;
+        if (!apply(CHOLMOD_P, y) || !apply(CHOLMOD_L, y))
+            return {};
+        const ReachSolve reach = reach_forward_solve(*L, U);
+        const Eigen::Index m = static_cast<Eigen::Index>(reach.rows.size());
+        Eigen::VectorXd at_reach(m);
+        for (Eigen::Index r = 0; r < m; ++r)
+            at_reach[r] = y(reach.rows[static_cast<std::size_t>(r)], 0);
+        Eigen::MatrixXd S = Eigen::MatrixXd::Zero(U.cols(), U.cols());
+        S.selfadjointView<Eigen::Lower>().rankUpdate(reach.Y.transpose());
         S.diagonal() += c.cwiseInverse();
-        Eigen::MatrixXd x = forward.col(0);
-        x -= Y * S.selfadjointView<Eigen::Lower>().ldlt().solve(Y.transpose() * x);
-        if (!apply(CHOLMOD_Lt, x) || !apply(CHOLMOD_Pt, x))
+        const Eigen::VectorXd z =
+            S.selfadjointView<Eigen::Lower>().ldlt().solve(reach.Y.transpose() * at_reach);
+        at_reach.noalias() -= reach.Y * z;
+        for (Eigen::Index r = 0; r < m; ++r)
+            y(reach.rows[static_cast<std::size_t>(r)], 0) = at_reach[r];
+        if (!apply(CHOLMOD_Lt, y) || !apply(CHOLMOD_Pt, y))
             return {};
-        return x;
+        return y;
     }
 
 private:
