@@ -27,9 +27,9 @@ struct LookRetryOptions
     //! FlattenOptions::look_pull apply, its steps too: by default the hinges' exact
     //! Gauss-Newton terms). With coarse-to-fine a kept pulled map is carried up with its pulls
     //! at this weight, as a map pulled from the start (docs/overlaps.md, "The steps and the
-    //! carry"). Fitted on the Glenn tree's natural cuts: a weight that brings its walk
-    //! inversions under the broken-look line within the area bound (docs/overlaps.md, "The
-    //! adaptive look"). CLI `--look-retry-pull`.
+    //! carry"). Fitted on the pulmonary trees' natural cuts: a weight that keeps Glenn split4's
+    //! map free of walk inversions within the area bound, where a lower one does not
+    //! (docs/overlaps.md, "The adaptive look"). CLI `--look-retry-pull`.
     double pull = 300.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
