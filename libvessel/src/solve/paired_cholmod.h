@@ -1,6 +1,7 @@
 #pragma once
 
 #include "solve/cholmod_common.h"
+#include "solve/paired_symbolic.h"
 #include "solve/reach_solve.h"
 #include "solve/serial_openmp.h"
 #include "solve/subtree_factorization.h"
@@ -63,18 +64,8 @@ public:
     //! \p order (each once). Check info().
     void analyze_given(const Eigen::SparseMatrix<double>& A, std::vector<int> order)
     {
-        if (this->m_cholmodFactor)
-        {
-            cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
-            this->m_cholmodFactor = nullptr;
-        }
         cholmod_sparse view = Eigen::viewAsCholmod(A.template selfadjointView<UpLo>());
-        this->m_cholmodFactor = analyze_in_order(view, &order, this->cholmod());
-        this->m_isInitialized = true;
-        this->m_info = this->m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
-        this->m_analysisIsOk = this->m_cholmodFactor != nullptr;
-        this->m_factorizationIsOk = false;
-        prepare(A);
+        adopt(A, analyze_in_order(view, &order, this->cholmod()));
     }
 
     //! \brief (A + U diag(c) U^T)^-1 b for the factorized A and a low-rank term (every c > 0)
@@ -113,6 +104,21 @@ public:
         if (!apply(CHOLMOD_Lt, y) || !apply(CHOLMOD_Pt, y))
             return {};
         return y;
+    }
+
+protected:
+    //! \p symbolic (a symbolic analysis of A's pattern, owned from here on; null where it
+    //! failed) as the factor for factorize(). Check info().
+    void adopt(const Eigen::SparseMatrix<double>& A, cholmod_factor* symbolic)
+    {
+        if (this->m_cholmodFactor)
+            cholmod_free_factor(&this->m_cholmodFactor, &this->cholmod());
+        this->m_cholmodFactor = symbolic;
+        this->m_isInitialized = true;
+        this->m_info = symbolic ? Eigen::Success : Eigen::NumericalIssue;
+        this->m_analysisIsOk = symbolic != nullptr;
+        this->m_factorizationIsOk = false;
+        prepare(A);
     }
 
 private:
@@ -155,11 +161,12 @@ private:
 //! CHOLMOD's supernodal LL' of a symmetric matrix stored as its upper triangle whose unknowns
 //! come in pairs (u, v of one vertex: unknowns 2i and 2i + 1) that share their sparsity.
 //! analyze_pairs() orders the vertex graph (half the unknowns, a quarter of the entries) with
-//! AMD (METIS on large maps) and hands the paired permutation to CHOLMOD, instead of AMD on the
-//! whole matrix: the same kind of ordering for a fraction of the symbolic analysis's cost, which
-//! matters where the pattern changes every iteration (SLIM's scaffold), and from kMetisVertices
-//! on a factor with far fewer flops (the area polish's Newton Hessian too; LSCM's single
-//! factorization keeps AMD). factorize() and solve() are Eigen's.
+//! AMD (METIS on large maps) and makes the factor's analysis from the vertex graph too
+//! (paired_symbolic(): CHOLMOD's analysis of the paired order, field for field), instead of
+//! AMD and the analysis on the whole matrix: the same kind of ordering for a fraction of the
+//! symbolic analysis's cost, which matters where the pattern changes every iteration (SLIM's
+//! scaffold), and from kMetisVertices on a factor with far fewer flops (the area polish's
+//! Newton Hessian too; LSCM's single factorization keeps AMD).
 class PairedCholmod : public OrderedCholmod<Eigen::Upper>
 {
 public:
@@ -180,16 +187,12 @@ public:
                        const std::vector<int>* given_order = nullptr)
     {
         const int n = static_cast<int>(A.cols()) / 2;
-        if (given_order)
-        {
-            analyze_given(A, paired(*given_order));
-            return;
-        }
         // Upper pattern of the vertex graph: vertex I <= J for each stored (i, j).
         std::vector<int> column_start(n + 1, 0);
         std::vector<int> rows;
         rows.reserve(static_cast<std::size_t>(A.nonZeros()) / 3);
         std::vector<int> seen(n, -1);
+        int diagonal = 0;  // vertices with a diagonal block
         for (int J = 0; J < n; ++J)
         {
             for (int j = 2 * J; j < 2 * J + 2; ++j)
@@ -200,25 +203,40 @@ public:
                     {
                         seen[I] = J;
                         rows.push_back(I);
+                        diagonal += I == J ? 1 : 0;
                     }
                 }
             column_start[J + 1] = static_cast<int>(rows.size());
         }
         cholmod_sparse graph = upper_pattern(column_start, rows);
-        std::vector<int> vertex_order(n);
+        std::vector<int> vertex_order = given_order ? *given_order : std::vector<int>(n);
         // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
         // fill and memory on large maps (docs/journal/benchmarks-2026-11.md, "Stage F at 1M");
         // below it AMD, far cheaper to compute (see kMetisVertices).
         const bool ok =
-            n >= metis_vertices
-                ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())
-                : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &this->cholmod());
+            given_order ||
+            (n >= metis_vertices
+                 ? cholmod_metis(&graph, nullptr, 0, 1, vertex_order.data(), &this->cholmod())
+                 : cholmod_amd(&graph, nullptr, 0, vertex_order.data(), &this->cholmod()));
         if (!ok)
         {
             this->m_info = Eigen::NumericalIssue;
             return;
         }
-        analyze_given(A, paired(vertex_order));
+        // The vertex graph's analysis is A's where each pair's block is whole: four entries
+        // with every neighbour, three on the diagonal (not LSCM's, whose diagonal blocks have
+        // no (u, v) entry), and a supernodal factor is asked for (Eigen's default).
+        const std::size_t off_diagonal = rows.size() - static_cast<std::size_t>(n);
+        const bool whole_blocks =
+            diagonal == n && static_cast<std::size_t>(A.nonZeros()) ==
+                                 4 * off_diagonal + 3 * static_cast<std::size_t>(n);
+        cholmod_factor* L = whole_blocks && this->cholmod().supernodal == CHOLMOD_SUPERNODAL
+                                ? paired_symbolic(graph, vertex_order, this->cholmod())
+                                : nullptr;
+        if (L)
+            adopt(A, L);
+        else  // CHOLMOD's own analysis of the whole matrix
+            analyze_given(A, paired(vertex_order));
     }
 
 private:

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <cholmod.h>
+
+#include <vector>
+
+namespace vessel::detail {
+
+//! The supernodal symbolic factor that CHOLMOD's analysis gives a symmetric matrix A whose
+//! unknowns come in pairs (unknowns 2i and 2i + 1 of vertex i, each pair's four entries
+//! stored together), made from its vertex graph G instead of A itself.
+//!
+//! With A's pattern G's with each entry a 2 x 2 block, eliminating the pairs in G's order
+//! fills exactly G's factor with each entry a block (Ashcraft 1995, "Compressed graphs and the
+//! minimum degree algorithm", SIAM J. Sci. Comput. 16(6)): A's elimination tree, column counts,
+//! weighted postorder and fundamental supernodes follow from G's. CHOLMOD's rule for relaxed
+//! supernodes (cholmod_common::nrelax, zrelax) is then applied to A's counts, and each
+//! supernode's rows found on G. The result is field for field the factor of
+//! `cholmod_analyze_p(A, paired order)` with CHOLMOD_GIVEN and cholmod_common::supernodal
+//! CHOLMOD_SUPERNODAL (tests/solve/paired_symbolic_test.cpp), so the numeric factorization
+//! has the same bits; it costs a third of that analysis, which transposes A four times.
+//!
+//! \param graph G's pattern: stype 1 (the upper triangle, each column's rows in any order,
+//! the diagonal optional), int indices.
+//! \param vertex_order G's elimination order (each vertex once).
+//! \param c CHOLMOD's settings: `postorder` and the relaxation limits are read.
+//! \return the symbolic factor (free it with cholmod_free_factor); null if CHOLMOD fails or
+//! \p graph is not a symmetric pattern.
+cholmod_factor* paired_symbolic(const cholmod_sparse& graph, const std::vector<int>& vertex_order,
+                                cholmod_common& c);
+
+}  // namespace vessel::detail
