@@ -194,6 +194,41 @@ TEST_CASE(
     CHECK((plain - x).norm() > 1e-3 * plain.norm());
 }
 
+TEST_CASE(
+    "subtree factorization: the low-rank solve has the same bits on one thread as with "
+    "the low-rank columns' reach beside the right-hand side's forward solve")
+{
+    const Eigen::SparseMatrix<double> A =
+        paired_system("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply");
+    const Eigen::Index n = A.rows();
+    REQUIRE(n >= 20000);  // large enough for the second thread (kBesideUnknowns)
+    Eigen::MatrixXd dense = Eigen::MatrixXd::Zero(n, 3);
+    for (Eigen::Index j = 0; j < dense.cols(); ++j)
+        for (Eigen::Index i = 0; i < 40; ++i)
+            dense((j * 4001 + 17 * i) % n, j) = 1.0 + 0.5 * std::sin(0.2 * static_cast<double>(i));
+    const Eigen::SparseMatrix<double> U = dense.sparseView();
+    Eigen::VectorXd c(3), b(n);
+    c << 50.0, 2.0, 700.0;
+    for (Eigen::Index i = 0; i < n; ++i)
+        b[i] = std::cos(0.05 * static_cast<double>(i));
+    Eigen::VectorXd x[2];
+    for (const int threads : {1, 2})
+    {
+        vessel::detail::PairedCholmod solver;
+        solver.set_threads(threads);
+        solver.analyze_pairs(A);
+        solver.factorize(A);
+        REQUIRE(solver.info() == Eigen::Success);
+        x[threads - 1] = solver.solve_with_low_rank(b, U, c);
+        REQUIRE(solver.info() == Eigen::Success);
+    }
+    CHECK(x[0] == x[1]);
+    const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Upper>();
+    const Eigen::VectorXd residual =
+        full * x[1] + U * (c.asDiagonal() * (U.transpose() * x[1])) - b;
+    CHECK(residual.norm() <= 1e-9 * b.norm());
+}
+
 TEST_CASE("subtree factorization: a PairedCholmod re-analyses one pattern after another, in a "
           "given order or CHOLMOD's, and solves each system as a new solver does")
 {
