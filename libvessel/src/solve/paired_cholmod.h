@@ -134,9 +134,8 @@ protected:
 
 private:
     // The fewest unknowns for which solve_with_low_rank() runs U's reach on a second thread:
-    // below it a forward solve takes about as long as starting a thread (the coarse mesh's
-    // systems, 9k unknowns: 0.2-0.3 ms each), and those systems are solved while the other
-    // core is busy with another map.
+    // below it (the coarse mesh's systems) a forward solve is about as short as starting a
+    // thread, and those systems are solved while the other core is busy with another map.
     static constexpr Eigen::Index kBesideUnknowns = 20000;
 
     // B <- CHOLMOD's solve of system \p sys (CHOLMOD_L, CHOLMOD_Lt, CHOLMOD_P or CHOLMOD_Pt)

@@ -18,7 +18,8 @@ namespace vessel::detail {
 //! supernode's rows found on G. The result is field for field the factor of
 //! `cholmod_analyze_p(A, paired order)` with CHOLMOD_GIVEN and cholmod_common::supernodal
 //! CHOLMOD_SUPERNODAL (tests/solve/paired_symbolic_test.cpp), so the numeric factorization
-//! has the same bits; it costs a third of that analysis, which transposes A four times.
+//! has the same bits; A itself is never permuted or transposed (CHOLMOD's analysis does so
+//! four times), only G, a quarter of its entries.
 //!
 //! \param graph G's pattern: stype 1 (the upper triangle, each column's rows in any order,
 //! the diagonal optional), int indices.
