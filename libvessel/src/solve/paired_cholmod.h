@@ -10,6 +10,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
+#include <exception>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -88,16 +89,39 @@ public:
             return {};
         }
         // U's reach and b's forward solve read the factor only: side by side.
-        ReachSolve reach;
-        std::thread beside;
-        if (threads_ > 1 && U.cols() > 0 && b.size() >= kBesideUnknowns)
-            beside = std::thread([&] { reach = reach_forward_solve(*L, U); });
-        else
-            reach = reach_forward_solve(*L, U);
         Eigen::MatrixXd y = b;
-        const bool forward = apply(CHOLMOD_P, y) && apply(CHOLMOD_L, y);
-        if (beside.joinable())
-            beside.join();
+        bool forward = false;
+        ReachSolve reach;
+        std::exception_ptr failed;  // of the second thread, rethrown here
+        {
+            std::thread beside;
+            // Joined on leaving the scope, also by an exception.
+            const struct Join
+            {
+                std::thread& thread;
+                ~Join()
+                {
+                    if (thread.joinable())
+                        thread.join();
+                }
+            } join{beside};
+            if (threads_ > 1 && U.cols() > 0 && b.size() >= kBesideUnknowns)
+                beside = std::thread([&] {
+                    try
+                    {
+                        reach = reach_forward_solve(*L, U);
+                    }
+                    catch (...)
+                    {
+                        failed = std::current_exception();
+                    }
+                });
+            else
+                reach = reach_forward_solve(*L, U);
+            forward = apply(CHOLMOD_P, y) && apply(CHOLMOD_L, y);
+        }
+        if (failed)
+            std::rethrow_exception(failed);
         if (!forward)
             return {};
         const Eigen::Index m = static_cast<Eigen::Index>(reach.rows.size());
