@@ -16,6 +16,8 @@
 #include <vector>
 
 using vessel::detail::CholmodCommon;
+using vessel::detail::vertex_graph;
+using vessel::detail::VertexGraph;
 
 namespace {
 
@@ -38,34 +40,6 @@ Eigen::SparseMatrix<double> whole_block_system(const char* relative)
     whole.setFromTriplets(entries.begin(), entries.end());
     whole.makeCompressed();
     return whole;
-}
-
-// The upper pattern of \p A's vertex graph (pairs 2i, 2i + 1), with its arrays.
-struct VertexGraph
-{
-    std::vector<int> column_start, rows;
-    cholmod_sparse view{};
-};
-
-VertexGraph vertex_graph(const Eigen::SparseMatrix<double>& A)
-{
-    VertexGraph graph;
-    const int n = static_cast<int>(A.cols()) / 2;
-    graph.column_start.assign(static_cast<std::size_t>(n) + 1, 0);
-    std::vector<int> seen(static_cast<std::size_t>(n), -1);
-    for (int J = 0; J < n; ++J)
-    {
-        for (int j = 2 * J; j < 2 * J + 2; ++j)
-            for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
-                if (const int I = static_cast<int>(it.row()) / 2; I <= J && seen[I] != J)
-                {
-                    seen[I] = J;
-                    graph.rows.push_back(I);
-                }
-        graph.column_start[J + 1] = static_cast<int>(graph.rows.size());
-    }
-    graph.view = vessel::detail::upper_pattern(graph.column_start, graph.rows);
-    return graph;
 }
 
 template <class T>
@@ -116,6 +90,8 @@ TEST_CASE(
     {
         const Eigen::SparseMatrix<double> A = whole_block_system(mesh);
         VertexGraph graph = vertex_graph(A);
+        REQUIRE(graph.whole_blocks);
+        cholmod_sparse pattern = graph.view();
         const int n = static_cast<int>(A.cols()) / 2;
         for (const Relaxation& relaxation : {defaults, wide, none})
             for (const int postorder : {1, 0})
@@ -132,7 +108,7 @@ TEST_CASE(
                     common.c.zrelax[k] = relaxation.zrelax[k];
                 }
                 std::vector<int> order(static_cast<std::size_t>(n));
-                REQUIRE(cholmod_amd(&graph.view, nullptr, 0, order.data(), &common.c));
+                REQUIRE(cholmod_amd(&pattern, nullptr, 0, order.data(), &common.c));
                 std::vector<int> paired(2 * order.size());
                 for (std::size_t k = 0; k < order.size(); ++k)
                 {
@@ -142,7 +118,7 @@ TEST_CASE(
                 cholmod_sparse view = Eigen::viewAsCholmod(A.selfadjointView<Eigen::Upper>());
                 cholmod_factor* expected =
                     vessel::detail::analyze_in_order(view, &paired, common.c);
-                cholmod_factor* got = vessel::detail::paired_symbolic(graph.view, order, common.c);
+                cholmod_factor* got = vessel::detail::paired_symbolic(pattern, order, common.c);
                 REQUIRE(expected != nullptr);
                 REQUIRE(got != nullptr);
                 check_same_factor(*got, *expected);
@@ -171,9 +147,11 @@ TEST_CASE(
 
     // The same AMD order of the vertex graph, analysed by CHOLMOD on the whole matrix.
     VertexGraph graph = vertex_graph(whole);
+    CHECK(graph.whole_blocks);
+    cholmod_sparse pattern = graph.view();
     CholmodCommon common;
     std::vector<int> order(static_cast<std::size_t>(whole.cols() / 2));
-    REQUIRE(cholmod_amd(&graph.view, nullptr, 0, order.data(), &common.c));
+    REQUIRE(cholmod_amd(&pattern, nullptr, 0, order.data(), &common.c));
     std::vector<int> pairs(2 * order.size());
     for (std::size_t k = 0; k < order.size(); ++k)
     {
@@ -202,7 +180,9 @@ TEST_CASE(
     lscm_like.factorize(partial);
     REQUIRE(lscm_like.info() == Eigen::Success);
     VertexGraph partial_graph = vertex_graph(partial);
-    REQUIRE(cholmod_amd(&partial_graph.view, nullptr, 0, order.data(), &common.c));
+    CHECK_FALSE(partial_graph.whole_blocks);
+    cholmod_sparse partial_pattern = partial_graph.view();
+    REQUIRE(cholmod_amd(&partial_pattern, nullptr, 0, order.data(), &common.c));
     for (std::size_t k = 0; k < order.size(); ++k)
     {
         pairs[2 * k] = 2 * order[k];

@@ -227,28 +227,8 @@ public:
                        const std::vector<int>* given_order = nullptr)
     {
         const int n = static_cast<int>(A.cols()) / 2;
-        // Upper pattern of the vertex graph: vertex I <= J for each stored (i, j).
-        std::vector<int> column_start(n + 1, 0);
-        std::vector<int> rows;
-        rows.reserve(static_cast<std::size_t>(A.nonZeros()) / 3);
-        std::vector<int> seen(n, -1);
-        int diagonal = 0;  // vertices with a diagonal block
-        for (int J = 0; J < n; ++J)
-        {
-            for (int j = 2 * J; j < 2 * J + 2; ++j)
-                for (Eigen::SparseMatrix<double>::InnerIterator entry(A, j); entry; ++entry)
-                {
-                    const int I = static_cast<int>(entry.row()) / 2;
-                    if (I <= J && seen[I] != J)
-                    {
-                        seen[I] = J;
-                        rows.push_back(I);
-                        diagonal += I == J ? 1 : 0;
-                    }
-                }
-            column_start[J + 1] = static_cast<int>(rows.size());
-        }
-        cholmod_sparse graph = upper_pattern(column_start, rows);
+        VertexGraph vertices = vertex_graph(A);
+        cholmod_sparse graph = vertices.view();
         std::vector<int> vertex_order = given_order ? *given_order : std::vector<int>(n);
         // From kMetisVertices vertices on, METIS's nested dissection instead of AMD: less
         // fill and memory on large maps (docs/journal/benchmarks-2026-11.md, "Stage F at 1M");
@@ -263,16 +243,13 @@ public:
             this->m_info = Eigen::NumericalIssue;
             return;
         }
-        // The vertex graph's analysis is A's where each pair's block is whole: four entries
-        // with every neighbour, three on the diagonal (not LSCM's, whose diagonal blocks have
-        // no (u, v) entry), and a supernodal factor is asked for (Eigen's default).
-        const std::size_t off_diagonal = rows.size() - static_cast<std::size_t>(n);
-        const bool whole_blocks =
-            diagonal == n && static_cast<std::size_t>(A.nonZeros()) ==
-                                 4 * off_diagonal + 3 * static_cast<std::size_t>(n);
-        cholmod_factor* L = whole_blocks && this->cholmod().supernodal == CHOLMOD_SUPERNODAL
-                                ? paired_symbolic(graph, vertex_order, this->cholmod())
-                                : nullptr;
+        // The vertex graph's analysis is A's where each pair's block is whole (not LSCM's,
+        // whose diagonal blocks have no (u, v) entry) and a supernodal factor is asked for
+        // (Eigen's default).
+        cholmod_factor* L =
+            vertices.whole_blocks && this->cholmod().supernodal == CHOLMOD_SUPERNODAL
+                ? paired_symbolic(graph, vertex_order, this->cholmod())
+                : nullptr;
         if (L)
             adopt(A, L);
         else  // CHOLMOD's own analysis of the whole matrix

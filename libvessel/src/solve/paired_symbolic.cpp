@@ -146,6 +146,32 @@ Supernodes relaxed_supernodes(const std::vector<int>& parent, const std::vector<
 
 }  // namespace
 
+VertexGraph vertex_graph(const Eigen::SparseMatrix<double>& A)
+{
+    const int n = static_cast<int>(A.cols()) / 2;
+    VertexGraph graph;
+    graph.column_start.assign(static_cast<std::size_t>(n) + 1, 0);
+    graph.rows.reserve(static_cast<std::size_t>(A.nonZeros()) / 3);
+    std::vector<int> seen(static_cast<std::size_t>(n), kNone);
+    int diagonal = 0;  // vertices with a diagonal block
+    for (int J = 0; J < n; ++J)
+    {
+        for (int j = 2 * J; j < 2 * J + 2; ++j)
+            for (Eigen::SparseMatrix<double>::InnerIterator entry(A, j); entry; ++entry)
+                if (const int I = static_cast<int>(entry.row()) / 2; I <= J && seen[I] != J)
+                {
+                    seen[I] = J;
+                    graph.rows.push_back(I);
+                    diagonal += I == J ? 1 : 0;
+                }
+        graph.column_start[J + 1] = static_cast<int>(graph.rows.size());
+    }
+    const std::size_t off_diagonal = graph.rows.size() - static_cast<std::size_t>(diagonal);
+    graph.whole_blocks = diagonal == n && static_cast<std::size_t>(A.nonZeros()) ==
+                                              4 * off_diagonal + 3 * static_cast<std::size_t>(n);
+    return graph;
+}
+
 cholmod_factor* paired_symbolic(const cholmod_sparse& graph, const std::vector<int>& vertex_order,
                                 cholmod_common& c)
 {

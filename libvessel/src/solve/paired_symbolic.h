@@ -1,10 +1,30 @@
 #pragma once
 
+#include "solve/cholmod_common.h"
+
 #include <cholmod.h>
+#include <Eigen/Sparse>
 
 #include <vector>
 
 namespace vessel::detail {
+
+//! The vertex graph G of a symmetric matrix A whose unknowns come in pairs (unknowns 2i and
+//! 2i + 1 of vertex i), from A's upper triangle (compressed): vertex I <= J for each stored
+//! entry (i, j) with I = i / 2, J = j / 2.
+struct VertexGraph
+{
+    std::vector<int> column_start;  //!< n + 1 offsets into `rows`
+    std::vector<int> rows;          //!< column J's vertices I <= J, each once, in A's order
+    //! Whether each pair's block is stored whole: four entries with every neighbour and three
+    //! on the diagonal (where paired_symbolic() gives A's own factor).
+    bool whole_blocks = false;
+    //! CHOLMOD's view of G's upper pattern (stype 1): valid while this graph lives unchanged.
+    cholmod_sparse view() { return upper_pattern(column_start, rows); }
+};
+
+//! \p A's vertex graph (\p A: even size, upper triangle, compressed).
+VertexGraph vertex_graph(const Eigen::SparseMatrix<double>& A);
 
 //! The supernodal symbolic factor that CHOLMOD's analysis gives a symmetric matrix A whose
 //! unknowns come in pairs (unknowns 2i and 2i + 1 of vertex i, each pair's four entries
