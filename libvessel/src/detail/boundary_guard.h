@@ -110,17 +110,21 @@ public:
     std::vector<int> near_pairs(const double* x, double distance) const
     {
         std::vector<int> ends;
+        const double reach = 1.01 * distance;  // as in for_near_edges()
         for (int e = 0; e < static_cast<int>(edges_.size()); ++e)
         {
             const Eigen::Vector2d a(x[2 * edges_[e][0]], x[2 * edges_[e][0] + 1]),
                 b(x[2 * edges_[e][1]], x[2 * edges_[e][1] + 1]);
-            for_entries(segment_box(x, edges_[e][0], edges_[e][1]), distance, [&](int other) {
+            const Box box = segment_box(x, edges_[e][0], edges_[e][1]);
+            for_entries(box, distance, [&](int other) {
                 const auto& f = edges_[other];
                 if (other <= e || f[0] == edges_[e][0] || f[0] == edges_[e][1] ||
                     f[1] == edges_[e][0] || f[1] == edges_[e][1])
                     return;
                 const Eigen::Vector2d c(x[2 * f[0]], x[2 * f[0] + 1]),
                     d(x[2 * f[1]], x[2 * f[1] + 1]);
+                if (!boxes_within(box, c, d, reach))
+                    return;
                 if (segment_distance(a, b, c, d) < distance)
                     ends.insert(ends.end(), {edges_[e][0], edges_[e][1], f[0], f[1]});
             });
@@ -148,6 +152,16 @@ private:
         Eigen::Vector2d lo, hi;
     };
 
+    // Whether segment ab's box comes within \p reach of \p box on both axes.
+    static bool boxes_within(const Box& box, const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                             double reach)
+    {
+        return std::min(a.x(), b.x()) - box.hi.x() <= reach &&
+               box.lo.x() - std::max(a.x(), b.x()) <= reach &&
+               std::min(a.y(), b.y()) - box.hi.y() <= reach &&
+               box.lo.y() - std::max(a.y(), b.y()) <= reach;
+    }
+
     Box segment_box(const double* x, int a, int b) const
     {
         const Eigen::Vector2d p(x[2 * a], x[2 * a + 1]), q(x[2 * b], x[2 * b + 1]);
@@ -169,20 +183,29 @@ private:
     }
 
     // Calls visit(q, a, b) for each of v's two edges with v at p (q its other end) and each
-    // edge ab that shares no vertex with it and is entered in a cell that the edge's box grown
-    // by the clearance meets (an edge may be visited more than once).
+    // edge ab that shares no vertex with it, is entered in a cell that the edge's box grown by
+    // the clearance meets, and whose own box comes within the clearance of that box (an edge
+    // may be visited more than once). The edges left out are farther than the clearance from
+    // v's edge, as a segment is never nearer another than their boxes are; the callers ask only
+    // of nearer ones. The boxes' gap is asked to exceed the clearance by a margin far above
+    // rounding, so that no edge that segment_distance() puts within it is left out.
     template <class Visit>
     void for_near_edges(const double* x, int v, const Eigen::Vector2d& p, const Visit& visit) const
     {
+        const double reach = 1.01 * clearance_;
         for (const int w : {prev_[v], next_[v]})
         {
             const Eigen::Vector2d q(x[2 * w], x[2 * w + 1]);
-            for_entries({p.cwiseMin(q), p.cwiseMax(q)}, clearance_, [&](int other) {
+            const Eigen::Vector2d lo = p.cwiseMin(q), hi = p.cwiseMax(q);
+            for_entries({lo, hi}, clearance_, [&](int other) {
                 const auto& e = edges_[other];
                 if (e[0] == v || e[1] == v || e[0] == w || e[1] == w)
                     return;
-                visit(q, Eigen::Vector2d(x[2 * e[0]], x[2 * e[0] + 1]),
-                      Eigen::Vector2d(x[2 * e[1]], x[2 * e[1] + 1]));
+                const Eigen::Vector2d a(x[2 * e[0]], x[2 * e[0] + 1]),
+                    b(x[2 * e[1]], x[2 * e[1] + 1]);
+                if (!boxes_within({lo, hi}, a, b, reach))
+                    return;
+                visit(q, a, b);
             });
         }
     }
