@@ -153,13 +153,22 @@ public:
         };
         for (std::size_t f = 0; f < faces.size(); ++f)
         {
+            std::array<std::array<int, 3>, 3> rank{};  // of the free corners (k, l), l <= k
+            for (int k = 0; k < 3; ++k)
+                for (int l = 0; l <= k; ++l)
+                {
+                    const int p = slot[faces[f].corner[k]], q = slot[faces[f].corner[l]];
+                    if (p >= 0 && q >= 0)
+                        rank[k][l] = pattern.rank(std::min(p, q), std::max(p, q));
+                }
             int e = 0;
             for (int a = 0; a < 6; ++a)
                 for (int b = 0; b <= a; ++b, ++e)
                 {
                     const int ra = row(faces[f], a), rb = row(faces[f], b);
                     entry_[f][e] = ra >= 0 && rb >= 0
-                                       ? pattern.index(std::min(ra, rb), std::max(ra, rb))
+                                       ? pattern.index_at(rank[a / 2][b / 2], std::min(ra, rb),
+                                                          std::max(ra, rb))
                                        : -1;
                 }
         }

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <optional>
 #include <thread>
@@ -254,11 +255,15 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
         std::array<int, 3> vertex{};  // the face's corners in increasing order
         for (int k = 0; k < 3; ++k)
             vertex[k] = ops[f].corner[M.blocks[f].corner[k]];
+        std::array<std::array<int, 3>, 3> rank{};  // of corners (l, k), l <= k
+        for (int k = 0; k < 3; ++k)
+            for (int l = 0; l <= k; ++l)
+                rank[l][k] = pattern.rank(vertex[l], vertex[k]);
         int s = 0;
         for (int a = 0; a < 6; ++a)  // local column: corner a / 2, u or v by a % 2
             for (int b = 0; b <= a; ++b)
-                M.blocks[f].slot[s++] =
-                    pattern.index(2 * vertex[b / 2] + b % 2, 2 * vertex[a / 2] + a % 2);
+                M.blocks[f].slot[s++] = pattern.index_at(
+                    rank[b / 2][a / 2], 2 * vertex[b / 2] + b % 2, 2 * vertex[a / 2] + a % 2);
     }
     M.diagonal.resize(2 * n);
     for (int i = 0; i < 2 * n; ++i)
@@ -366,6 +371,7 @@ public:
     std::vector<FaceOperator> rebuild(Eigen::VectorXd& x)
     {
         reused_count_ = -1;  // the new triangulation may drop slivers
+        extension_.reset();
         Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
         for (int v : boundary_)
         {
@@ -451,14 +457,20 @@ public:
         const int m = static_cast<int>(d.size() / 2) - first;
         if (m <= 0)
             return;
+        // The Laplacian depends on the triangulation alone: factored once per triangulation.
+        const bool factored = extension_ && extension_->rows() == m;
         std::vector<Eigen::Triplet<double>> triplets;
         Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
         const auto couple = [&](int p, int q) {
             if (p < first)
                 return;
-            triplets.emplace_back(p - first, p - first, 1.0);
+            if (!factored)
+                triplets.emplace_back(p - first, p - first, 1.0);
             if (q >= first)
-                triplets.emplace_back(p - first, q - first, -1.0);
+            {
+                if (!factored)
+                    triplets.emplace_back(p - first, q - first, -1.0);
+            }
             else
                 rhs.row(p - first) += d.segment<2>(2 * q).transpose();
         };
@@ -468,9 +480,13 @@ public:
                 couple(t[a], t[(a + 1) % 3]);
                 couple(t[(a + 1) % 3], t[a]);
             }
-        Eigen::SparseMatrix<double> L(m, m);
-        L.setFromTriplets(triplets.begin(), triplets.end());
-        const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(L);
+        if (!factored)
+        {
+            Eigen::SparseMatrix<double> L(m, m);
+            L.setFromTriplets(triplets.begin(), triplets.end());
+            extension_ = std::make_unique<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(L);
+        }
+        const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& solver = *extension_;
         const Eigen::MatrixX2d steiner = solver.solve(rhs);
         if (solver.info() != Eigen::Success || !steiner.allFinite())
         {
@@ -485,6 +501,8 @@ private:
     int n_;
     double weight_;
     std::vector<std::array<int, 3>> triangles_;
+    // extend()'s factor of the Steiner vertices' Laplacian, for triangles_ (reset by rebuild()).
+    mutable std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> extension_;
     mutable int reused_count_ = -1;
     std::vector<int> boundary_;
     std::vector<int> inside_face_;

@@ -70,16 +70,20 @@ public:
     }
 
     //! The value index of entry (r, c), r <= c, of a coupled pair (or r / 2 == c / 2).
-    int index(int r, int c) const
+    int index(int r, int c) const { return index_at(rank(r / 2, c / 2), r, c); }
+
+    //! Vertex I's place among vertex J's coupled vertices I' <= J, I <= J: the four entries of
+    //! the pair (I, J) share it (index_at()), so a block's entries need one search per pair.
+    int rank(int I, int J) const
     {
-        const int I = r / 2, J = c / 2;
         if (I == J)
-            return outer_[c] + 2 * distinct_[J] + r % 2;
+            return distinct_[J];
         const auto first = below_.begin() + start_[J];
-        const int rank =
-            static_cast<int>(std::lower_bound(first, first + distinct_[J], I) - first);
-        return outer_[c] + 2 * rank + r % 2;
+        return static_cast<int>(std::lower_bound(first, first + distinct_[J], I) - first);
     }
+
+    //! index(r, c) given rank(r / 2, c / 2).
+    int index_at(int rank, int r, int c) const { return outer_[c] + 2 * rank + r % 2; }
 
     //! \p A resized to 2n x 2n with this pattern, compressed, every value 0.
     void into(Eigen::SparseMatrix<double>& A) const
