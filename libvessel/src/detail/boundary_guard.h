@@ -77,7 +77,26 @@ public:
                 entries_.emplace_back(static_cast<long>(c), e);
             });
         }
-        std::sort(entries_.begin(), entries_.end());
+        // Each cell's edges in increasing order: by a counting sort into per-cell runs where
+        // the cells are not many more than the entries (a boundary whose map spans a square),
+        // else sorted, each cell's run then found by a bisection.
+        const std::size_t cells = grid_.size();
+        cell_start_.clear();
+        if (cells <= kDenseCellsPerEntry * entries_.size() + kDenseCells)
+        {
+            cell_start_.assign(cells + 1, 0);
+            for (const auto& entry : entries_)
+                ++cell_start_[static_cast<std::size_t>(entry.first) + 1];
+            for (std::size_t c = 0; c < cells; ++c)
+                cell_start_[c + 1] += cell_start_[c];
+            cell_edges_.resize(entries_.size());
+            std::vector<int> next(cell_start_.begin(), cell_start_.end() - 1);
+            for (const auto& entry : entries_)  // in increasing edge order
+                cell_edges_[static_cast<std::size_t>(
+                    next[static_cast<std::size_t>(entry.first)]++)] = entry.second;
+        }
+        else
+            std::sort(entries_.begin(), entries_.end());
     }
 
     // Whether moving boundary vertex v from `from` to p keeps its two edges clear of every
@@ -173,6 +192,14 @@ private:
     template <class Visit>
     void for_entries(const Box& box, double grow, const Visit& visit) const
     {
+        if (!cell_start_.empty())
+        {
+            grid_.for_cells(box.lo, box.hi, grow, [&](std::size_t c) {
+                for (int i = cell_start_[c]; i < cell_start_[c + 1]; ++i)
+                    visit(cell_edges_[static_cast<std::size_t>(i)]);
+            });
+            return;
+        }
         grid_.for_cells(box.lo, box.hi, grow, [&](std::size_t c) {
             const long cell = static_cast<long>(c);
             auto it =
@@ -212,7 +239,15 @@ private:
 
     std::vector<std::array<int, 2>> edges_;
     std::vector<int> next_, prev_;
-    std::vector<std::pair<long, int>> entries_;
+    // The grid's per-cell runs are kept in an array over every cell while the cells number at
+    // most kDenseCellsPerEntry per entry (plus kDenseCells): a boundary's cells, two mean edges
+    // wide, number at most about (edges / 8)^2, so only a very long boundary falls back to the
+    // sorted entries.
+    static constexpr std::size_t kDenseCellsPerEntry = 16;
+    static constexpr std::size_t kDenseCells = std::size_t{1} << 16;
+    std::vector<std::pair<long, int>> entries_;  // (cell, edge) per entry
+    std::vector<int> cell_start_;  // cell c's run: cell_edges_[start[c], start[c + 1])
+    std::vector<int> cell_edges_;
     CellGrid grid_;
     double margin_ = 0.5, clearance_ = 0.0;
 };
