@@ -21,6 +21,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <set>
 #include <string>
 #include <tuple>
@@ -1070,4 +1071,134 @@ TEST_CASE(
             << r.injective.iterations << " against " << from_circle.injective.iterations
             << ", mean |log area| " << r.quality.mean_abs_log_area_normalized << " against "
             << from_circle.quality.mean_abs_log_area_normalized);
+}
+
+namespace {
+
+// BoundaryGuard's answers checked against a search over every boundary edge, for moves of
+// every \p stride-th boundary vertex of the map \p x up to the guard's largest step in eight
+// directions and toward its nearest non-adjacent edge, and for near_pairs() at two distances.
+void check_guard_against_every_edge(const Mesh& mesh, const Eigen::VectorXd& x, int stride)
+{
+    std::vector<std::array<int, 2>> edges;
+    std::vector<int> next(mesh.n_vertices(), -1), prev(mesh.n_vertices(), -1);
+    for (auto h : mesh.halfedges())
+        if (h.is_boundary())
+        {
+            edges.push_back({h.from().idx(), h.to().idx()});
+            next[h.from().idx()] = h.to().idx();
+            prev[h.to().idx()] = h.from().idx();
+        }
+    const auto at = [&](int v) { return Eigen::Vector2d(x[2 * v], x[2 * v + 1]); };
+    detail::BoundaryGuard guard(mesh);
+    guard.rebuild(x.data());
+    const double clearance = guard.clearance();
+    // Every edge that shares no vertex with v's edge (v, w), v at p: visit(gap, gap from `from`).
+    const auto for_other_edges = [&](int v, const Eigen::Vector2d& p, const auto& visit) {
+        for (const int w : {prev[v], next[v]})
+            for (const auto& e : edges)
+                if (e[0] != v && e[1] != v && e[0] != w && e[1] != w)
+                    visit(detail::segment_distance(p, at(w), at(e[0]), at(e[1])), w, e);
+    };
+    int refused = 0, probes = 0;
+    for (std::size_t k = 0; k < edges.size(); k += static_cast<std::size_t>(stride))
+    {
+        const int v = edges[k][0];
+        const Eigen::Vector2d from = at(v);
+        // The nearest other edge's nearer end, for a probe toward it.
+        Eigen::Vector2d toward = from + Eigen::Vector2d(guard.max_step(), 0.0);
+        double nearest = std::numeric_limits<double>::infinity();
+        for_other_edges(v, from, [&](double gap, int, const std::array<int, 2>& e) {
+            if (gap < nearest)
+            {
+                nearest = gap;
+                toward = (at(e[0]) - from).norm() < (at(e[1]) - from).norm() ? at(e[0]) : at(e[1]);
+            }
+        });
+        std::vector<Eigen::Vector2d> moves;
+        for (int k = 0; k < 8; ++k)
+            moves.push_back(from + guard.max_step() * Eigen::Vector2d(std::cos(k * M_PI / 4),
+                                                                      std::sin(k * M_PI / 4)));
+        const Eigen::Vector2d step = toward - from;
+        if (step.norm() > 0.0)
+            for (const double share : {0.5, 1.0})
+                moves.push_back(from + share * std::min(step.norm(), guard.max_step()) *
+                                           step.normalized());
+        for (const Eigen::Vector2d& p : moves)
+        {
+            bool clear = true;
+            double gap = clearance;
+            for_other_edges(v, p, [&](double to_p, int w, const std::array<int, 2>& e) {
+                const double to_from = detail::segment_distance(from, at(w), at(e[0]), at(e[1]));
+                clear = clear && (to_p >= clearance || (to_p > 0.0 && to_p >= to_from));
+                gap = std::min(gap, to_p);
+            });
+            ++probes;
+            refused += clear ? 0 : 1;
+            CHECK(guard.allows(x.data(), v, from, p) == clear);
+            CHECK(guard.gap(x.data(), v, p) == gap);
+        }
+    }
+    MESSAGE(probes << " moves, " << refused << " refused");
+    CHECK(refused > 0);  // the probes reach the clearance somewhere
+    for (const double distance : {clearance, 0.5 * guard.mean_edge()})
+    {
+        // Every pair whose u ranges come within the distance, swept in the order of their
+        // smallest u.
+        std::vector<std::size_t> by_u(edges.size());
+        std::iota(by_u.begin(), by_u.end(), std::size_t{0});
+        const auto u_lo = [&](std::size_t i) {
+            return std::min(at(edges[i][0]).x(), at(edges[i][1]).x());
+        };
+        const auto u_hi = [&](std::size_t i) {
+            return std::max(at(edges[i][0]).x(), at(edges[i][1]).x());
+        };
+        std::sort(by_u.begin(), by_u.end(),
+                  [&](std::size_t i, std::size_t j) { return u_lo(i) < u_lo(j); });
+        std::vector<int> ends;
+        for (std::size_t i = 0; i < by_u.size(); ++i)
+            for (std::size_t j = i + 1;
+                 j < by_u.size() && u_lo(by_u[j]) <= u_hi(by_u[i]) + distance; ++j)
+            {
+                const auto &e = edges[by_u[i]], &f = edges[by_u[j]];
+                if (e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1])
+                    continue;
+                if (detail::segment_distance(at(e[0]), at(e[1]), at(f[0]), at(f[1])) < distance)
+                    ends.insert(ends.end(), {e[0], e[1], f[0], f[1]});
+            }
+        std::sort(ends.begin(), ends.end());
+        ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+        CHECK(guard.near_pairs(x.data(), distance) == ends);
+    }
+}
+
+}  // namespace
+
+TEST_CASE("multilevel: the boundary guard answers as a search over every boundary edge")
+{
+    SUBCASE("a tree's map, its branches laid side by side")
+    {
+        const FlattenResult flat = flatten(test::test_tree_phantom(10));
+        REQUIRE(flat.uv.rows() == static_cast<Eigen::Index>(flat.mesh.n_vertices()));
+        check_guard_against_every_edge(flat.mesh, detail::interleaved(flat.uv), 3);
+    }
+    SUBCASE("a square fanned from its centre, one side split into many short edges")
+    {
+        // Cells two mean edges wide: far more cells than entries, so the guard keeps its
+        // entries sorted instead of a run per cell.
+        Mesh mesh;
+        std::vector<VertexHandle> ring;
+        const int pieces = 10000;
+        for (int i = 0; i < pieces; ++i)
+            ring.push_back(mesh.add_vertex(Mesh::Point(1000.0 * i / pieces, 0.0, 0.0)));
+        for (const auto& [u, v] : {std::pair{1000.0, 0.0}, {1000.0, 1000.0}, {0.0, 1000.0}})
+            ring.push_back(mesh.add_vertex(Mesh::Point(u, v, 0.0)));
+        const VertexHandle centre = mesh.add_vertex(Mesh::Point(500.0, 500.0, 0.0));
+        for (std::size_t i = 0; i < ring.size(); ++i)
+            mesh.add_face(centre, ring[i], ring[(i + 1) % ring.size()]);
+        Eigen::VectorXd x(2 * mesh.n_vertices());
+        for (auto v : mesh.vertices())
+            x.segment<2>(2 * v.idx()) << mesh.point(v)[0], mesh.point(v)[1];
+        check_guard_against_every_edge(mesh, x, 97);
+    }
 }
