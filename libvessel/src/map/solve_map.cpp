@@ -820,18 +820,23 @@ std::string solve_coarse_to_fine(const Mesh& mesh, const LayoutInput& input,
 
     // On many-outlet trees the coarse map's restart starts from a coarser solve (NestedStart);
     // not a map pulled from the start (FlattenOptions::look_pull), for the look retry's reason.
+    // Its decimation is made when the restart first asks for it, on the thread of the default
+    // map: the look retry's pulled map, which does not use it, starts without waiting for it.
     std::optional<NestedStart> nested;
     RestartStart start;
     if (multilevel.coarser_start && outlet_count(input) >= kNestedStartOutlets &&
         options.look_pull.weight == 0.0 && coarsest.n_vertices() >= kNestedStartMinVertices)
     {
-        std::vector<VertexHandle> coarse_keep;
-        for (VertexHandle v : keep)
-            if (coarse_index[v.idx()] >= 0)
-                coarse_keep.push_back(VertexHandle(coarse_index[v.idx()]));
-        nested.emplace(coarsest, coarse_input, coarse_placed, coarse_keep,
-                       outlet_count(input) >= kChordFreeOutlets, relax_weight(options));
-        start = [&nested](const FlattenOptions& given, std::vector<std::string>& notes) {
+        start = [&](const FlattenOptions& given, std::vector<std::string>& notes) {
+            if (!nested)
+            {
+                std::vector<VertexHandle> coarse_keep;
+                for (VertexHandle v : keep)
+                    if (coarse_index[v.idx()] >= 0)
+                        coarse_keep.push_back(VertexHandle(coarse_index[v.idx()]));
+                nested.emplace(coarsest, coarse_input, coarse_placed, coarse_keep,
+                               outlet_count(input) >= kChordFreeOutlets, relax_weight(options));
+            }
             return (*nested)(given, notes);
         };
     }
