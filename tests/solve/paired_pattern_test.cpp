@@ -1,12 +1,11 @@
 #include "solve/paired_pattern.h"
-#include "vessel/check/validation.h"
+#include "support/meshes.h"
 
 #include <doctest/doctest.h>
 #include <Eigen/Sparse>
 
 #include <algorithm>
 #include <array>
-#include <filesystem>
 #include <set>
 #include <string>
 #include <utility>
@@ -17,10 +16,8 @@ using vessel::detail::PairedPattern;
 TEST_CASE("paired pattern: a real mesh's faces couple exactly their vertex pairs, each entry's "
           "value index in its column")
 {
-    const std::string path = std::string(VESSEL_SHARED_DATA) +
-                             "/vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply";
-    REQUIRE_MESSAGE(std::filesystem::exists(path), "missing shared data: " << path);
-    const vessel::Mesh mesh = vessel::load_tree_surface(path).mesh;
+    const vessel::Mesh mesh =
+        vessel::test::shared_tree_mesh("vmtk-old-website/aneurisk-id1-lateral-aneurysm.ply");
     const int n = static_cast<int>(mesh.n_vertices());
     std::vector<std::array<int, 3>> faces;
     for (auto f : mesh.faces())

@@ -2,7 +2,7 @@
 #include "solve/cholmod_common.h"
 #include "solve/paired_cholmod.h"
 #include "solve/paired_system.h"
-#include "vessel/check/validation.h"
+#include "support/meshes.h"
 
 #include <doctest/doctest.h>
 #include <Eigen/CholmodSupport>
@@ -11,7 +11,6 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -26,10 +25,8 @@ namespace {
 // area polish's systems.
 Eigen::SparseMatrix<double> whole_block_system(const char* relative)
 {
-    const std::string path = std::string(VESSEL_SHARED_DATA) + "/" + relative;
-    REQUIRE_MESSAGE(std::filesystem::exists(path), "missing shared data: " << path);
     const Eigen::SparseMatrix<double> A =
-        vessel::detail::paired_laplacian_system(vessel::load_tree_surface(path).mesh);
+        vessel::detail::paired_laplacian_system(vessel::test::shared_tree_mesh(relative));
     std::vector<Eigen::Triplet<double>> entries;
     for (int j = 0; j < A.outerSize(); ++j)
         for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
@@ -171,9 +168,7 @@ TEST_CASE(
     // whole, and the vertex graph's factor would hold entries CHOLMOD's does not: CHOLMOD
     // analyses the paired order itself, to the same bits.
     const Eigen::SparseMatrix<double> partial = vessel::detail::paired_laplacian_system(
-        vessel::load_tree_surface(std::string(VESSEL_SHARED_DATA) +
-                                  "/x-ray-angio-data/coronary-phantom-tri3-coarse.ply")
-            .mesh);
+        vessel::test::shared_tree_mesh("x-ray-angio-data/coronary-phantom-tri3-coarse.ply"));
     vessel::detail::PairedCholmod lscm_like;
     lscm_like.analyze_pairs(partial);
     REQUIRE(lscm_like.info() == Eigen::Success);

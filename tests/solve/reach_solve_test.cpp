@@ -1,14 +1,13 @@
 #include "solve/reach_solve.h"
 #include "solve/cholmod_common.h"
 #include "solve/paired_system.h"
-#include "vessel/check/validation.h"
+#include "support/meshes.h"
 
 #include <doctest/doctest.h>
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 
 #include <cmath>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -16,11 +15,8 @@ TEST_CASE(
     "reach solve: a few sparse columns forward-solved on the rows they reach equal the "
     "dense solve, which is zero on every other row")
 {
-    const std::string path =
-        std::string(VESSEL_SHARED_DATA) + "/x-ray-angio-data/coronary-phantom-tri3-coarse.ply";
-    REQUIRE_MESSAGE(std::filesystem::exists(path), "missing shared data: " << path);
-    const Eigen::SparseMatrix<double> A =
-        vessel::detail::paired_laplacian_system(vessel::load_tree_surface(path).mesh);
+    const Eigen::SparseMatrix<double> A = vessel::detail::paired_laplacian_system(
+        vessel::test::shared_tree_mesh("x-ray-angio-data/coronary-phantom-tri3-coarse.ply"));
     const Eigen::Index n = A.rows();
     vessel::detail::CholmodCommon common;
     common.c.supernodal = CHOLMOD_SUPERNODAL;

@@ -1,16 +1,15 @@
+#include "solve/subtree_factorization.h"
 #include "solve/cholmod_common.h"
 #include "solve/paired_cholmod.h"
 #include "solve/paired_system.h"
-#include "solve/subtree_factorization.h"
+#include "support/meshes.h"
 #include "vessel/core/errors.h"
-#include "vessel/check/validation.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -22,9 +21,7 @@ namespace {
 // detail::paired_laplacian_system() of a real vessel mesh.
 Eigen::SparseMatrix<double> paired_system(const char* relative)
 {
-    const std::string path = std::string(VESSEL_SHARED_DATA) + "/" + relative;
-    REQUIRE_MESSAGE(std::filesystem::exists(path), "missing shared data: " << path);
-    return vessel::detail::paired_laplacian_system(vessel::load_tree_surface(path).mesh);
+    return vessel::detail::paired_laplacian_system(vessel::test::shared_tree_mesh(relative));
 }
 
 // CHOLMOD's view of the symmetric matrix whose upper triangle \p A holds (stype 1).

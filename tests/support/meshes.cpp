@@ -1,11 +1,13 @@
 #include "support/meshes.h"
 
+#include "vessel/check/validation.h"
 #include "vessel/cut/boundary.h"
 #include "vessel/phantom/phantom.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
@@ -49,6 +51,14 @@ PathTurn helix_turn(const HelicalTubeOptions& options, const Mesh& mesh, const C
     return path_turn(mesh, path, [&options](const Eigen::Vector3d& p) {
         return helical_tube_angle(options, p);
     });
+}
+
+Mesh shared_tree_mesh(const std::string& relative)
+{
+    const std::string path = std::string(VESSEL_SHARED_DATA) + "/" + relative;
+    if (!std::filesystem::exists(path))
+        throw std::invalid_argument("missing shared data: " + path);
+    return load_tree_surface(path).mesh;
 }
 
 Mesh test_tree_phantom(int outlets)

@@ -11,6 +11,7 @@
 #include <functional>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace vessel::test {
@@ -20,6 +21,11 @@ namespace vessel::test {
 //! j * (n_around + 1) + i. Columns i = 0 and i = n_around coincide in 3D but are distinct
 //! vertices, so the mesh has a single boundary loop. Faces are counter-clockwise seen from outside.
 Mesh cut_cylinder(double radius, double length, int n_around, int n_along);
+
+//! The mesh of the real tree surface \p relative (a path under ../shared/data/real, e.g.
+//! "vampy/artery.ply") as load_tree_surface() makes it; throws std::invalid_argument naming the
+//! file where it is missing.
+Mesh shared_tree_mesh(const std::string& relative);
 
 //! The seeded tree phantom the overlap tests share: \p outlets outlets, seed = outlets, edge
 //! length 0.75 (coarser than the default 0.5, to keep the tests short).
