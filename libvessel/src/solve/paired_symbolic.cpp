@@ -47,6 +47,24 @@ bool eliminate(const cholmod_sparse& graph, std::vector<int>& perm, std::vector<
     return true;
 }
 
+// The supernodes that partition the vertices into ranges [first[s], first[s + 1]) as a tree:
+// each vertex's supernode, and each supernode's parent (the supernode of its last vertex's
+// parent in the elimination tree, or kNone).
+void supernode_tree(const std::vector<int>& first, const std::vector<int>& parent,
+                    std::vector<int>& supernode_of, std::vector<int>& super_parent)
+{
+    const int count = static_cast<int>(first.size()) - 1;
+    supernode_of.resize(parent.size());
+    super_parent.resize(static_cast<std::size_t>(count));
+    for (int s = 0; s < count; ++s)
+        std::fill(supernode_of.begin() + first[s], supernode_of.begin() + first[s + 1], s);
+    for (int s = 0; s < count; ++s)
+    {
+        const int last = parent[first[s + 1] - 1];
+        super_parent[s] = last == kNone ? kNone : supernode_of[last];
+    }
+}
+
 // A's relaxed supernodes as vertex ranges.
 struct Supernodes
 {
@@ -74,16 +92,12 @@ Supernodes relaxed_supernodes(const std::vector<int>& parent, const std::vector<
             first.push_back(j);
     const int fundamental = static_cast<int>(first.size());
     first.push_back(n);
-    std::vector<int> supernode_of(n);
-    for (int s = 0; s < fundamental; ++s)
-        std::fill(supernode_of.begin() + first[s], supernode_of.begin() + first[s + 1], s);
-    std::vector<int> super_parent(fundamental), merged(fundamental, kNone);
+    std::vector<int> supernode_of, super_parent, merged(fundamental, kNone);
+    supernode_tree(first, parent, supernode_of, super_parent);
     // A's counts: columns, zeros and the entries of each supernode's leading column.
     std::vector<long> columns(fundamental), zeros(fundamental, 0), leading(fundamental);
     for (int s = 0; s < fundamental; ++s)
     {
-        const int last = parent[first[s + 1] - 1];
-        super_parent[s] = last == kNone ? kNone : supernode_of[last];
         columns[s] = 2L * (first[s + 1] - first[s]);
         leading[s] = 2L * count[first[s]];
     }
@@ -182,14 +196,8 @@ cholmod_factor* paired_symbolic(const cholmod_sparse& graph, const std::vector<i
     const Supernodes supernodes = relaxed_supernodes(parent, count, c);
     const std::vector<int>& first = supernodes.first;
     const int nsuper = static_cast<int>(first.size()) - 1;
-    std::vector<int> supernode_of(n), super_parent(nsuper);
-    for (int s = 0; s < nsuper; ++s)
-        std::fill(supernode_of.begin() + first[s], supernode_of.begin() + first[s + 1], s);
-    for (int s = 0; s < nsuper; ++s)
-    {
-        const int last = parent[first[s + 1] - 1];
-        super_parent[s] = last == kNone ? kNone : supernode_of[last];
-    }
+    std::vector<int> supernode_of, super_parent;
+    supernode_tree(first, parent, supernode_of, super_parent);
 
     // G in the final order: for each vertex k the vertices i < k next to it.
     std::vector<int> new_of(n);
