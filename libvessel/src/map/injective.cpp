@@ -464,15 +464,13 @@ public:
         const auto couple = [&](int p, int q) {
             if (p < first)
                 return;
-            if (!factored)
-                triplets.emplace_back(p - first, p - first, 1.0);
-            if (q >= first)
-            {
-                if (!factored)
-                    triplets.emplace_back(p - first, q - first, -1.0);
-            }
-            else
+            if (q < first)
                 rhs.row(p - first) += d.segment<2>(2 * q).transpose();
+            if (factored)
+                return;
+            triplets.emplace_back(p - first, p - first, 1.0);
+            if (q >= first)
+                triplets.emplace_back(p - first, q - first, -1.0);
         };
         for (const auto& t : triangles_)
             for (int a = 0; a < 3; ++a)
