@@ -9,8 +9,12 @@
 #include "vessel/pipeline.h"
 #include "vessel/quality/metrics.h"
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -174,6 +178,106 @@ TEST_CASE("scaffold: a coarser angle bound fills the same free space with fewer 
                     InvalidInputError);
     CHECK_THROWS_AS(detail::scaffold_triangles(x, boundary, box, Eigen::Vector2d::Zero(), n + 4, 0.0),
                     InvalidInputError);
+}
+
+TEST_CASE(
+    "scaffold: edge flips make a sheared scaffold the constrained Delaunay triangulation "
+    "of the same free space")
+{
+    // The flower's scaffold, then the flower and the Steiner vertices twisted about the centre
+    // (the box stays): the triangles still turn counter-clockwise but are no longer Delaunay.
+    // The flips leave every triangle counter-clockwise over the same free space, keep each
+    // boundary edge and box side, and leave no edge with the opposite vertex of its other
+    // triangle inside its circumcircle.
+    constexpr int n = 120;
+    Eigen::VectorXd x(2 * (n + 4));
+    std::vector<int> boundary;
+    for (int i = 0; i < n; ++i)
+    {
+        const double t = 2.0 * M_PI * i / n, r = 1.0 + 0.4 * std::sin(5.0 * t);
+        x.segment<2>(2 * i) << r * std::cos(t), r * std::sin(t);
+        boundary.push_back(i);
+    }
+    const std::array<int, 4> box = {n, n + 1, n + 2, n + 3};
+    x.segment<2>(2 * n) << -3.0, -3.0;
+    x.segment<2>(2 * (n + 1)) << 3.0, -3.0;
+    x.segment<2>(2 * (n + 2)) << 3.0, 3.0;
+    x.segment<2>(2 * (n + 3)) << -3.0, 3.0;
+    const detail::ScaffoldMesh scaffold = detail::scaffold_triangles(
+        x, boundary, box, Eigen::Vector2d::Zero(), n + 4, detail::kSlimScaffoldShape);
+    const int steiner = static_cast<int>(scaffold.steiner.size());
+    x.conservativeResize(2 * (n + 4 + steiner));
+    for (int j = 0; j < steiner; ++j)
+        x.segment<2>(2 * (n + 4 + j)) = scaffold.steiner[static_cast<std::size_t>(j)];
+    const auto signed_area = [&](const std::array<int, 3>& t) {
+        const Eigen::Vector2d a = x.segment<2>(2 * t[0]), b = x.segment<2>(2 * t[1]),
+                              c = x.segment<2>(2 * t[2]);
+        return 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    };
+    // The largest twist (halved from 1 radian) that leaves every triangle counter-clockwise.
+    const Eigen::VectorXd rest = x;
+    for (double twist = 1.0;; twist *= 0.5)
+    {
+        for (int v = 0; v < n + 4 + steiner; ++v)
+        {
+            if (v >= n && v < n + 4)
+                continue;
+            const Eigen::Vector2d p = rest.segment<2>(2 * v);
+            const double angle = twist * std::exp(-p.squaredNorm());
+            x.segment<2>(2 * v) = Eigen::Rotation2Dd(angle) * p;
+        }
+        if (std::all_of(scaffold.triangles.begin(), scaffold.triangles.end(),
+                        [&](const auto& t) { return signed_area(t) > 0.0; }))
+            break;
+    }
+    double polygon_area = 0.0;
+    for (int i = 0; i < n; ++i)
+    {
+        const int j = (i + 1) % n;
+        polygon_area += 0.5 * (x[2 * i] * x[2 * j + 1] - x[2 * j] * x[2 * i + 1]);
+    }
+    std::vector<std::array<int, 3>> triangles = scaffold.triangles;
+    const int flips = detail::flip_to_delaunay(x, boundary, box, triangles);
+    CHECK(flips > 0);
+    REQUIRE(triangles.size() == scaffold.triangles.size());
+    double covered = 0.0;
+    int clockwise = 0;
+    std::map<std::pair<int, int>, int> opposite;  // half-edge (a, b) -> its triangle's third vertex
+    for (const auto& t : triangles)
+    {
+        clockwise += signed_area(t) <= 0.0;
+        covered += signed_area(t);
+        for (int i = 0; i < 3; ++i)
+            opposite[{t[i], t[(i + 1) % 3]}] = t[(i + 2) % 3];
+    }
+    CHECK(clockwise == 0);
+    CHECK(covered == doctest::Approx(36.0 - polygon_area).epsilon(1e-12));
+    // Each boundary edge has the free space on its right (the polygon turns counter-clockwise
+    // around the map), each box side on its left.
+    int kept = 0;
+    for (int i = 0; i < n; ++i)
+        kept += opposite.count({(i + 1) % n, i});
+    for (int i = 0; i < 4; ++i)
+        kept += opposite.count({box[i], box[(i + 1) % 4]});
+    CHECK(kept == n + 4);
+    int not_delaunay = 0;
+    for (const auto& [edge, c] : opposite)
+    {
+        const auto other = opposite.find({edge.second, edge.first});
+        if (other == opposite.end())
+            continue;
+        const Eigen::Vector2d a = x.segment<2>(2 * edge.first), b = x.segment<2>(2 * edge.second),
+                              p = x.segment<2>(2 * c), d = x.segment<2>(2 * other->second);
+        Eigen::Matrix3d in;
+        for (int r = 0; r < 3; ++r)
+        {
+            const Eigen::Vector2d q = (r == 0 ? a : r == 1 ? b : p) - d;
+            in.row(r) << q.x(), q.y(), q.squaredNorm();
+        }
+        not_delaunay += in.determinant() > 1e-12;
+    }
+    CHECK(not_delaunay == 0);
+    MESSAGE("flips " << flips << " of " << triangles.size() << " triangles");
 }
 
 TEST_CASE("injective: SLIM goes on past steps cut short by a nearly collapsed triangle")

@@ -49,4 +49,16 @@ ScaffoldMesh scaffold_triangles(const Eigen::VectorXd& x, const std::vector<int>
                                 const std::array<int, 4>& box, const Eigen::Vector2d& inside,
                                 int first_steiner, double shape_bound);
 
+//! \brief Makes \p triangles (a scaffold over the vertices of \p x, counter-clockwise) the
+//! constrained Delaunay triangulation of the region they cover by edge flips (Lawson 1977,
+//! "Software for C1 surface interpolation"): an edge between two triangles that is not locally
+//! Delaunay, and whose quadrilateral is strictly convex, is replaced by the other diagonal until
+//! none is left. The map's boundary edges (consecutive vertices of \p boundary) and the box's
+//! sides are never flipped. Triangles that are not positively oriented at \p x stay unless a
+//! flip removes them. The vertices and the region stay the same, so the scaffold needs no new
+//! vertex, only a new pattern where an edge flipped.
+//! \return the number of flips made.
+int flip_to_delaunay(const Eigen::VectorXd& x, const std::vector<int>& boundary,
+                     const std::array<int, 4>& box, std::vector<std::array<int, 3>>& triangles);
+
 }  // namespace vessel::detail
