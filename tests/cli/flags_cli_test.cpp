@@ -400,7 +400,7 @@ TEST_CASE("cli: --look-retry force redoes a restarted map with --look-retry-pull
     CHECK(by_default["look_retry"]["tried"] == false);
     CHECK(!has_note(by_default, "look retry"));
     CHECK(forced["look_retry"]["tried"] == true);
-    CHECK(has_note(forced, "look retry (pull 300)"));
+    CHECK(has_note(forced, "look retry (pull 400)"));
     CHECK(weak["look_retry"]["tried"] == true);
     CHECK(has_note(weak, "look retry (pull 10)"));
     // Another hinge weight, another pulled map (its mean |log area| is reported).

@@ -399,6 +399,18 @@ public:
         return *reshape(x);
     }
 
+    //! The same vertices' triangles made the constrained Delaunay triangulation of the free
+    //! space again at \p x by edge flips (detail::flip_to_delaunay()), as the scaffold's face
+    //! operators; empty if no edge flipped (then only a new triangulation can help).
+    std::optional<std::vector<FaceOperator>> refit(const Eigen::VectorXd& x)
+    {
+        if (triangles_.empty() || detail::flip_to_delaunay(x, boundary_, box(), triangles_) == 0)
+            return std::nullopt;
+        reused_count_ = -1;  // the flipped triangles' rest shapes are new too
+        extension_.reset();
+        return reshape(x);
+    }
+
     //! The same scaffold triangles (box and Steiner vertices where the steps took them), with
     //! their rest shapes set to their current shapes: no new triangulation, so the global
     //! step's sparsity pattern stays the same. Empty if a triangle has become degenerate (then
@@ -811,22 +823,31 @@ Eigen::VectorXd Slim::global_target()
 
 void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
 {
-    // The step stopped where a scaffold triangle would collapse. A new triangulation of the
+    // The step stopped where a scaffold triangle would collapse. Another triangulation of the
     // free space there usually lets the same direction go further: line search the rest of it
-    // again (no new factorization, only the CGAL mesher), a few times. The Steiner vertices
-    // are new: their motion is the boundary's, extended.
+    // again (no new factorization), a few times. Where an edge flips, that triangulation is
+    // the same vertices' made Delaunay again by the flips (no new vertices, no refinement: a
+    // fraction of the CGAL mesher's cost); otherwise a new one by the mesher
+    // (docs/benchmarks.md, "The scaffold refitted by edge flips"). The Steiner vertices' motion
+    // is the boundary's, extended.
     bool blocked = blocked_by_scaffold_;
     double left = 1.0 - t;
     for (int pass = 1; pass < options_.scaffold_passes && blocked && left > 0.05; ++pass)
     {
-        const std::vector<FaceOperator> extra = scaffold_->rebuild(x_);
-        ++summary_.scaffold_rebuilds;
+        std::optional<std::vector<FaceOperator>> extra = scaffold_->refit(x_);
+        if (extra)
+            ++summary_.scaffold_refits;
+        else
+        {
+            extra = scaffold_->rebuild(x_);
+            ++summary_.scaffold_rebuilds;
+        }
         // The next iteration triangulates anew unless this one stays unblocked; its pattern is
         // new either way.
         pattern_stale_ = true;
         blocked_by_scaffold_ = false;  // a new triangulation at x
         ops_ = surface_;
-        ops_.insert(ops_.end(), extra.begin(), extra.end());
+        ops_.insert(ops_.end(), extra->begin(), extra->end());
         Eigen::VectorXd rest = Eigen::VectorXd::Zero(x_.size());  // box corners stay
         rest.head(2 * n_) = left * d.head(2 * n_);
         scaffold_->extend(rest);
@@ -1030,19 +1051,18 @@ std::string Slim::report() const
                            ? "SLIM (boundary crossed; stopped at iterate " +
                                  std::to_string(s.scaffold_from) +
                                  ", the last simple one, within the scaffold's skip gap)"
-                       : !scaffold_ ? "SLIM"
-                       : s.scaffold_from >= 0
-                           ? "SLIM (boundary crossed; scaffold from iterate " +
-                                 std::to_string(s.scaffold_from) + ")"
-                           : "SLIM with scaffold") +
+                       : !scaffold_           ? "SLIM"
+                       : s.scaffold_from >= 0 ? "SLIM (boundary crossed; scaffold from iterate " +
+                                                    std::to_string(s.scaffold_from) + ")"
+                                              : "SLIM with scaffold") +
            " symmetric Dirichlet: " + std::to_string(s.iterations) + " iterations, energy " +
            std::to_string(s.initial_energy) + " -> " + std::to_string(s.final_energy) +
            (s.scaffold_skipped ? std::string()
             : s.converged      ? std::string(" (converged)")
                                : std::string(" (iteration limit)")) +
-           (scaffold_ ? ", " + std::to_string(s.scaffold_rebuilds) +
-                            " scaffold triangulations, " + std::to_string(s.scaffold_passes) +
-                            " continued steps"
+           (scaffold_ ? ", " + std::to_string(s.scaffold_rebuilds) + " scaffold triangulations, " +
+                            std::to_string(s.scaffold_refits) + " refitted by flips, " +
+                            std::to_string(s.scaffold_passes) + " continued steps"
                       : std::string()) +
            (s.accelerated > 0 ? ", " + std::to_string(s.accelerated) + " steps with momentum"
                               : std::string()) +
@@ -1052,9 +1072,8 @@ std::string Slim::report() const
            (s.shortened_steps > 0 ? ", " + std::to_string(s.shortened_steps) +
                                         " steps shortened to keep the boundary simple"
                                   : std::string()) +
-           (s.stalls_passed > 0
-                ? ", " + std::to_string(s.stalls_passed) + " stalls passed"
-                : std::string());
+           (s.stalls_passed > 0 ? ", " + std::to_string(s.stalls_passed) + " stalls passed"
+                                : std::string());
 }
 
 }  // namespace

@@ -83,9 +83,10 @@ struct InjectiveOptions
     //! scaffold's skip gap").
     static constexpr double kPolishedSkipGap = 0.03;
     //! Line searches per global step in the scaffold phase: when a step stops where a scaffold
-    //! triangle would collapse, the free space is triangulated anew and the rest of the same
-    //! direction is line searched again (CGAL mesher only, no new factorization), up to this
-    //! many times in all. 1 = one line search per step (Jiang et al.).
+    //! triangle would collapse, the free space is triangulated again (its triangles made
+    //! Delaunay by edge flips, or where none flips, anew by the CGAL mesher) and the rest of the
+    //! same direction is line searched again (no new factorization), up to this many times in
+    //! all. 1 = one line search per step (Jiang et al.).
     int scaffold_passes = 4;
     //! Heavy-ball momentum in [0, 1): each step also tries the SLIM direction plus this share
     //! of the last iteration's motion and keeps whichever line search ends at the lower energy
@@ -119,7 +120,8 @@ struct InjectiveSummary
     //! With scaffold_on_contact: the iterate (0 = the start) the scaffold phase went on from;
     //! -1 if the boundary never crossed (no scaffold was needed).
     int scaffold_from = -1;
-    int scaffold_rebuilds = 0;  //!< scaffold triangulations made
+    int scaffold_rebuilds = 0;  //!< scaffold triangulations made by the mesher
+    int scaffold_refits = 0;    //!< scaffold triangulations made Delaunay again by edge flips
     int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
     int accelerated = 0;        //!< steps that took the momentum direction (momentum)
     //! The boundary crossed and SLIM stopped at its last simple iterate (scaffold_skip_gap).

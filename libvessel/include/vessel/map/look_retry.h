@@ -30,7 +30,7 @@ struct LookRetryOptions
     //! carry"). Fitted on the pulmonary trees' natural cuts: a weight that keeps Glenn split4's
     //! map free of walk inversions within the area bound, where a lower one does not
     //! (docs/overlaps.md, "The adaptive look"). CLI `--look-retry-pull`.
-    double pull = 300.0;
+    double pull = 400.0;
     //! The look is broken when an outlet is below the inlet or the walk inversions exceed this
     //! fraction of the outlet pairs: above what the tree phantoms' restarted maps show, below
     //! what the maps whose fan is visibly scrambled show (docs/overlaps.md, "The adaptive
