@@ -370,8 +370,7 @@ public:
     //! the scaffold's face operators.
     std::vector<FaceOperator> rebuild(Eigen::VectorXd& x)
     {
-        reused_count_ = -1;  // the new triangulation may drop slivers
-        extension_.reset();
+        triangulated_anew();
         Eigen::Vector2d lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
         for (int v : boundary_)
         {
@@ -406,8 +405,7 @@ public:
     {
         if (triangles_.empty() || detail::flip_to_delaunay(x, boundary_, box(), triangles_) == 0)
             return std::nullopt;
-        reused_count_ = -1;  // the flipped triangles' rest shapes are new too
-        extension_.reset();
+        triangulated_anew();
         return reshape(x);
     }
 
@@ -508,10 +506,18 @@ public:
     }
 
 private:
+    // What depends on triangles_, dropped where they change: the next reshape() may drop
+    // slivers (the pattern is new anyway), and extend() factors the new Laplacian.
+    void triangulated_anew()
+    {
+        reused_count_ = -1;
+        extension_.reset();
+    }
+
     int n_;
     double weight_;
     std::vector<std::array<int, 3>> triangles_;
-    // extend()'s factor of the Steiner vertices' Laplacian, for triangles_ (reset by rebuild()).
+    // extend()'s factor of the Steiner vertices' Laplacian, for triangles_ (triangulated_anew()).
     mutable std::unique_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> extension_;
     mutable int reused_count_ = -1;
     std::vector<int> boundary_;
