@@ -1,6 +1,8 @@
 #include <doctest/doctest.h>
 
+#include "detail/face_jacobian.h"
 #include "detail/scaffold.h"
+#include "detail/split_proxy.h"
 #include "support/first_cut_back_join.h"
 #include "support/meshes.h"
 #include "vessel/core/errors.h"
@@ -9,6 +11,7 @@
 #include "vessel/pipeline.h"
 #include "vessel/quality/metrics.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -278,6 +281,44 @@ TEST_CASE(
     }
     CHECK(not_delaunay == 0);
     MESSAGE("flips " << flips << " of " << triangles.size() << " triangles");
+}
+
+TEST_CASE("injective: a triangle's proxy term split off uncoupled pairs bounds its own from above")
+{
+    // A skewed triangle's Gram matrix (its gradient operator's, times its area) and every set of
+    // uncoupled corner pairs: the split Gram matrix has no entry at an uncoupled pair, and the
+    // split term minus the triangle's own is positive semidefinite, so that the global step's
+    // proxy stays convex and above the triangle's.
+    const Eigen::Vector3d q0(0.0, 0.0, 0.0), q1(2.0, 0.3, 0.0), q2(0.4, 0.7, 0.1);
+    const detail::FaceOperator op = detail::face_operator(q0, q1, q2, {0, 1, 2});
+    Eigen::Matrix3d G;
+    for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 3; ++l)
+            G(k, l) = op.area * (op.d0[k] * op.d0[l] + op.d1[k] * op.d1[l]);
+    const auto lower = [](const Eigen::Matrix3d& M) {
+        return std::array<double, 6>{M(0, 0), M(1, 0), M(1, 1), M(2, 0), M(2, 1), M(2, 2)};
+    };
+    const auto full = [](const std::array<double, 6>& g) {
+        Eigen::Matrix3d M;
+        M << g[0], g[1], g[3], g[1], g[2], g[4], g[3], g[4], g[5];
+        return M;
+    };
+    for (int set = 0; set < 8; ++set)
+    {
+        const std::array<bool, 3> uncoupled = {(set & 1) != 0, (set & 2) != 0, (set & 4) != 0};
+        CAPTURE(set);
+        const Eigen::Matrix3d split = full(detail::split_gram(lower(G), uncoupled));
+        for (int k = 0; k < 3; ++k)
+            if (uncoupled[k])
+                CHECK(split((k + 1) % 3, (k + 2) % 3) == 0.0);
+        const Eigen::Vector3d gap =
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(split - G).eigenvalues();
+        CHECK(gap.minCoeff() >= -1e-12 * G.norm());
+        if (set == 0)
+            CHECK((split - G).norm() == 0.0);
+        else
+            CHECK(split.trace() > G.trace());
+    }
 }
 
 TEST_CASE("injective: SLIM goes on past steps cut short by a nearly collapsed triangle")

@@ -1,16 +1,17 @@
 #include "vessel/map/injective.h"
 
-#include "vessel/cut/boundary.h"
-#include "vessel/map/embedding.h"
-#include "vessel/core/errors.h"
 #include "detail/centre_pull.h"
 #include "detail/face_jacobian.h"
+#include "detail/scaffold.h"
+#include "detail/split_proxy.h"
+#include "detail/uv_rows.h"
 #include "solve/paired_cholmod.h"
 #include "solve/paired_pattern.h"
-#include "detail/scaffold.h"
 #include "solve/serial_openmp.h"
+#include "vessel/core/errors.h"
+#include "vessel/cut/boundary.h"
+#include "vessel/map/embedding.h"
 #include "vessel/quality/metrics.h"
-#include "detail/uv_rows.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -216,58 +217,108 @@ struct FaceBlock
     std::array<double, 6> gram{};
 };
 
+// A face fitted to a pattern that does not couple all of its corners (a scaffold triangle made
+// by edge flips after the pattern was analysed): its term of the proxy is split
+// (detail::split_gram(); FaceBlock::gram holds the split Gram matrix), and the right-hand side is
+// corrected by kron(gram' - gram, W^2) x, so that the proxy's gradient at the current map, and
+// with it the step's descent, stays the same.
+struct SplitFace
+{
+    std::size_t face = 0;
+    std::array<double, 6> delta{};  //!< gram' - gram, in FaceBlock::gram's order
+};
+
 struct NormalMatrix
 {
     Eigen::SparseMatrix<double> A;  // upper triangle (see FaceBlock)
     std::vector<FaceBlock> blocks;  // per face
     std::vector<int> diagonal;      // value index of (i, i)
+    std::optional<PairedPattern> pattern;  // A's, for faces fitted to it later
+    std::vector<SplitFace> split;
 };
+
+// \p op's block in \p pattern. Where the pattern does not couple a pair of its corners, the
+// face's Gram matrix is split (detail::split_gram()): its term still bounds the face's own from
+// above, and its slots of the uncoupled pairs point at a corner's own diagonal entry with a
+// weight of 0. Returns whether the face was split, with gram' - gram in \p delta.
+bool fit_block(const FaceOperator& op, const PairedPattern& pattern, FaceBlock& block,
+               std::array<double, 6>& delta)
+{
+    block.corner = {0, 1, 2};
+    std::sort(block.corner.begin(), block.corner.end(),
+              [&](int p, int q) { return op.corner[p] < op.corner[q]; });
+    std::array<int, 3> vertex{};  // the face's corners in increasing order
+    for (int k = 0; k < 3; ++k)
+        vertex[k] = op.corner[block.corner[k]];
+    int g = 0;
+    for (int k = 0; k < 3; ++k)
+        for (int l = 0; l <= k; ++l)
+        {
+            const int p = block.corner[k], q = block.corner[l];
+            block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
+        }
+    std::array<std::array<int, 3>, 3> rank{};  // of corners (l, k), l <= k; -1: uncoupled
+    std::array<bool, 3> uncoupled{};           // the pair of corners other than k
+    for (int k = 0; k < 3; ++k)
+        for (int l = 0; l <= k; ++l)
+        {
+            rank[l][k] = l == k ? pattern.rank(vertex[k], vertex[k])
+                                : pattern.coupled_rank(vertex[l], vertex[k]);
+            if (rank[l][k] < 0)
+                uncoupled[3 - k - l] = true;
+        }
+    const bool split = uncoupled[0] || uncoupled[1] || uncoupled[2];
+    if (split)
+    {
+        const std::array<double, 6> gram = detail::split_gram(block.gram, uncoupled);
+        for (g = 0; g < 6; ++g)
+            delta[g] = gram[g] - block.gram[g];
+        block.gram = gram;
+    }
+    int s = 0;
+    for (int a = 0; a < 6; ++a)  // local column: corner a / 2, u or v by a % 2
+        for (int b = 0; b <= a; ++b)
+        {
+            const int r = rank[b / 2][a / 2];
+            const int at = 2 * vertex[a / 2] + a % 2;
+            block.slot[s++] =
+                r >= 0 ? pattern.index_at(r, 2 * vertex[b / 2] + b % 2, at) : pattern.index(at, at);
+        }
+    return split;
+}
+
+// Faces [first, ops.size()) fitted to M's pattern (M.blocks resized, their splits noted in
+// M.split); every corner must be one of the pattern's vertices.
+void fit_faces(const std::vector<FaceOperator>& ops, std::size_t first, NormalMatrix& M)
+{
+    M.blocks.resize(ops.size());
+    M.split.erase(std::remove_if(M.split.begin(), M.split.end(),
+                                 [&](const SplitFace& s) { return s.face >= first; }),
+                  M.split.end());
+    SplitFace split;
+    for (std::size_t f = first; f < ops.size(); ++f)
+        if (fit_block(ops[f], *M.pattern, M.blocks[f], split.delta))
+        {
+            split.face = f;
+            M.split.push_back(split);
+        }
+}
 
 NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
 {
     NormalMatrix M;
-    M.blocks.resize(ops.size());
-    for (std::size_t f = 0; f < ops.size(); ++f)
-    {
-        const FaceOperator& op = ops[f];
-        FaceBlock& block = M.blocks[f];
-        block.corner = {0, 1, 2};
-        std::sort(block.corner.begin(), block.corner.end(),
-                  [&](int p, int q) { return op.corner[p] < op.corner[q]; });
-        int g = 0;
-        for (int k = 0; k < 3; ++k)
-            for (int l = 0; l <= k; ++l)
-            {
-                const int p = block.corner[k], q = block.corner[l];
-                block.gram[g++] = op.area * (op.d0[p] * op.d0[q] + op.d1[p] * op.d1[q]);
-            }
-    }
     // Two vertices couple when they share a face.
-    const PairedPattern pattern = PairedPattern::of_triangles(
-        n, ops.size(), [&](std::size_t f, std::array<int, 3>& s) {
-            for (int k = 0; k < 3; ++k)
-                s[k] = ops[f].corner[M.blocks[f].corner[k]];
+    M.pattern.emplace(
+        PairedPattern::of_triangles(n, ops.size(), [&](std::size_t f, std::array<int, 3>& s) {
+            s = ops[f].corner;
+            std::sort(s.begin(), s.end());
             return 3;
-        });
-    pattern.into(M.A);
-    for (std::size_t f = 0; f < ops.size(); ++f)
-    {
-        std::array<int, 3> vertex{};  // the face's corners in increasing order
-        for (int k = 0; k < 3; ++k)
-            vertex[k] = ops[f].corner[M.blocks[f].corner[k]];
-        std::array<std::array<int, 3>, 3> rank{};  // of corners (l, k), l <= k
-        for (int k = 0; k < 3; ++k)
-            for (int l = 0; l <= k; ++l)
-                rank[l][k] = pattern.rank(vertex[l], vertex[k]);
-        int s = 0;
-        for (int a = 0; a < 6; ++a)  // local column: corner a / 2, u or v by a % 2
-            for (int b = 0; b <= a; ++b)
-                M.blocks[f].slot[s++] = pattern.index_at(
-                    rank[b / 2][a / 2], 2 * vertex[b / 2] + b % 2, 2 * vertex[a / 2] + a % 2);
-    }
+        }));
+    M.pattern->into(M.A);
+    fit_faces(ops, 0, M);
     M.diagonal.resize(2 * n);
     for (int i = 0; i < 2 * n; ++i)
-        M.diagonal[i] = pattern.index(i, i);
+        M.diagonal[i] = M.pattern->index(i, i);
     return M;
 }
 
@@ -277,8 +328,14 @@ NormalMatrix normal_matrix_pattern(const std::vector<FaceOperator>& ops, int n)
 // singular value decompositions are closed-form: with E, F, G, H the conformal and
 // anti-conformal halves of J, sigma = sqrt(E^2 + H^2) +- sqrt(F^2 + G^2), R rotates by
 // atan2(H, E), and U by half the sum of atan2(G, F) and atan2(H, E).
-void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::VectorXd& x,
-              double* values, double* rhs)
+// The proxy's weights W^2 and area * W^2 R of one face at \p x.
+struct FaceProxy
+{
+    Eigen::Matrix2d W2;
+    Eigen::Matrix2d T;  // rhs of corner k: T (D0_k, D1_k)
+};
+
+FaceProxy face_proxy(const FaceOperator& op, const Eigen::VectorXd& x)
 {
     const Eigen::Matrix2d J = jacobian(op, x);
     const double E = 0.5 * (J(0, 0) + J(1, 1)), F = 0.5 * (J(0, 0) - J(1, 1));
@@ -307,7 +364,13 @@ void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::Vecto
     Eigen::Matrix2d R = Eigen::Matrix2d::Identity();
     if (q > 0.0)
         R << E / q, -H / q, H / q, E / q;
-    const Eigen::Matrix2d T = op.area * (W2 * R);  // rhs of corner k: T (D0_k, D1_k)
+    return {W2, op.area * (W2 * R)};
+}
+
+void add_face(const FaceOperator& op, const FaceBlock& block, const Eigen::VectorXd& x,
+              double* values, double* rhs)
+{
+    const auto [W2, T] = face_proxy(op, x);
     int corner_dof[3];
     for (int k = 0; k < 3; ++k)
     {
@@ -683,6 +746,7 @@ bool Slim::crosses(const Eigen::VectorXd& y)
 void Slim::analyse()
 {
     M_ = normal_matrix_pattern(ops_, n_all_);
+    ++summary_.pattern_analyses;
     const detail::SerialOpenMp serial;
     solver_.analyze_pairs(M_.A);
     if (solver_.info() != Eigen::Success)
@@ -735,12 +799,17 @@ void Slim::place_scaffold()
         ++summary_.scaffold_rebuilds;
     }
     ops_.insert(ops_.end(), extra->begin(), extra->end());
-    if (rebuilt || pattern_stale_)
+    // Edge flips (continue_past_scaffold()) keep the vertices: their triangles are fitted to the
+    // pattern analysed before, the couplings it lacks split off (fit_block()), so that no
+    // symbolic factorization is made anew.
+    if (rebuilt || (pattern_stale_ && 2 * M_.pattern->vertices() != x_.size()))
     {
-        pattern_stale_ = false;
         n_all_ = static_cast<int>(x_.size() / 2);
         analyse();
     }
+    else if (pattern_stale_)
+        fit_faces(ops_, surface_.size(), M_);
+    pattern_stale_ = false;
 }
 
 Eigen::VectorXd Slim::global_target()
@@ -766,6 +835,22 @@ Eigen::VectorXd Slim::global_target()
         for (Eigen::Index i = 0; i < nnz; ++i)
             values[i] += v[i];
         rhs += partial_rhs_[t];
+    }
+    // Split faces (fit_block()): rhs += (gram' - gram) (x) W^2 x, the proxy's gradient at x_ kept.
+    for (const SplitFace& split : M_.split)
+    {
+        const FaceOperator& op = ops_[split.face];
+        const FaceBlock& block = M_.blocks[split.face];
+        const Eigen::Matrix2d W2 = face_proxy(op, x_).W2;
+        int g = 0;
+        for (int k = 0; k < 3; ++k)
+            for (int l = 0; l <= k; ++l, ++g)
+            {
+                const int vk = op.corner[block.corner[k]], vl = op.corner[block.corner[l]];
+                rhs.segment<2>(2 * vk) += split.delta[g] * (W2 * x_.segment<2>(2 * vl));
+                if (l != k)
+                    rhs.segment<2>(2 * vl) += split.delta[g] * (W2 * x_.segment<2>(2 * vk));
+            }
     }
     for (int i = 0; i < 2 * n_all_; ++i)
     {

@@ -82,6 +82,16 @@ public:
         return static_cast<int>(std::lower_bound(first, first + distinct_[J], I) - first);
     }
 
+    //! n, the vertices the pattern is over.
+    int vertices() const { return static_cast<int>(distinct_.size()); }
+
+    //! rank(I, J) where vertices I < J couple (both in [0, n)), else -1.
+    int coupled_rank(int I, int J) const
+    {
+        const int r = rank(I, J);
+        return r < distinct_[J] && below_[start_[J] + r] == I ? r : -1;
+    }
+
     //! index(r, c) given rank(r / 2, c / 2).
     int index_at(int rank, int r, int c) const { return outer_[c] + 2 * rank + r % 2; }
 

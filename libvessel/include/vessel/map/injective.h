@@ -122,6 +122,10 @@ struct InjectiveSummary
     int scaffold_from = -1;
     int scaffold_rebuilds = 0;  //!< scaffold triangulations made by the mesher
     int scaffold_refits = 0;    //!< scaffold triangulations made Delaunay again by edge flips
+    //! Symbolic factorizations of the global step: one per pattern, which a mesher
+    //! triangulation makes new; edge flips keep the vertices, and their triangles are fitted to
+    //! the pattern analysed before.
+    int pattern_analyses = 0;
     int scaffold_passes = 0;    //!< extra line searches on a new scaffold (scaffold_passes)
     int accelerated = 0;        //!< steps that took the momentum direction (momentum)
     //! The boundary crossed and SLIM stopped at its last simple iterate (scaffold_skip_gap).
