@@ -685,8 +685,8 @@ private:
     // With scaffold_on_contact: the last iterate whose boundary is simple, and its number.
     Eigen::VectorXd last_simple_;
     int last_simple_it_ = 0;
-    // The scaffold's triangulation is not the one the solver's pattern was analysed for (a
-    // continued step triangulated anew), and whether the last step stopped at a collapsing
+    // The scaffold's triangulation is not the one the blocks were fitted for (a continued step
+    // triangulated again), and whether the last step stopped at a collapsing
     // scaffold triangle (then a new triangulation is due).
     bool pattern_stale_ = false;
     bool blocked_by_scaffold_ = true;
@@ -933,8 +933,8 @@ void Slim::continue_past_scaffold(const Eigen::VectorXd& d, double t)
             extra = scaffold_->rebuild(x_);
             ++summary_.scaffold_rebuilds;
         }
-        // The next iteration triangulates anew unless this one stays unblocked; its pattern is
-        // new either way.
+        // The next iteration triangulates anew unless this one stays unblocked; either way its
+        // faces are not those the blocks were fitted for (place_scaffold()).
         pattern_stale_ = true;
         blocked_by_scaffold_ = false;  // a new triangulation at x
         ops_ = surface_;
