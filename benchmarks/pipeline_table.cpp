@@ -218,6 +218,20 @@ json seam_winding_of(const vessel::Mesh& mesh, const Eigen::VectorXd& H,
             {"measured_fraction", vertices > 0 ? static_cast<double>(measured) / vertices : 0.0}};
 }
 
+struct CpuSeconds
+{
+    double user = 0.0, kernel = 0.0;
+};
+
+// This process's CPU seconds so far, all its threads.
+CpuSeconds cpu_seconds()
+{
+    struct rusage usage = {};
+    getrusage(RUSAGE_SELF, &usage);
+    const auto seconds = [](const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; };
+    return {seconds(usage.ru_utime), seconds(usage.ru_stime)};
+}
+
 json run_table_case(const Case& c, const Settings& s)
 {
     json out{{"name", c.name}, {"path", c.path}, {"kind", "real"}};
@@ -242,12 +256,20 @@ json run_table_case(const Case& c, const Settings& s)
     out["method"] = s.method;
     out["cuts"] = s.cuts;
     out["coarse_vertices"] = s.coarse_vertices;
+    // The CPU seconds of each run, its threads' together: in user space, and in the kernel
+    // (mostly page faults: on a guest whose host discards the pages it frees, each fresh page
+    // is backed again at the first touch; docs/benchmarks.md, "Machine and conditions").
+    std::vector<double> user_s, kernel_s;
     for (int run = 0; run < s.runs; ++run)
     {
         vessel::Mesh copy = mesh;
+        const CpuSeconds cpu_before = cpu_seconds();
         const auto start = Clock::now();
         vessel::FlattenResult r = vessel::flatten(std::move(copy), options);
         wall.push_back(seconds_since(start));
+        const CpuSeconds cpu_after = cpu_seconds();
+        user_s.push_back(cpu_after.user - cpu_before.user);
+        kernel_s.push_back(cpu_after.kernel - cpu_before.kernel);
         const auto v = stage_values(r.timings);
         for (int k = 0; k < 6; ++k)
             stage[k].push_back(v[k]);
@@ -266,6 +288,7 @@ json run_table_case(const Case& c, const Settings& s)
         out["stages"][stage_names[k]] = stats(stage[k]);
     out["stages"]["Total"] = stats(total);
     out["wall"] = stats(wall);
+    out["cpu"] = {{"user", stats(user_s)}, {"kernel", stats(kernel_s)}};
     out["runs"] = static_cast<int>(total.size());
     out["time_boxed"] = time_boxed;
     const auto& q = last.quality;

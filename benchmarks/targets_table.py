@@ -6,8 +6,10 @@ one per mesh set (the real trees, the carotid phantoms): per mesh the default's 
 its stages Z, VC and F (s), issue 27's target, the paper's method's median Total (the runs made
 with `--method paper`), the paper's own Table 1 (Eulzer et al., Python + libigl on an 8-core
 Ryzen 7 5800X; carotid 44k and 300k only), the CGAL peer's Total (or where its ARAP fails), and
-the maps' quality. The paper's Table 1 is read from the files too (`paper_table_1`, written by
-the bench beside its results). Medians are over every sample of every file given for a method, so several
+the maps' quality, the peak RSS, and the CPU seconds a run spent in the kernel (mostly page
+faults, which a guest whose host discards the pages it frees pays at every fresh page;
+docs/benchmarks.md, "Machine and conditions"). The paper's Table 1 is read from the files too
+(`paper_table_1`, written by the bench beside its results). Medians are over every sample of every file given for a method, so several
 runs of the bench can be pooled.
 
     /usr/bin/python3 benchmarks/targets_table.py --default default.json [more.json ...] \
@@ -93,12 +95,19 @@ def peer_area(rows):
     return "–"
 
 
+def kernel_seconds(rows):
+    """The median CPU seconds a run spent in the kernel, its threads' together ('–' where the
+    bench did not record them)."""
+    kernel = [x for row in rows for x in (row.get("cpu") or {}).get("kernel", {}).get("samples", [])]
+    return seconds(statistics.median(kernel)) if kernel else "–"
+
+
 def table(names, default, paper, table_1):
     out = [
         "| mesh | triangles | Total | Z | VC | F | target | paper's method | paper's Table 1 | "
         "CGAL peer | mean \\|log A\\| (default / paper's method / peer) | flipped / overlapping "
-        "(default; paper's method) | largest cut winding, deg | peak RSS MB |",
-        "|:--|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
+        "(default; paper's method) | largest cut winding, deg | peak RSS MB | CPU s in the kernel |",
+        "|:--|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
     ]
     for name in names:
         rows, theirs = default[name], paper.get(name)
@@ -129,6 +138,7 @@ def table(names, default, paper, table_1):
             ),
             "%.0f" % q["seam_winding"]["max_abs_deg"],
             "%.0f" % max(row["peak_rss_mb"] for row in rows),
+            kernel_seconds(rows),
         ]
         out.append("| " + " | ".join(cells) + " |")
     return "\n".join(out)
