@@ -68,6 +68,24 @@ def check_samples(where, stages, names, runs):
     expect(stages["Total"]["median"] > 0.0, f"{where}: zero total time")
 
 
+def check_cpu(where, cpu, wall):
+    """Each run's CPU seconds: as many as its wall times, none negative, some in user space, and
+    no more than the machine's cores could give in its wall time (getrusage's granularity,
+    a few milliseconds, aside)."""
+    cores = os.cpu_count() or 1
+    for kind in ("user", "kernel"):
+        samples = cpu[kind]["samples"]
+        expect(len(samples) == len(wall), f"{where}: {len(samples)} {kind} CPU samples for "
+               f"{len(wall)} runs")
+        expect(all(s >= 0.0 and math.isfinite(s) for s in samples),
+               f"{where}: negative or non-finite {kind} CPU seconds {samples}")
+    expect(cpu["user"]["median"] > 0.0, f"{where}: no CPU time in user space")
+    for k, seconds in enumerate(wall):
+        used = cpu["user"]["samples"][k] + cpu["kernel"]["samples"][k]
+        expect(used <= cores * seconds + 0.05,
+               f"{where}: run {k + 1} used {used} CPU s in {seconds} s on {cores} cores")
+
+
 def check_winding(where, quality, max_deg, max_mean_deg):
     expect("seam_winding" in quality, f"{where}: no seam_winding")
     w = quality["seam_winding"]
@@ -146,6 +164,7 @@ def check_table(exe, mesh, workdir):
         expect("error" not in r, f"{where}: {r.get('error')}")
         check_samples(where, r["stages"], STAGES, 2)
         expect(r["peak_rss_mb"] > 0.0, f"{where}: no peak RSS")
+        check_cpu(where, r["cpu"], r["wall"]["samples"])
         expect(r["faces"] > 0 and r["cut_paths"] >= 1, f"{where}: faces/cuts {r['faces']}, "
                f"{r['cut_paths']}")
         q = r["quality"]
