@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -66,7 +67,8 @@ inline std::vector<char*> environment_pointers(std::vector<std::string>& strings
 //! transparent huge pages: `glibc.malloc.hugetlb=1` added to `GLIBC_TUNABLES`, or the variable
 //! set to it, unless \p parent already names that tunable (a user's `glibc.malloc.hugetlb=0`
 //! stays). A large mesh's run is partly bound by page faults, each new sparse factor and mesh
-//! array faulted in by 4 kB pages; huge pages make the same computation faster
+//! array faulted in page by page; unless the host discards freed memory
+//! (host_discards_freed_pages()), huge pages make the same computation faster
 //! (docs/benchmarks.md, "Machine and conditions"). Other C libraries and glibc before 2.35
 //! ignore the tunable.
 inline std::vector<std::string> huge_page_environment(const char* const* parent)
@@ -99,6 +101,39 @@ inline bool kernel_gives_huge_pages()
     std::ifstream thp("/sys/kernel/mm/transparent_hugepage/enabled");
     std::string modes;
     return std::getline(thp, modes) && modes.find("[never]") == std::string::npos;
+}
+
+//! Whether a virtio device of id \p device (sysfs `device`, e.g. "0x0005") with the feature
+//! bits \p features (sysfs `features`: one '0' or '1' per bit, bit 0 first) is a memory balloon
+//! that reports free pages to its host (VIRTIO_BALLOON_F_REPORTING, bit 5; virtio 1.2, 5.5.3).
+inline bool balloon_reports_free_pages(const std::string& device, const std::string& features)
+{
+    constexpr std::size_t kReportingBit = 5;
+    return device.rfind("0x0005", 0) == 0 && features.size() > kReportingBit &&
+           features[kReportingBit] == '1';
+}
+
+//! \brief Whether this machine's host discards the memory the guest frees: a virtio balloon that
+//! reports free pages (balloon_reports_free_pages()). The guest's kernel then reports each free
+//! block of a huge page's size to the host, which drops it, and a fresh huge page is backed
+//! again by the host at its first touch, while 4 kB pages are mostly taken from blocks not
+//! given back: on such a guest, huge pages made every target mesh's run slower
+//! (docs/benchmarks.md, "Machine and conditions"), where on a guest that traps every 4 kB fault
+//! they make it faster.
+inline bool host_discards_freed_pages()
+{
+    namespace fs = std::filesystem;
+    std::error_code error;
+    for (const auto& entry : fs::directory_iterator("/sys/bus/virtio/devices", error))
+    {
+        std::ifstream device_file(entry.path() / "device"),
+            features_file(entry.path() / "features");
+        std::string device, features;
+        if (std::getline(device_file, device) && std::getline(features_file, features) &&
+            balloon_reports_free_pages(device, features))
+            return true;
+    }
+    return false;
 }
 
 }  // namespace vessel::cli

@@ -16,13 +16,15 @@
 namespace vessel::cli {
 
 //! \brief \p parent (an environment, null-terminated) with what a run wants added: the BLAS
-//! kernels (add_blas_kernels()) and, if \p huge_pages and the kernel gives them, transparent
-//! huge pages (huge_page_environment()).
+//! kernels (add_blas_kernels()) and, if \p huge_pages, the kernel gives them and the host does
+//! not discard freed memory (host_discards_freed_pages()), transparent huge pages
+//! (huge_page_environment()); \p parent's own setting of them stays.
 inline std::vector<std::string> run_environment(const char* const* parent, bool huge_pages)
 {
-    std::vector<std::string> env = huge_pages && kernel_gives_huge_pages()
-                                       ? huge_page_environment(parent)
-                                       : environment_strings(parent);
+    std::vector<std::string> env =
+        huge_pages && kernel_gives_huge_pages() && !host_discards_freed_pages()
+            ? huge_page_environment(parent)
+            : environment_strings(parent);
     add_blas_kernels(parent, env);
     return env;
 }
