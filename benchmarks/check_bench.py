@@ -103,19 +103,41 @@ def check_area_ratio(where, quality):
            f"{where}: area ratio {ratio}, not within {AREA_RATIO_TOLERANCE} of 1")
 
 
+def host_discards_freed_pages():
+    """Whether a virtio memory balloon (device 0x0005) negotiates free page reporting
+    (VIRTIO_BALLOON_F_REPORTING, feature bit 5), read from sysfs as the tools read it."""
+    root = "/sys/bus/virtio/devices"
+    try:
+        devices = os.listdir(root)
+    except OSError:
+        return False
+    for name in devices:
+        try:
+            with open(os.path.join(root, name, "device")) as f:
+                device = f.readline().strip()
+            with open(os.path.join(root, name, "features")) as f:
+                features = f.readline().strip()
+        except OSError:
+            continue
+        if device.startswith("0x0005") and len(features) > 5 and features[5] == "1":
+            return True
+    return False
+
+
 def expected_huge_pages():
     """Whether vessel-bench-table's process has glibc's malloc on transparent huge pages: the
-    environment's own setting where it names one, else whether the kernel gives them (the bench
-    then starts itself again with them)."""
+    environment's own setting where it names one, else whether the kernel gives them and the
+    host keeps the memory the guest frees (the bench then starts itself again with them)."""
     tunables = os.environ.get("GLIBC_TUNABLES", "")
     if "glibc.malloc.hugetlb=" in tunables:
         value = tunables.split("glibc.malloc.hugetlb=", 1)[1][:1]
         return value in ("1", "2")
     try:
         with open("/sys/kernel/mm/transparent_hugepage/enabled") as f:
-            return "[never]" not in f.readline()
+            gives = "[never]" not in f.readline()
     except OSError:
         return False
+    return gives and not host_discards_freed_pages()
 
 
 def cpu_has_avx2_fma():
