@@ -257,8 +257,8 @@ json run_table_case(const Case& c, const Settings& s)
     out["cuts"] = s.cuts;
     out["coarse_vertices"] = s.coarse_vertices;
     // The CPU seconds of each run, its threads' together: in user space, and in the kernel
-    // (mostly page faults: on a guest whose host discards the pages it frees, each fresh page
-    // is backed again at the first touch; docs/benchmarks.md, "Machine and conditions").
+    // (mostly page faults: on a guest whose host discards the pages the guest frees, each fresh
+    // page is backed again at its first touch; docs/benchmarks.md, "Machine and conditions").
     std::vector<double> user_s, kernel_s;
     for (int run = 0; run < s.runs; ++run)
     {

@@ -9,8 +9,8 @@ Ryzen 7 5800X; carotid 44k and 300k only), the CGAL peer's Total (or where its A
 the maps' quality, the peak RSS, and the CPU seconds a run spent in the kernel (mostly page
 faults, which a guest whose host discards the pages it frees pays at every fresh page;
 docs/benchmarks.md, "Machine and conditions"). The paper's Table 1 is read from the files too
-(`paper_table_1`, written by the bench beside its results). Medians are over every sample of every file given for a method, so several
-runs of the bench can be pooled.
+(`paper_table_1`, written by the bench beside its results). Medians are over every sample of
+every file given for a method, so several runs of the bench can be pooled.
 
     /usr/bin/python3 benchmarks/targets_table.py --default default.json [more.json ...] \
         --paper paper.json [more.json ...]
@@ -98,7 +98,8 @@ def peer_area(rows):
 def kernel_seconds(rows):
     """The median CPU seconds a run spent in the kernel, its threads' together ('–' where the
     bench did not record them)."""
-    kernel = [x for row in rows for x in (row.get("cpu") or {}).get("kernel", {}).get("samples", [])]
+    kernel = [x for row in rows
+              for x in (row.get("cpu") or {}).get("kernel", {}).get("samples", [])]
     return seconds(statistics.median(kernel)) if kernel else "–"
 
 
@@ -106,7 +107,8 @@ def table(names, default, paper, table_1):
     out = [
         "| mesh | triangles | Total | Z | VC | F | target | paper's method | paper's Table 1 | "
         "CGAL peer | mean \\|log A\\| (default / paper's method / peer) | flipped / overlapping "
-        "(default; paper's method) | largest cut winding, deg | peak RSS MB | CPU s in the kernel |",
+        "(default; paper's method) | largest cut winding, deg | peak RSS MB | "
+        "CPU s in the kernel |",
         "|:--|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|",
     ]
     for name in names:

@@ -1298,8 +1298,8 @@ TEST_CASE("cli: the tools' processes ask glibc's malloc for huge pages unless to
 }
 
 TEST_CASE(
-    "cli: an input of 128 kB or more runs with huge pages where they fault in faster, "
-    "unless the user says otherwise")
+    "cli: an input of 128 kB or more runs with huge pages unless the host discards freed "
+    "memory or the user says otherwise")
 {
     // restart_for_run(): the program starts itself again with the tunable, which the
     // report's timings say; a small input, or a user's own setting, runs as it is.

@@ -117,9 +117,8 @@ inline bool balloon_reports_free_pages(const std::string& device, const std::str
 //! reports free pages (balloon_reports_free_pages()). The guest's kernel then reports each free
 //! block of a huge page's size to the host, which drops it, and a fresh huge page is backed
 //! again by the host at its first touch, while 4 kB pages are mostly taken from blocks not
-//! given back: on such a guest, huge pages made every target mesh's run slower
-//! (docs/benchmarks.md, "Machine and conditions"), where on a guest that traps every 4 kB fault
-//! they make it faster.
+//! given back: there fresh huge pages cost more to fault in than they save, where on a guest
+//! that traps every 4 kB fault they save more (docs/benchmarks.md, "Machine and conditions").
 inline bool host_discards_freed_pages()
 {
     namespace fs = std::filesystem;
